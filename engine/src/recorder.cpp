@@ -1,0 +1,144 @@
+#include "s4d/engine/recorder.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/check.h"
+#include "s4d/engine/context.h"
+#include "s4d/engine/pipeline.h"
+#include "s4d/engine/timestamps.h"
+
+namespace s4d::engine {
+
+Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx) {
+  VkCommandBufferAllocateInfo ai{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+                                 .commandPool = ctx.command_pool(),
+                                 .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+                                 .commandBufferCount = 1};
+  S4D_VK_CHECK_CTX(vkAllocateCommandBuffers(ctx.device(), &ai, &cmd_), "allocating command buffer '" + name + "'");
+  ctx.set_name(VK_OBJECT_TYPE_COMMAND_BUFFER, reinterpret_cast<uint64_t>(cmd_), name);
+  VkCommandBufferBeginInfo bi{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                              .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+  S4D_VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
+}
+
+Recorder::Recorder(Recorder&& other) noexcept
+    : ctx_(other.ctx_), cmd_(std::exchange(other.cmd_, VK_NULL_HANDLE)), finished_(other.finished_) {}
+
+Recorder::~Recorder() {
+  // A recorder dropped without being submitted frees its command buffer right away.
+  if (cmd_ != VK_NULL_HANDLE && !finished_) vkFreeCommandBuffers(ctx_->device(), ctx_->command_pool(), 1, &cmd_);
+}
+
+VkCommandBuffer Recorder::finish() {
+  if (finished_ || cmd_ == VK_NULL_HANDLE) throw std::logic_error("command buffer submitted twice");
+  S4D_VK_CHECK(vkEndCommandBuffer(cmd_));
+  finished_ = true;
+  return cmd_;
+}
+
+Groups Recorder::split_groups(uint32_t flat_groups) const {
+  const DeviceInfo& info = ctx_->info();
+  const uint32_t max_x = info.max_workgroup_count[0];
+  if (flat_groups <= max_x) return {flat_groups, 1, 1};
+  const uint32_t y = (flat_groups + max_x - 1) / max_x;
+  if (y > info.max_workgroup_count[1])
+    throw std::invalid_argument("dispatch of " + std::to_string(flat_groups) + " workgroups exceeds " + info.name +
+                                "'s 2-D grid limit (" + std::to_string(max_x) + " x " +
+                                std::to_string(info.max_workgroup_count[1]) + ")");
+  // Spread evenly so the overshoot past flat_groups stays below one row.
+  const uint32_t x = (flat_groups + y - 1) / y;
+  return {x, y, 1};
+}
+
+void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
+                            size_t params_bytes, uint32_t flat_groups) {
+  if (buffers.size() != pipeline.binding_count())
+    throw std::invalid_argument("dispatch of '" + pipeline.name() + "': " + std::to_string(buffers.size()) +
+                                " buffers given, the shader declares " + std::to_string(pipeline.binding_count()));
+  if (params_bytes != pipeline.push_constant_bytes())
+    throw std::invalid_argument("dispatch of '" + pipeline.name() + "': push constants are " + std::to_string(params_bytes) +
+                                " bytes, the shader declares " + std::to_string(pipeline.push_constant_bytes()));
+  if (flat_groups == 0) return;
+  const Groups g = split_groups(flat_groups);
+
+  std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+  std::vector<VkWriteDescriptorSet> writes(buffers.size());
+  for (size_t i = 0; i < buffers.size(); ++i) {
+    const BufferRange& r = buffers[i];
+    if (!r.buffer || !r.buffer->valid())
+      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': binding " + std::to_string(i) + " has no buffer");
+    if (r.offset + r.bytes > r.buffer->size() || r.offset > r.buffer->size())
+      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': range of binding " + std::to_string(i) +
+                                  " overruns buffer '" + r.buffer->name() + "'");
+    const uint64_t align = ctx_->info().min_storage_buffer_offset_alignment;
+    if (align > 1 && r.offset % align != 0)
+      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': binding " + std::to_string(i) + " of buffer '" +
+                                  r.buffer->name() + "' starts at offset " + std::to_string(r.offset) +
+                                  ", not a multiple of minStorageBufferOffsetAlignment (" + std::to_string(align) + ")");
+    infos[i] = {.buffer = r.buffer->handle(), .offset = r.offset, .range = r.bytes ? r.bytes : VK_WHOLE_SIZE};
+    writes[i] = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+                 .dstBinding = static_cast<uint32_t>(i),
+                 .descriptorCount = 1,
+                 .descriptorType = pipeline.reflection().bindings[i].storage_buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                                                    : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                 .pBufferInfo = &infos[i]};
+  }
+  begin_label(pipeline.name());
+  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
+  if (!writes.empty())
+    ctx_->cmd_push_descriptor_set()(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0,
+                                    static_cast<uint32_t>(writes.size()), writes.data());
+  if (params_bytes)
+    vkCmdPushConstants(cmd_, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<uint32_t>(params_bytes), params);
+  vkCmdDispatch(cmd_, g.x, g.y, g.z);
+  end_label();
+  ctx_->note_op(pipeline.name());
+}
+
+void Recorder::barrier() {
+  VkMemoryBarrier mb{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                     .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                     .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+  const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
+void Recorder::copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t src_offset, size_t dst_offset) {
+  if (src_offset + bytes > src.size() || dst_offset + bytes > dst.size())
+    throw std::invalid_argument("copy of " + std::to_string(bytes) + " bytes from '" + src.name() + "' to '" + dst.name() +
+                                "' overruns a buffer");
+  if (bytes == 0) return;
+  VkBufferCopy region{.srcOffset = src_offset, .dstOffset = dst_offset, .size = bytes};
+  vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &region);
+}
+
+void Recorder::fill(const Buffer& dst, uint32_t value, size_t bytes, size_t offset) {
+  if (bytes == 0) bytes = dst.size() - offset;
+  if (offset + bytes > dst.size() || bytes % 4 || offset % 4)
+    throw std::invalid_argument("fill of buffer '" + dst.name() + "': range must be 4-byte aligned and inside the buffer");
+  if (bytes == 0) return;
+  vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
+}
+
+void Recorder::reset_queries(TimestampQueries& queries) { vkCmdResetQueryPool(cmd_, queries.handle(), 0, queries.count()); }
+
+void Recorder::timestamp(TimestampQueries& queries, uint32_t index) {
+  vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries.handle(), index);
+}
+
+void Recorder::begin_label(const std::string& label) {
+  if (!ctx_->cmd_begin_label()) return;
+  VkDebugUtilsLabelEXT l{.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT, .pLabelName = label.c_str()};
+  ctx_->cmd_begin_label()(cmd_, &l);
+}
+
+void Recorder::end_label() {
+  if (ctx_->cmd_end_label()) ctx_->cmd_end_label()(cmd_);
+}
+
+}  // namespace s4d::engine

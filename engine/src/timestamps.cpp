@@ -1,0 +1,36 @@
+#include "s4d/engine/timestamps.h"
+
+#include <stdexcept>
+
+#include "s4d/engine/check.h"
+#include "s4d/engine/context.h"
+
+namespace s4d::engine {
+
+TimestampQueries::TimestampQueries(Context& ctx, uint32_t count, const std::string& name) : ctx_(ctx), count_(count) {
+  if (!ctx.info().timestamps)
+    throw std::runtime_error("GPU timestamps are not supported on the compute queue of " + ctx.info().name);
+  VkQueryPoolCreateInfo ci{.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO,
+                           .queryType = VK_QUERY_TYPE_TIMESTAMP,
+                           .queryCount = count};
+  S4D_VK_CHECK_CTX(vkCreateQueryPool(ctx.device(), &ci, nullptr, &pool_), "creating query pool '" + name + "'");
+  ctx.set_name(VK_OBJECT_TYPE_QUERY_POOL, reinterpret_cast<uint64_t>(pool_), name);
+}
+
+TimestampQueries::~TimestampQueries() {
+  VkDevice device = ctx_.device();
+  VkQueryPool pool = pool_;
+  ctx_.retire([device, pool] { vkDestroyQueryPool(device, pool, nullptr); });
+}
+
+double TimestampQueries::elapsed_ms(uint32_t from, uint32_t to) const {
+  if (from >= count_ || to >= count_) throw std::out_of_range("timestamp query index past the pool's " + std::to_string(count_));
+  uint64_t t[2];
+  S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, from, 1, sizeof(uint64_t), &t[0], sizeof(uint64_t),
+                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, to, 1, sizeof(uint64_t), &t[1], sizeof(uint64_t),
+                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  return static_cast<double>(t[1] - t[0]) * static_cast<double>(ctx_.info().timestamp_period_ns) * 1e-6;
+}
+
+}  // namespace s4d::engine

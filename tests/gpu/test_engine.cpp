@@ -1,0 +1,126 @@
+// Engine behaviour on the test device: round trips, the dispatch choke point's checks, 2-D
+// dispatch past the group limit, limit errors that name the buffer, timestamps, deferred frees.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include "expect_equal.h"
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/pipeline.h"
+#include "s4d/engine/recorder.h"
+#include "s4d/engine/timestamps.h"
+#include "s4d/primitives/iota.h"
+#include "s4d/shader_registry.h"
+#include "s4d_primitives.h"
+#include "test_context.h"
+
+using namespace s4d;
+using engine::Buffer;
+using engine::Recorder;
+
+namespace {
+const engine::Pipeline& iota_pipeline() {
+  const auto& e = shaders::get(shaders::Id::iota);
+  return test::context().pipeline(e.name, e.spirv());
+}
+}  // namespace
+
+TEST_CASE("device info records the features and limits the kernels use") {
+  const auto& info = test::context().info();
+  CHECK(info.suitable);
+  CHECK(info.subgroup_size >= 1);
+  CHECK(info.min_subgroup_size <= info.subgroup_size);
+  CHECK(info.subgroup_size <= info.max_subgroup_size);
+  CHECK(info.max_workgroup_count[0] >= 65535);
+  CHECK(info.max_storage_buffer_range >= (1u << 27) - 1);  // Vulkan guarantees 2^27
+  CHECK(info.max_push_constant_bytes >= 128);
+  CHECK(!info.driver_name.empty());
+}
+
+TEST_CASE("upload then download round-trips, at offsets too") {
+  auto& ctx = test::context();
+  Buffer b(ctx, "roundtrip", 1000 * 4);
+  std::vector<uint32_t> data(1000);
+  std::iota(data.begin(), data.end(), 7u);
+  ctx.upload(b, std::span<const uint32_t>(data));
+  test::expect_equal_arrays(ctx.download<uint32_t>(b, 1000), data, "whole buffer");
+  std::vector<uint32_t> part = {1, 2, 3};
+  ctx.upload(b, std::span<const uint32_t>(part), 500);
+  test::expect_equal_arrays(ctx.download<uint32_t>(b, 3, 500), part, "at offset");
+  CHECK_THROWS_WITH_AS(ctx.upload(b, std::span<const uint32_t>(data), 1), doctest::Contains("roundtrip"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("dispatch past 65,535 workgroups runs as a 2-D grid and covers every element") {
+  auto& ctx = test::context();
+  const uint32_t max_x = ctx.info().max_workgroup_count[0];
+  const uint32_t n = (max_x + 1000) * S4D_IOTA_WG + 17;
+  Buffer out(ctx, "iota 2-D", size_t{n} * 4);
+  Recorder rec(ctx, "iota 2-D");
+  CHECK(rec.split_groups((n + S4D_IOTA_WG - 1) / S4D_IOTA_WG).y == 2);
+  primitives::cmd_iota(rec, out, n, 5);
+  ctx.run(std::move(rec));
+  const auto got = ctx.download<uint32_t>(out, n);
+  size_t bad = 0;
+  for (uint32_t i = 0; i < n; ++i) bad += got[i] != i + 5;
+  CHECK(bad == 0);
+}
+
+TEST_CASE("the dispatch choke point refuses wrong buffer counts and push-constant sizes") {
+  auto& ctx = test::context();
+  Buffer a(ctx, "a", 64), b(ctx, "b", 64);
+  Recorder rec(ctx, "bad dispatches");
+  const gpu::IotaParams params{};
+  CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {a, b}, params, 1), doctest::Contains("2 buffers given"),
+                       std::invalid_argument);
+  const uint32_t too_small = 3;
+  CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {a}, too_small, 1), doctest::Contains("push constants are 4 bytes"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {engine::BufferRange(a, 32, 64)}, params, 1),
+                       doctest::Contains("overruns buffer 'a'"), std::invalid_argument);
+  if (ctx.info().min_storage_buffer_offset_alignment > 4)
+    CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {engine::BufferRange(a, 4, 16)}, params, 1),
+                         doctest::Contains("minStorageBufferOffsetAlignment"), std::invalid_argument);
+}
+
+TEST_CASE("a buffer larger than the device allows is refused naming the buffer and the limit") {
+  auto& ctx = test::context();
+  const uint64_t limit = ctx.info().max_storage_buffer_range;
+  CHECK_THROWS_WITH_AS(Buffer(ctx, "gaussian means", static_cast<size_t>(limit) + 4),
+                       doctest::Contains("buffer 'gaussian means'"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(Buffer(ctx, "gaussian means", static_cast<size_t>(limit) + 4),
+                       doctest::Contains("maxStorageBufferRange"), std::invalid_argument);
+}
+
+TEST_CASE("timestamps bracket a dispatch") {
+  auto& ctx = test::context();
+  if (!ctx.info().timestamps) return;
+  Buffer out(ctx, "timed iota", 1 << 20);
+  engine::TimestampQueries q(ctx, 2, "timed iota queries");
+  Recorder rec(ctx, "timed iota");
+  rec.reset_queries(q);
+  rec.timestamp(q, 0);
+  primitives::cmd_iota(rec, out, (1 << 20) / 4);
+  rec.timestamp(q, 1);
+  ctx.run(std::move(rec));
+  const double ms = q.elapsed_ms(0, 1);
+  CHECK(ms >= 0.0);
+  CHECK(ms < 60'000.0);
+}
+
+TEST_CASE("buffers dropped while their work is in flight are freed after it completes") {
+  auto& ctx = test::context();
+  uint64_t ticket;
+  {
+    Buffer scratch(ctx, "short-lived", 1 << 16);
+    Recorder rec(ctx, "uses short-lived");
+    primitives::cmd_iota(rec, scratch, (1 << 16) / 4);
+    ticket = ctx.submit(std::move(rec));
+  }  // destroyed here, while the GPU may still be writing it: retired, not freed
+  ctx.wait(ticket);
+  Buffer again(ctx, "after", 64);
+  CHECK(again.valid());
+}

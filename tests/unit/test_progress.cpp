@@ -1,0 +1,33 @@
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+#include "s4d/util/progress.h"
+
+TEST_CASE("progress lines show stage, step, total, values and finish") {
+  std::ostringstream out;
+  s4d::util::Progress p("static", 100, out, 0.0);
+  p.update(10, {{"loss", 0.125}});
+  p.finish({{"psnr", 27.5}});
+  const std::string text = out.str();
+  CHECK(text.find("[static] 10/100 (10%)") != std::string::npos);
+  CHECK(text.find("loss=0.125") != std::string::npos);
+  CHECK(text.find("ETA") != std::string::npos);
+  CHECK(text.find("[static] 100/100") != std::string::npos);
+  CHECK(text.find("psnr=27.5") != std::string::npos);
+  CHECK(text.find("done") != std::string::npos);
+}
+
+TEST_CASE("progress updates are rate-limited") {
+  std::ostringstream out;
+  s4d::util::Progress p("fine", 1000, out, 3600.0);
+  for (int i = 1; i <= 100; ++i) p.update(static_cast<uint64_t>(i));
+  CHECK(out.str().find("1/1000") != std::string::npos);
+  CHECK(out.str().find("100/1000") == std::string::npos);
+}
+
+TEST_CASE("durations are formatted for people") {
+  CHECK(s4d::util::format_duration(12.34) == "12.3s");
+  CHECK(s4d::util::format_duration(185) == "3m05s");
+  CHECK(s4d::util::format_duration(3720) == "1h02m");
+}

@@ -1,0 +1,69 @@
+// Every struct in shaders/shared/*.h must have the same member names, offsets and sizes in C++ as
+// in each compiled shader that uses it, and sizeof must equal the SPIR-V extent (explicit padding).
+// Layer (a) is the static_asserts below; layer (b) walks every embedded SPIR-V module.
+#include <doctest/doctest.h>
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "s4d/engine/spirv_reflect.h"
+#include "s4d/shader_registry.h"
+#include "s4d_primitives.h"
+
+using s4d::engine::CppStructLayout;
+using s4d::engine::StructMember;
+
+#define S4D_MEMBER(S, m) StructMember{#m, static_cast<uint32_t>(offsetof(S, m)), static_cast<uint32_t>(sizeof(S::m))}
+#define S4D_STRUCT(S, ...) CppStructLayout{#S, static_cast<uint32_t>(sizeof(s4d::gpu::S)), {__VA_ARGS__}}
+
+namespace {
+
+using namespace s4d::gpu;
+
+static_assert(sizeof(ScanParams) == 16 && sizeof(ScanParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(RadixParams) == 16 && sizeof(RadixParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+
+// The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
+// a member added in one language only shows up as a member-count mismatch.
+std::vector<CppStructLayout> shared_structs() {
+  return {
+      S4D_STRUCT(ScanParams, S4D_MEMBER(ScanParams, n), S4D_MEMBER(ScanParams, num_blocks),
+                 S4D_MEMBER(ScanParams, _pad0), S4D_MEMBER(ScanParams, _pad1)),
+      S4D_STRUCT(RadixParams, S4D_MEMBER(RadixParams, n), S4D_MEMBER(RadixParams, shift),
+                 S4D_MEMBER(RadixParams, num_blocks), S4D_MEMBER(RadixParams, digit_mask)),
+      S4D_STRUCT(IotaParams, S4D_MEMBER(IotaParams, n), S4D_MEMBER(IotaParams, first), S4D_MEMBER(IotaParams, _pad0),
+                 S4D_MEMBER(IotaParams, _pad1)),
+  };
+}
+
+}  // namespace
+
+TEST_CASE("shared structs have identical layouts in C++ and in every shader that uses them") {
+  std::map<std::string, int> uses;
+  for (const CppStructLayout& cpp : shared_structs()) uses[cpp.name] = 0;
+  for (const auto& entry : s4d::shaders::all()) {
+    const auto module = s4d::engine::reflect_spirv(entry.spirv(), entry.name);
+    for (const CppStructLayout& cpp : shared_structs()) {
+      auto [begin, end] = module.structs.equal_range(cpp.name);
+      for (auto it = begin; it != end; ++it) {
+        ++uses[cpp.name];
+        const auto diffs = s4d::engine::compare_layouts(cpp, it->second);
+        for (const auto& d : diffs) {
+          const std::string message = std::string(entry.name) + ": " + d;
+          FAIL_CHECK(message);
+        }
+      }
+    }
+  }
+  for (const auto& [name, count] : uses) CHECK_MESSAGE(count > 0, "no shader uses shared struct " << name);
+}
+
+TEST_CASE("every push-constant block fits the 128-byte guarantee") {
+  for (const auto& entry : s4d::shaders::all()) {
+    const auto module = s4d::engine::reflect_spirv(entry.spirv(), entry.name);
+    CHECK_MESSAGE(module.push_constant_bytes <= S4D_MAX_PUSH_CONSTANT_BYTES, entry.name);
+  }
+}
