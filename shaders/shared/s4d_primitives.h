@@ -11,15 +11,15 @@ S4D_NAMESPACE_BEGIN
 #define S4D_SCAN_ITEMS 4
 #define S4D_SCAN_BLOCK (S4D_SCAN_WG * S4D_SCAN_ITEMS)
 
-// Radix sort: 4-bit digits. 16 bins fit one uvec4 of packed 8-bit counters per thread, so one
-// workgroup scan ranks a whole round; 8 passes cover a 32-bit key. The packed exclusive prefix of
-// a bin never exceeds S4D_RADIX_WG - 1, hence S4D_RADIX_WG <= 256.
+// Radix sort: 4-bit digits, 8 passes for a 32-bit key. A workgroup ranks a whole block in one
+// workgroup scan: each invocation takes S4D_RADIX_ITEMS consecutive keys and counts its digits in
+// 16 packed 16-bit counters (two uvec4); the exclusive prefix of a bin is at most
+// S4D_RADIX_BLOCK - 1, so S4D_RADIX_BLOCK must stay below 65536.
 #define S4D_RADIX_BITS 4
 #define S4D_RADIX_BINS 16
 #define S4D_RADIX_WG 256
-// Elements one workgroup ranks and scatters: S4D_RADIX_ROUNDS rounds of S4D_RADIX_WG elements.
-#define S4D_RADIX_ROUNDS 8
-#define S4D_RADIX_BLOCK (S4D_RADIX_WG * S4D_RADIX_ROUNDS)
+#define S4D_RADIX_ITEMS 8
+#define S4D_RADIX_BLOCK (S4D_RADIX_WG * S4D_RADIX_ITEMS)
 
 #define S4D_IOTA_WG 256
 

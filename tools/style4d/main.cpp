@@ -1,1 +1,61 @@
-int main() { return 0; }
+// style4d: one program, one subcommand per job (the contract is in ARCHITECTURE.md). Errors print
+// one line "style4d: error: ..." and exit non-zero.
+#include <exception>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  std::function<int(const std::vector<std::string>&)> run;
+};
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> list = {
+      {"devices", "list Vulkan devices and the features the engine uses", s4d::cli::cmd_devices},
+      {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
+  };
+  return list;
+}
+
+void print_help() {
+  std::cout << "usage: style4d COMMAND [options]   (style4d COMMAND --help for details)\n\n"
+               "Style4D on Vulkan: 4D Gaussian splatting, 4D stylization and the Style4D-Bench metrics.\n\n"
+               "commands:\n";
+  for (const auto& c : commands()) {
+    const std::string name = c.name;
+    std::cout << "  " << name << std::string(12 - name.size(), ' ') << c.summary << "\n";
+  }
+  std::cout << "\nenvironment:\n"
+               "  S4D_DEVICE=<index|name>   choose the Vulkan device (default: discrete > integrated > CPU)\n"
+               "  S4D_VALIDATION=1          enable the Vulkan validation layer\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    print_help();
+    return args.empty() ? 2 : 0;
+  }
+  const std::string name = args[0];
+  args.erase(args.begin());
+  for (const auto& c : commands()) {
+    if (name != c.name) continue;
+    try {
+      return c.run(args);
+    } catch (const std::exception& e) {
+      std::cerr << "style4d " << name << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "style4d: error: unknown command '" << name << "' (style4d --help lists the commands)\n";
+  return 2;
+}

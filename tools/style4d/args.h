@@ -1,0 +1,43 @@
+// Minimal command-line parsing for style4d subcommands: --name value, --name=value, boolean
+// flags, and positionals. Unknown options and missing values are errors naming the option.
+#pragma once
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace s4d::cli {
+
+struct OptionSpec {
+  std::string name;  // without dashes
+  std::string help;
+  bool takes_value = true;
+  std::string value_name = "VALUE";
+};
+
+class Args {
+ public:
+  // Throws std::invalid_argument on an unknown option or a missing value. "--help" / "-h" sets help().
+  Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs);
+
+  bool help() const { return help_; }
+  bool flag(const std::string& name) const { return flags_.count(name) > 0; }
+  std::optional<std::string> get(const std::string& name) const;
+  std::string get_or(const std::string& name, const std::string& fallback) const;
+  // Throws std::invalid_argument "missing required option --name".
+  std::string require(const std::string& name) const;
+  const std::vector<std::string>& positionals() const { return positionals_; }
+
+ private:
+  bool help_ = false;
+  std::set<std::string> flags_;
+  std::map<std::string, std::string> values_;
+  std::vector<std::string> positionals_;
+};
+
+// "usage: style4d NAME ARGS\n\nSUMMARY\n\noptions:\n  --x VALUE  help..."
+std::string usage(const std::string& command, const std::string& synopsis, const std::string& summary,
+                  const std::vector<OptionSpec>& specs);
+
+}  // namespace s4d::cli

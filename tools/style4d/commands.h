@@ -1,0 +1,12 @@
+// The style4d subcommands. Each takes its arguments (after the subcommand name) and returns the
+// process exit code; errors are thrown and reported by main as one line.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace s4d::cli {
+
+int cmd_devices(const std::vector<std::string>& args);
+int cmd_demo(const std::vector<std::string>& args);
+
+}  // namespace s4d::cli
