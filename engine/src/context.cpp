@@ -22,9 +22,10 @@ constexpr size_t kMaxKeptMessages = 64;
 
 bool instance_has_layer(const char* name) {
   uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  S4D_VK_CHECK(vkEnumerateInstanceLayerProperties(&count, nullptr));
   std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  S4D_VK_CHECK(vkEnumerateInstanceLayerProperties(&count, layers.data()));
+  layers.resize(count);
   for (const auto& l : layers)
     if (std::strcmp(l.layerName, name) == 0) return true;
   return false;
@@ -32,9 +33,10 @@ bool instance_has_layer(const char* name) {
 
 bool instance_has_extension(const char* name) {
   uint32_t count = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  S4D_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> exts(count);
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data());
+  S4D_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data()));
+  exts.resize(count);
   for (const auto& e : exts)
     if (std::strcmp(e.extensionName, name) == 0) return true;
   return false;
@@ -98,7 +100,8 @@ std::vector<DeviceInfo> list_devices() {
   }
 }
 
-Context::Context(const ContextOptions& options) : validation_(options.validation), device_spec_(options.device) {
+Context::Context(const ContextOptions& options)
+    : validation_(options.validation), device_spec_(options.device), map_device_memory_(options.map_device_memory) {
   try {
     create_instance();
     create_device();
@@ -147,7 +150,8 @@ void Context::create_device() {
   info_ = choose_device(infos, device_spec_);
   physical_ = handles[info_.index];
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_props_);
-  unified_memory_ = info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU || info_.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
+  unified_memory_ = map_device_memory_ &&
+                    (info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU || info_.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU);
 
   std::vector<const char*> exts = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{
@@ -200,7 +204,8 @@ void Context::create_device() {
 
 Context::~Context() {
   if (device_) {
-    vkDeviceWaitIdle(device_);
+    // A destructor cannot report failure; if the device is lost, teardown proceeds regardless.
+    (void)vkDeviceWaitIdle(device_);
     completed_ = submitted_;
     pipelines_.clear();
     collect_retired();

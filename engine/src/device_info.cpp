@@ -1,5 +1,7 @@
 #include "s4d/engine/device_info.h"
 
+#include "s4d/engine/check.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cstring>
@@ -12,9 +14,10 @@ namespace {
 
 bool has_extension(VkPhysicalDevice device, const char* name) {
   uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  S4D_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
   std::vector<VkExtensionProperties> exts(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, exts.data());
+  S4D_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, exts.data()));
+  exts.resize(count);
   return std::any_of(exts.begin(), exts.end(),
                      [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }

@@ -124,3 +124,23 @@ TEST_CASE("buffers dropped while their work is in flight are freed after it comp
   Buffer again(ctx, "after", 64);
   CHECK(again.valid());
 }
+
+TEST_CASE("without mapped device memory, uploads, readbacks and kernels go through staging buffers") {
+  engine::ContextOptions options = engine::ContextOptions::from_env();
+  options.validation = test::context().validation_enabled();
+  options.map_device_memory = false;
+  engine::Context ctx(options);
+  CHECK(!ctx.unified_memory());
+  Buffer b(ctx, "staged", 5000 * 4);
+  CHECK(b.mapped() == nullptr);
+  std::vector<uint32_t> data(5000);
+  std::iota(data.begin(), data.end(), 100u);
+  ctx.upload(b, std::span<const uint32_t>(data), 0);
+  test::expect_equal_arrays(ctx.download<uint32_t>(b, 5000), data, "staged round trip");
+  Recorder rec(ctx, "iota staged");
+  primitives::cmd_iota(rec, b, 5000, 1);
+  ctx.run(std::move(rec));
+  const auto got = ctx.download<uint32_t>(b, 3, 4997);
+  CHECK(got == std::vector<uint32_t>{4998, 4999, 5000});
+  CHECK(ctx.take_validation_messages().empty());
+}

@@ -25,6 +25,9 @@ class Recorder;
 struct ContextOptions {
   bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its errors
   std::string device;       // S4D_DEVICE: index or name substring; empty = automatic choice
+  // Map storage buffers into host memory on CPU and UMA devices (uploads become memcpy). Off: every
+  // upload and readback goes through a staging buffer, as on a discrete GPU (tests use this).
+  bool map_device_memory = true;
   // Reads S4D_VALIDATION (1/0) and S4D_DEVICE.
   static ContextOptions from_env();
 };
@@ -115,6 +118,7 @@ class Context {
 
   bool validation_ = false;
   std::string device_spec_;
+  bool map_device_memory_ = true;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;

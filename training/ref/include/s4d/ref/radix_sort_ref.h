@@ -10,6 +10,18 @@
 
 namespace s4d::ref {
 
+// Twin of radix_count: digit histogram of each block of `block` keys, digit-major
+// (hist[d * num_blocks + b]) like the GPU's.
+template <class Key>
+std::vector<uint32_t> radix_block_histograms(const std::vector<Key>& keys, unsigned shift, Key digit_mask,
+                                             size_t block, size_t bins) {
+  const size_t num_blocks = (keys.size() + block - 1) / block;
+  std::vector<uint32_t> hist(bins * num_blocks, 0);
+  for (size_t i = 0; i < keys.size(); ++i) ++hist[((keys[i] >> shift) & digit_mask) * num_blocks + i / block];
+  return hist;
+}
+
+// Twin of one radix_scatter pass (with its count and scan): a stable counting sort on one digit.
 template <class Key, class Value>
 void radix_sort_pass(std::vector<Key>& keys, std::vector<Value>& values, unsigned shift, unsigned digit_bits) {
   const size_t bins = size_t{1} << digit_bits;

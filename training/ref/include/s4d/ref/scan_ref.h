@@ -2,6 +2,7 @@
 // GPU for unsigned types.
 #pragma once
 #include <span>
+#include <vector>
 
 namespace s4d::ref {
 
@@ -13,6 +14,14 @@ void exclusive_scan(std::span<T> data) {
     x = running;
     running = static_cast<T>(running + v);
   }
+}
+
+// Twin of scan_reduce: the sum of each block of `block` elements (the last block may be short).
+template <class T>
+std::vector<T> block_sums(std::span<const T> data, size_t block) {
+  std::vector<T> sums((data.size() + block - 1) / block, T{});
+  for (size_t i = 0; i < data.size(); ++i) sums[i / block] = static_cast<T>(sums[i / block] + data[i]);
+  return sums;
 }
 
 }  // namespace s4d::ref
