@@ -13,7 +13,7 @@ std::string mib(uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; }
 }  // namespace
 
 Buffer::Buffer(Context& ctx, std::string name, size_t bytes, BufferKind kind)
-    : ctx_(&ctx), name_(std::move(name)), size_(bytes) {
+    : ctx_(&ctx), name_(std::move(name)), size_(bytes), kind_(kind) {
   const DeviceInfo& info = ctx.info();
   if (kind == BufferKind::storage && bytes > info.max_storage_buffer_range)
     throw std::invalid_argument("buffer '" + name_ + "' needs " + std::to_string(bytes) + " bytes (" + mib(bytes) +
@@ -35,35 +35,36 @@ Buffer::Buffer(Context& ctx, std::string name, size_t bytes, BufferKind kind)
                          .sharingMode = VK_SHARING_MODE_EXCLUSIVE};
   S4D_VK_CHECK_CTX(vkCreateBuffer(ctx.device(), &bci, nullptr, &buffer_), "creating buffer '" + name_ + "'");
 
-  VkMemoryRequirements req;
-  vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
-  VkMemoryPropertyFlags required, preferred;
-  const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  if (kind == BufferKind::staging) {
-    required = host;
-    preferred = host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
-  } else if (ctx.unified_memory()) {
-    // CPU and UMA devices: device-local memory is host memory, so map it and skip staging copies.
-    required = host;
-    preferred = host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  } else {
-    required = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  try {
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+    VkMemoryPropertyFlags required, preferred;
+    const VkMemoryPropertyFlags host = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    if (kind == BufferKind::staging) {
+      required = host;
+      preferred = host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+    } else if (ctx.unified_memory()) {
+      // CPU and UMA devices: device-local memory is host memory, so map it and skip staging copies.
+      required = host;
+      preferred = host | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    } else {
+      required = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+      preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    }
+    VkMemoryAllocateInfo mai{.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+                             .allocationSize = req.size,
+                             .memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, required, preferred)};
+    S4D_VK_CHECK_CTX(vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_),
+                     "allocating " + std::to_string(req.size) + " bytes for buffer '" + name_ + "' on " + info.name);
+    S4D_VK_CHECK_CTX(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "binding memory of buffer '" + name_ + "'");
+    if ((required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0)
+      S4D_VK_CHECK_CTX(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "mapping buffer '" + name_ + "'");
+    ctx.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), name_);
+    ctx.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, reinterpret_cast<uint64_t>(memory_), name_ + " memory");
+  } catch (...) {
+    release();  // the destructor does not run for a constructor that threw
+    throw;
   }
-  VkMemoryAllocateInfo mai{.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
-                           .allocationSize = req.size,
-                           .memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, required, preferred)};
-  VkResult r = vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_);
-  if (r < 0) {
-    vkDestroyBuffer(ctx.device(), buffer_, nullptr);
-    buffer_ = VK_NULL_HANDLE;
-    S4D_VK_CHECK_CTX(r, "allocating " + std::to_string(req.size) + " bytes for buffer '" + name_ + "' on " + info.name);
-  }
-  S4D_VK_CHECK_CTX(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "binding memory of buffer '" + name_ + "'");
-  if ((required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0)
-    S4D_VK_CHECK_CTX(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "mapping buffer '" + name_ + "'");
-  ctx.set_name(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), name_);
-  ctx.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, reinterpret_cast<uint64_t>(memory_), name_ + " memory");
 }
 
 Buffer::~Buffer() { release(); }
@@ -72,6 +73,7 @@ Buffer::Buffer(Buffer&& other) noexcept
     : ctx_(other.ctx_),
       name_(std::move(other.name_)),
       size_(other.size_),
+      kind_(other.kind_),
       buffer_(std::exchange(other.buffer_, VK_NULL_HANDLE)),
       memory_(std::exchange(other.memory_, VK_NULL_HANDLE)),
       mapped_(std::exchange(other.mapped_, nullptr)) {}
@@ -82,6 +84,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     ctx_ = other.ctx_;
     name_ = std::move(other.name_);
     size_ = other.size_;
+    kind_ = other.kind_;
     buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
     mapped_ = std::exchange(other.mapped_, nullptr);
@@ -90,14 +93,14 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 }
 
 void Buffer::release() {
-  if (!ctx_ || buffer_ == VK_NULL_HANDLE) return;
+  if (!ctx_ || (buffer_ == VK_NULL_HANDLE && memory_ == VK_NULL_HANDLE)) return;
   VkDevice device = ctx_->device();
   VkBuffer buffer = std::exchange(buffer_, VK_NULL_HANDLE);
   VkDeviceMemory memory = std::exchange(memory_, VK_NULL_HANDLE);
   mapped_ = nullptr;
   ctx_->retire([device, buffer, memory] {
-    vkDestroyBuffer(device, buffer, nullptr);
-    vkFreeMemory(device, memory, nullptr);  // also unmaps
+    if (buffer) vkDestroyBuffer(device, buffer, nullptr);
+    if (memory) vkFreeMemory(device, memory, nullptr);  // also unmaps
   });
 }
 

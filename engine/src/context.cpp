@@ -106,6 +106,8 @@ Context::Context(const ContextOptions& options)
     create_instance();
     create_device();
   } catch (...) {
+    if (timeline_) vkDestroySemaphore(device_, timeline_, nullptr);
+    if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
     if (device_) vkDestroyDevice(device_, nullptr);
     if (messenger_) {
       auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
@@ -234,6 +236,7 @@ uint64_t Context::submit(Recorder&& recorder) {
                   .signalSemaphoreCount = 1,
                   .pSignalSemaphores = &timeline_};
   VkResult r = vkQueueSubmit(queue_, 1, &si, VK_NULL_HANDLE);
+  if (r < 0) vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);  // never submitted: free it now
   if (r == VK_ERROR_DEVICE_LOST) device_lost("vkQueueSubmit");
   S4D_VK_CHECK(r);
   submitted_ = value;
@@ -244,6 +247,9 @@ uint64_t Context::submit(Recorder&& recorder) {
 }
 
 void Context::wait(uint64_t value) {
+  if (value > submitted_)
+    throw std::logic_error("wait for submission " + std::to_string(value) + ", but only " + std::to_string(submitted_) +
+                           " were submitted");
   if (value > completed_) {
     VkSemaphoreWaitInfo wi{.sType = VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO,
                            .semaphoreCount = 1,
@@ -260,11 +266,12 @@ void Context::wait(uint64_t value) {
 void Context::wait_idle() { wait(submitted_); }
 
 void Context::retire(std::function<void()> destroy) {
-  if (submitted_ <= completed_) {
-    destroy();  // nothing in flight can use it
+  if (submitted_ <= completed_ && open_recorders_ == 0) {
+    destroy();  // nothing in flight or being recorded can use it
     return;
   }
-  retired_.push_back({submitted_, std::move(destroy)});
+  // A recorder still open may reference the object: keep it until the next submission completes.
+  retired_.push_back({open_recorders_ > 0 ? submitted_ + 1 : submitted_, std::move(destroy)});
 }
 
 void Context::collect_retired() {

@@ -147,7 +147,8 @@ DeviceInfo query_device_info(VkPhysicalDevice device, uint32_t index) {
   const bool has_compute = family >= 0;
   if (has_compute) {
     info.compute_queue_family = static_cast<uint32_t>(family);
-    info.timestamps = queues[info.compute_queue_family].timestampValidBits > 0 && lim.timestampPeriod > 0;
+    info.timestamp_valid_bits = queues[info.compute_queue_family].timestampValidBits;
+    info.timestamps = info.timestamp_valid_bits > 0 && lim.timestampPeriod > 0;
   }
   info.timestamp_period_ns = lim.timestampPeriod;
 

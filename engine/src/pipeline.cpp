@@ -14,6 +14,10 @@ Pipeline::Pipeline(Context& ctx, std::string name, std::span<const uint32_t> spi
                                 " bytes of push constants; " + info.name + " allows " +
                                 std::to_string(info.max_push_constant_bytes));
   const uint32_t* ls = reflection_.local_size;
+  for (int i = 0; i < 3; ++i)
+    if (ls[i] > info.max_workgroup_size[i])
+      throw std::invalid_argument("shader '" + name_ + "' has workgroup size " + std::to_string(ls[i]) + " along axis " +
+                                  std::to_string(i) + "; " + info.name + " allows " + std::to_string(info.max_workgroup_size[i]));
   if (ls[0] * ls[1] * ls[2] > info.max_workgroup_invocations)
     throw std::invalid_argument("shader '" + name_ + "' has " + std::to_string(ls[0] * ls[1] * ls[2]) +
                                 " invocations per workgroup; " + info.name + " allows " +

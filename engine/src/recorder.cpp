@@ -23,6 +23,7 @@ Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx) {
   VkCommandBufferBeginInfo bi{.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
                               .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
   S4D_VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
+  ctx.recorder_opened();
 }
 
 Recorder::Recorder(Recorder&& other) noexcept
@@ -30,12 +31,22 @@ Recorder::Recorder(Recorder&& other) noexcept
 
 Recorder::~Recorder() {
   // A recorder dropped without being submitted frees its command buffer right away.
-  if (cmd_ != VK_NULL_HANDLE && !finished_) vkFreeCommandBuffers(ctx_->device(), ctx_->command_pool(), 1, &cmd_);
+  if (cmd_ != VK_NULL_HANDLE && !finished_) {
+    vkFreeCommandBuffers(ctx_->device(), ctx_->command_pool(), 1, &cmd_);
+    ctx_->recorder_closed();
+  }
 }
 
 VkCommandBuffer Recorder::finish() {
   if (finished_ || cmd_ == VK_NULL_HANDLE) throw std::logic_error("command buffer submitted twice");
+  // A host wait alone does not make device writes visible to host reads of mapped memory.
+  VkMemoryBarrier to_host{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+                          .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                          .dstAccessMask = VK_ACCESS_HOST_READ_BIT};
+  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0, nullptr, 0, nullptr);
   S4D_VK_CHECK(vkEndCommandBuffer(cmd_));
+  ctx_->recorder_closed();
   finished_ = true;
   return cmd_;
 }
@@ -44,13 +55,13 @@ Groups Recorder::split_groups(uint32_t flat_groups) const {
   const DeviceInfo& info = ctx_->info();
   const uint32_t max_x = info.max_workgroup_count[0];
   if (flat_groups <= max_x) return {flat_groups, 1, 1};
-  const uint32_t y = (flat_groups + max_x - 1) / max_x;
+  const uint32_t y = static_cast<uint32_t>((uint64_t{flat_groups} + max_x - 1) / max_x);
   if (y > info.max_workgroup_count[1])
     throw std::invalid_argument("dispatch of " + std::to_string(flat_groups) + " workgroups exceeds " + info.name +
                                 "'s 2-D grid limit (" + std::to_string(max_x) + " x " +
                                 std::to_string(info.max_workgroup_count[1]) + ")");
   // Spread evenly so the overshoot past flat_groups stays below one row.
-  const uint32_t x = (flat_groups + y - 1) / y;
+  const uint32_t x = static_cast<uint32_t>((uint64_t{flat_groups} + y - 1) / y);
   return {x, y, 1};
 }
 
@@ -71,7 +82,12 @@ void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const BufferRang
     const BufferRange& r = buffers[i];
     if (!r.buffer || !r.buffer->valid())
       throw std::invalid_argument("dispatch of '" + pipeline.name() + "': binding " + std::to_string(i) + " has no buffer");
-    if (r.offset + r.bytes > r.buffer->size() || r.offset > r.buffer->size())
+    if (r.buffer->kind() != BufferKind::storage)
+      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': buffer '" + r.buffer->name() +
+                                  "' is a staging buffer and cannot be bound to a shader");
+    // An empty Buffer (size 0) still has a small allocation and binds whole at offset 0.
+    const bool empty_whole = r.buffer->size() == 0 && r.offset == 0 && r.bytes == 0;
+    if (!empty_whole && (r.offset >= r.buffer->size() || r.bytes > r.buffer->size() - r.offset))
       throw std::invalid_argument("dispatch of '" + pipeline.name() + "': range of binding " + std::to_string(i) +
                                   " overruns buffer '" + r.buffer->name() + "'");
     const uint64_t align = ctx_->info().min_storage_buffer_offset_alignment;
@@ -109,7 +125,7 @@ void Recorder::barrier() {
 }
 
 void Recorder::copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t src_offset, size_t dst_offset) {
-  if (src_offset + bytes > src.size() || dst_offset + bytes > dst.size())
+  if (src_offset > src.size() || bytes > src.size() - src_offset || dst_offset > dst.size() || bytes > dst.size() - dst_offset)
     throw std::invalid_argument("copy of " + std::to_string(bytes) + " bytes from '" + src.name() + "' to '" + dst.name() +
                                 "' overruns a buffer");
   if (bytes == 0) return;
@@ -118,8 +134,10 @@ void Recorder::copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t s
 }
 
 void Recorder::fill(const Buffer& dst, uint32_t value, size_t bytes, size_t offset) {
+  if (offset > dst.size() || bytes > dst.size() - offset || bytes % 4 || offset % 4)
+    throw std::invalid_argument("fill of buffer '" + dst.name() + "': range must be 4-byte aligned and inside the buffer");
   if (bytes == 0) bytes = dst.size() - offset;
-  if (offset + bytes > dst.size() || bytes % 4 || offset % 4)
+  if (bytes % 4)
     throw std::invalid_argument("fill of buffer '" + dst.name() + "': range must be 4-byte aligned and inside the buffer");
   if (bytes == 0) return;
   vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);

@@ -30,7 +30,10 @@ double TimestampQueries::elapsed_ms(uint32_t from, uint32_t to) const {
                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
   S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, to, 1, sizeof(uint64_t), &t[1], sizeof(uint64_t),
                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-  return static_cast<double>(t[1] - t[0]) * static_cast<double>(ctx_.info().timestamp_period_ns) * 1e-6;
+  // Masked: the counter may wrap between the two queries.
+  const uint32_t bits = ctx_.info().timestamp_valid_bits;
+  const uint64_t mask = bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
+  return static_cast<double>((t[1] - t[0]) & mask) * static_cast<double>(ctx_.info().timestamp_period_ns) * 1e-6;
 }
 
 }  // namespace s4d::engine

@@ -21,11 +21,14 @@ void wg_exclusive_add8(inout uvec4 a, inout uvec4 b, out uvec4 total_a, out uvec
     wg_scan_totals[1][gl_SubgroupID] = sum_b;
   }
   barrier();
-  // Subgroup 0 scans the per-subgroup sums in chunks of its own size, carrying the running sum.
+  // Subgroup 0 scans the per-subgroup sums in chunks of its active size, carrying the running sum.
   if (gl_SubgroupID == 0) {
+    // Lanes are numbered by active rank, not gl_SubgroupInvocationID, in case subgroup 0 is partial.
+    uint lane = subgroupExclusiveAdd(1u);
+    uint lanes = subgroupAdd(1u);
     uvec4 carry_a = uvec4(0), carry_b = uvec4(0);
-    for (uint base = 0; base < gl_NumSubgroups; base += gl_SubgroupSize) {
-      uint i = base + gl_SubgroupInvocationID;
+    for (uint base = 0; base < gl_NumSubgroups; base += lanes) {
+      uint i = base + lane;
       bool live = i < gl_NumSubgroups;
       uvec4 ta = live ? wg_scan_totals[0][i] : uvec4(0);
       uvec4 tb = live ? wg_scan_totals[1][i] : uvec4(0);

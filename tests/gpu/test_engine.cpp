@@ -144,3 +144,22 @@ TEST_CASE("without mapped device memory, uploads, readbacks and kernels go throu
   CHECK(got == std::vector<uint32_t>{4998, 4999, 5000});
   CHECK(ctx.take_validation_messages().empty());
 }
+
+TEST_CASE("a buffer dropped while a recorder that uses it is still open lives until that submission completes") {
+  auto& ctx = test::context();
+  Recorder rec(ctx, "records before the buffer is dropped");
+  {
+    Buffer transient(ctx, "dropped before submit", 1 << 12);
+    primitives::cmd_iota(rec, transient, (1 << 12) / 4);
+  }  // must be retired, not destroyed: the command buffer still references it
+  ctx.run(std::move(rec));
+  CHECK(ctx.take_validation_messages().empty());  // the layer reports use of a destroyed buffer
+}
+
+TEST_CASE("staging buffers cannot be bound to a shader") {
+  auto& ctx = test::context();
+  Buffer staging(ctx, "host staging", 64, engine::BufferKind::staging);
+  Recorder rec(ctx, "bind staging");
+  CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {staging}, gpu::IotaParams{}, 1),
+                       doctest::Contains("staging buffer"), std::invalid_argument);
+}

@@ -31,6 +31,7 @@ class Buffer {
   size_t size() const { return size_; }
   const std::string& name() const { return name_; }
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
+  BufferKind kind() const { return kind_; }
   // Persistent host mapping when the memory is host-visible, else nullptr.
   void* mapped() const { return mapped_; }
 
@@ -40,6 +41,7 @@ class Buffer {
   Context* ctx_ = nullptr;
   std::string name_;
   size_t size_ = 0;
+  BufferKind kind_ = BufferKind::storage;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;

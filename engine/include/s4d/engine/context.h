@@ -105,6 +105,10 @@ class Context {
   // The last dispatch labels recorded, reported when the device is lost.
   void note_op(const std::string& name);
 
+  // Recorders still recording: objects retired meanwhile may be used by their coming submission.
+  void recorder_opened() { ++open_recorders_; }
+  void recorder_closed() { --open_recorders_; }
+
  private:
   friend class Recorder;
   void create_instance();
@@ -128,6 +132,7 @@ class Context {
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkSemaphore timeline_ = VK_NULL_HANDLE;
   uint64_t submitted_ = 0;
+  uint32_t open_recorders_ = 0;
   uint64_t completed_ = 0;
   VkPhysicalDeviceMemoryProperties memory_props_{};
   bool unified_memory_ = false;

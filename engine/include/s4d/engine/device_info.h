@@ -45,6 +45,7 @@ struct DeviceInfo {
   // Timestamps on the compute queue.
   bool timestamps = false;
   float timestamp_period_ns = 0;
+  uint32_t timestamp_valid_bits = 0;
 
   // Whether the engine can run on it, and if not, why.
   bool suitable = false;
