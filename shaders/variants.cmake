@@ -6,4 +6,12 @@ set(S4D_SHADER_VARIANTS
   "scan_downsweep|scan/scan_downsweep.comp"
   "radix_count|sort/radix_count.comp"
   "radix_scatter|sort/radix_scatter.comp"
+  "project_fwd|splat/project_fwd.comp"
+  "count_tiles|splat/count_tiles.comp"
+  "emit_instances|splat/emit_instances.comp"
+  "tile_ranges|splat/tile_ranges.comp"
+  "raster_fwd|splat/raster_fwd.comp"
+  "raster_bwd|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=1"
+  "raster_bwd_cas|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=0"
+  "project_bwd|splat/project_bwd.comp"
 )

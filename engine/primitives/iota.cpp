@@ -3,7 +3,7 @@
 #include <stdexcept>
 
 #include "s4d_primitives.h"
-#include "shader_pipeline.h"
+#include "s4d/primitives/shader_pipeline.h"
 
 namespace s4d::primitives {
 

@@ -101,7 +101,8 @@ std::vector<DeviceInfo> list_devices() {
 }
 
 Context::Context(const ContextOptions& options)
-    : validation_(options.validation), device_spec_(options.device), map_device_memory_(options.map_device_memory) {
+    : validation_(options.validation), device_spec_(options.device), map_device_memory_(options.map_device_memory),
+      max_groups_x_(options.max_groups_x) {
   try {
     create_instance();
     create_device();

@@ -53,7 +53,8 @@ VkCommandBuffer Recorder::finish() {
 
 Groups Recorder::split_groups(uint32_t flat_groups) const {
   const DeviceInfo& info = ctx_->info();
-  const uint32_t max_x = info.max_workgroup_count[0];
+  const uint32_t cap = ctx_->max_groups_x();
+  const uint32_t max_x = cap ? std::min(cap, info.max_workgroup_count[0]) : info.max_workgroup_count[0];
   if (flat_groups <= max_x) return {flat_groups, 1, 1};
   const uint32_t y = static_cast<uint32_t>((uint64_t{flat_groups} + max_x - 1) / max_x);
   if (y > info.max_workgroup_count[1])

@@ -28,6 +28,9 @@ struct ContextOptions {
   // Map storage buffers into host memory on CPU and UMA devices (uploads become memcpy). Off: every
   // upload and readback goes through a staging buffer, as on a discrete GPU (tests use this).
   bool map_device_memory = true;
+  // Caps the 1-D workgroup count before dispatches split into a 2-D grid (0: the device limit).
+  // Lets tests reach the split path with small dispatches.
+  uint32_t max_groups_x = 0;
   // Reads S4D_VALIDATION (1/0) and S4D_DEVICE.
   static ContextOptions from_env();
 };
@@ -46,6 +49,7 @@ class Context {
   Context& operator=(const Context&) = delete;
 
   const DeviceInfo& info() const { return info_; }
+  uint32_t max_groups_x() const { return max_groups_x_; }
   VkInstance instance() const { return instance_; }
   VkPhysicalDevice physical_device() const { return physical_; }
   VkDevice device() const { return device_; }
@@ -123,6 +127,7 @@ class Context {
   bool validation_ = false;
   std::string device_spec_;
   bool map_device_memory_ = true;
+  uint32_t max_groups_x_ = 0;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;

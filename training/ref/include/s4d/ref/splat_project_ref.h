@@ -12,21 +12,22 @@
 #include <cstdint>
 #include <vector>
 
+#include "s4d_splat.h"
+
 namespace s4d::ref {
 
-// Rasterizer constants, in one place (graphdeco config.h / auxiliary.h values). The GPU port must use
-// the same values; they move to shaders/shared once the splat kernels exist.
-inline constexpr int kTileSize = 16;           // 16x16 pixel tiles: one GPU workgroup per tile
-inline constexpr double kNearZ = 0.2;          // cull at camera z <= 0.2: keeps 1/z and the Jacobian bounded
-inline constexpr double kGuardBand = 1.3;      // clamp x/z, y/z to 1.3*tan(fov/2): off-screen Jacobians stay sane
-inline constexpr double kDilation = 0.3;       // low-pass filter on the 2D covariance: a splat covers ~1 pixel
-inline constexpr double kSigmaExtent = 3.0;    // radius = 3 sigma of the larger eigenvalue
-inline constexpr double kMinEigenGap = 0.1;    // sqrt(max(0.1, mid^2 - det)) in graphdeco's eigenvalue formula
-inline constexpr double kMaxAlpha = 0.99;      // alpha cap: T never reaches 0, 1/(1 - alpha) stays bounded
-inline constexpr double kMinAlpha = 1.0 / 255.0;  // contributions below one 8-bit step are skipped
-inline constexpr double kMinTransmittance = 1e-4;  // stop blending once the pixel is practically opaque
+// Rasterizer constants: the kernels' values from shaders/shared/s4d_splat.h.
+inline constexpr int kTileSize = S4D_TILE_SIZE;
+inline constexpr double kNearZ = S4D_NEAR_Z;
+inline constexpr double kGuardBand = S4D_GUARD_BAND;
+inline constexpr double kDilation = S4D_DILATION;
+inline constexpr double kSigmaExtent = S4D_SIGMA_EXTENT;
+inline constexpr double kMinEigenGap = S4D_MIN_EIGEN_GAP;
+inline constexpr double kMaxAlpha = S4D_MAX_ALPHA;
+inline constexpr double kMinAlpha = S4D_MIN_ALPHA;
+inline constexpr double kMinTransmittance = S4D_MIN_TRANSMITTANCE;
 
-inline constexpr int kMaxShDegree = 3;
+inline constexpr int kMaxShDegree = S4D_MAX_SH_DEGREE;
 inline constexpr double kShC0 = 0.28209479177387814;
 inline constexpr double kShC1 = 0.4886025119029199;
 inline constexpr std::array<double, 5> kShC2 = {1.0925484305920792, -1.0925484305920792, 0.31539156525252005,
@@ -265,11 +266,19 @@ Projected<T> project_fwd(const Gaussians<T>& g, const Camera<T>& cam) {
     const T u = cam.fx * p.t[0] / p.t[2] + cam.cx, v = cam.fy * p.t[1] / p.t[2] + cam.cy;
 
     // 3-sigma radius and tile rectangle exactly as graphdeco (1.3 steps 6-7), applied to (u, v).
+    // Tile indices are clamped in floating point first, so huge or negative coordinates never
+    // reach an out-of-range conversion; overflowing inputs cull instead of poisoning tile lists.
     const T mid = (p.a + p.c) / 2;
     const T root = std::sqrt(std::max(detail::lit<T>(kMinEigenGap), mid * mid - p.det));
-    const int radius = static_cast<int>(std::ceil(detail::lit<T>(kSigmaExtent) * std::sqrt(mid + root)));
-    auto tile = [](T x, int hi) { return std::clamp(static_cast<int>(x / kTileSize), 0, hi); };
-    const T r = static_cast<T>(radius);
+    const T r = std::ceil(detail::lit<T>(kSigmaExtent) * std::sqrt(mid + root));
+    const T conic[3] = {p.c / p.det, -p.b / p.det, p.a / p.det};
+    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(r) || !std::isfinite(conic[0]) ||
+        !std::isfinite(conic[1]) || !std::isfinite(conic[2]))
+      continue;
+    auto tile = [](T x, int hi) {
+      return static_cast<int>(std::clamp(x / T(kTileSize), T(0), static_cast<T>(hi)));
+    };
+    const int radius = static_cast<int>(std::min(r, detail::lit<T>(1e9)));
     const int rect[4] = {tile(u - r, cam.tiles_x()), tile(v - r, cam.tiles_y()),
                          tile(u + r + (kTileSize - 1), cam.tiles_x()), tile(v + r + (kTileSize - 1), cam.tiles_y())};
     if ((rect[2] - rect[0]) * (rect[3] - rect[1]) == 0) continue;
@@ -277,7 +286,7 @@ Projected<T> project_fwd(const Gaussians<T>& g, const Camera<T>& cam) {
     out.radius[i] = radius;
     for (size_t k = 0; k < 4; ++k) out.tile_rect[4 * i + k] = rect[k];
     out.mean2d[2 * i] = u, out.mean2d[2 * i + 1] = v;
-    out.conic[3 * i] = p.c / p.det, out.conic[3 * i + 1] = -p.b / p.det, out.conic[3 * i + 2] = p.a / p.det;
+    for (size_t k = 0; k < 3; ++k) out.conic[3 * i + k] = conic[k];
     out.depth[i] = p.t[2];
     out.opacity[i] = 1 / (1 + std::exp(-g.opacity_logits[i]));
     if (!g.colors.empty()) {

@@ -1,0 +1,128 @@
+// raster_bwd: same tiling as raster_fwd. Each pixel walks its tile's list back to front from its
+// last contributor, recovering T_i = T_{i+1} / (1 - alpha_i) from the stored final transmittance
+// (ALGORITHMS.md 1.6). Every invocation of the workgroup visits the same list position at the same
+// step, so the per-Gaussian cotangents are summed over the subgroup first and one lane adds them to
+// global memory: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1), else with a
+// compare-and-swap loop.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_vote : require
+#if S4D_FLOAT_ATOMICS
+#extension GL_EXT_shader_atomic_float : require
+#endif
+#include "s4d_splat.h"
+#include "flat_group.glsl"
+#include "splat_sample.glsl"
+
+layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
+layout(push_constant) uniform Push { RasterParams p; };
+layout(std430, binding = S4D_B_RBWD_RANGES) readonly buffer Ranges { uvec2 ranges[]; };
+layout(std430, binding = S4D_B_RBWD_GAUSSIAN_IDS) readonly buffer GaussianIds { uint gaussian_ids[]; };
+layout(std430, binding = S4D_B_RBWD_XY) readonly buffer Xy { vec2 xy[]; };
+layout(std430, binding = S4D_B_RBWD_CONIC_OPACITY) readonly buffer ConicOpacity { vec4 conic_opacity[]; };
+layout(std430, binding = S4D_B_RBWD_COLOR_DEPTH) readonly buffer ColorDepth { vec4 color_depth[]; };
+layout(std430, binding = S4D_B_RBWD_FINAL_T) readonly buffer FinalT { float final_t[]; };
+layout(std430, binding = S4D_B_RBWD_LAST) readonly buffer Last { uint last_buf[]; };
+layout(std430, binding = S4D_B_RBWD_V_RGB) readonly buffer VRgb { float v_rgb[]; };
+layout(std430, binding = S4D_B_RBWD_V_ALPHA) readonly buffer VAlpha { float v_alpha_img[]; };
+layout(std430, binding = S4D_B_RBWD_V_DEPTH) readonly buffer VDepth { float v_depth_img[]; };
+#if S4D_FLOAT_ATOMICS
+layout(std430, binding = S4D_B_RBWD_GRAD2D) buffer Grad2d { float grad2d[]; };
+void add_grad(uint index, float value) { atomicAdd(grad2d[index], value); }
+#else
+layout(std430, binding = S4D_B_RBWD_GRAD2D) buffer Grad2d { uint grad2d[]; };
+void add_grad(uint index, float value) {
+  uint old = grad2d[index];
+  for (;;) {
+    uint seen = atomicCompSwap(grad2d[index], old, floatBitsToUint(uintBitsToFloat(old) + value));
+    if (seen == old) break;
+    old = seen;
+  }
+}
+#endif
+
+shared uint s_id[S4D_TILE_PIXELS];
+shared vec2 s_xy[S4D_TILE_PIXELS];
+shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
+shared vec4 s_color_depth[S4D_TILE_PIXELS];
+shared uint s_max_last;
+
+void main() {
+  uint tile = flat_group_id();
+  if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: barriers stay uniform
+  uint lid = gl_LocalInvocationIndex;
+  uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
+  bool inside = pix.x < p.size.x && pix.y < p.size.y;
+  vec2 centre = vec2(pix) + 0.5;
+  uint o = pix.y * p.size.x + pix.x;
+  uint range_begin = ranges[tile].x;
+
+  uint last = inside ? last_buf[o] : 0u;
+  float T_final = inside ? final_t[o] : 1.0;
+  vec3 vc = inside ? vec3(v_rgb[3u * o], v_rgb[3u * o + 1u], v_rgb[3u * o + 2u]) : vec3(0.0);
+  float v_pix_alpha = inside && (p.flags & S4D_RASTER_HAS_V_ALPHA) != 0u ? v_alpha_img[o] : 0.0;
+  float v_pix_depth = inside && (p.flags & S4D_RASTER_HAS_V_DEPTH) != 0u ? v_depth_img[o] : 0.0;
+  float bg_dot = dot(p.background.rgb, vc);
+
+  if (lid == 0u) s_max_last = 0u;
+  barrier();
+  atomicMax(s_max_last, last);
+  barrier();
+  uint entries = s_max_last;
+
+  float T = T_final;          // transmittance in front of the Gaussian after the current one
+  vec3 behind = vec3(0.0);    // colour blended behind the current Gaussian, per unit of T after it
+  float behind_depth = 0.0;
+  for (uint end = entries; end > 0u; end -= min(end, uint(S4D_TILE_PIXELS))) {
+    uint batch = min(end, uint(S4D_TILE_PIXELS));
+    barrier();
+    if (lid < batch) {  // s_*[j] holds list position end - 1 - j: back to front
+      uint g = gaussian_ids[range_begin + end - 1u - lid];
+      s_id[lid] = g;
+      s_xy[lid] = xy[g];
+      s_conic_opacity[lid] = conic_opacity[g];
+      s_color_depth[lid] = color_depth[g];
+    }
+    barrier();
+    for (uint j = 0u; j < batch; ++j) {
+      uint position = end - 1u - j;
+      vec4 co = s_conic_opacity[j];
+      SplatSample s = splat_sample(s_xy[j], co, centre);
+      bool contributes = position < last && !s.skip;
+      float g[S4D_G2D_STRIDE];
+      for (int k = 0; k < S4D_G2D_STRIDE; ++k) g[k] = 0.0;
+      if (contributes) {
+        vec4 cd = s_color_depth[j];
+        float T_i = T / (1.0 - s.alpha);
+        float v_alpha = T_i * dot(cd.rgb - behind, vc) + T_i * (cd.w - behind_depth) * v_pix_depth +
+                        T_final / (1.0 - s.alpha) * (v_pix_alpha - bg_dot);
+        vec3 v_c = (s.alpha * T_i) * vc;
+        g[S4D_G2D_RGB] = v_c.r, g[S4D_G2D_RGB + 1] = v_c.g, g[S4D_G2D_RGB + 2] = v_c.b;
+        g[S4D_G2D_DEPTH] = s.alpha * T_i * v_pix_depth;
+        if (!s.clamped) {  // a capped alpha does not depend on conic, mean or opacity
+          g[S4D_G2D_OPACITY] = s.G * v_alpha;
+          float v_power = co.w * s.G * v_alpha;
+          g[S4D_G2D_XY] = -v_power * (co.x * s.d.x + co.y * s.d.y);
+          g[S4D_G2D_XY + 1] = -v_power * (co.y * s.d.x + co.z * s.d.y);
+          g[S4D_G2D_CONIC] = -0.5 * v_power * s.d.x * s.d.x;
+          g[S4D_G2D_CONIC + 1] = -v_power * s.d.x * s.d.y;
+          g[S4D_G2D_CONIC + 2] = -0.5 * v_power * s.d.y * s.d.y;
+        }
+        behind = s.alpha * cd.rgb + (1.0 - s.alpha) * behind;
+        behind_depth = s.alpha * cd.w + (1.0 - s.alpha) * behind_depth;
+        T = T_i;
+      }
+      // The branch condition is uniform within the subgroup, so the reductions inside are legal.
+      if (subgroupAny(contributes)) {
+        for (int k = 0; k < S4D_G2D_STRIDE; ++k) g[k] = subgroupAdd(g[k]);
+        if (subgroupElect()) {
+          uint base = s_id[j] * S4D_G2D_STRIDE;
+          for (int k = 0; k < S4D_G2D_STRIDE; ++k)
+            if (g[k] != 0.0) add_grad(base + uint(k), g[k]);
+        }
+      }
+    }
+  }
+}

@@ -1,0 +1,83 @@
+// raster_fwd: one 16x16 workgroup per tile, one invocation per pixel. The tile's depth-sorted list
+// streams through shared memory in batches of 256; each pixel blends front to back until its
+// transmittance would drop below 1e-4 (ALGORITHMS.md 1.5), and the workgroup stops as soon as every
+// pixel is done.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "s4d_splat.h"
+#include "flat_group.glsl"
+#include "splat_sample.glsl"
+
+layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
+layout(push_constant) uniform Push { RasterParams p; };
+layout(std430, binding = S4D_B_RASTER_RANGES) readonly buffer Ranges { uvec2 ranges[]; };
+layout(std430, binding = S4D_B_RASTER_GAUSSIAN_IDS) readonly buffer GaussianIds { uint gaussian_ids[]; };
+layout(std430, binding = S4D_B_RASTER_XY) readonly buffer Xy { vec2 xy[]; };
+layout(std430, binding = S4D_B_RASTER_CONIC_OPACITY) readonly buffer ConicOpacity { vec4 conic_opacity[]; };
+layout(std430, binding = S4D_B_RASTER_COLOR_DEPTH) readonly buffer ColorDepth { vec4 color_depth[]; };
+layout(std430, binding = S4D_B_RASTER_RGB) writeonly buffer OutRgb { float out_rgb[]; };
+layout(std430, binding = S4D_B_RASTER_ALPHA) writeonly buffer OutAlpha { float out_alpha[]; };
+layout(std430, binding = S4D_B_RASTER_DEPTH) writeonly buffer OutDepth { float out_depth[]; };
+layout(std430, binding = S4D_B_RASTER_COUNT) writeonly buffer OutCount { uint out_count[]; };
+layout(std430, binding = S4D_B_RASTER_LAST) writeonly buffer OutLast { uint out_last[]; };
+layout(std430, binding = S4D_B_RASTER_FINAL_T) writeonly buffer OutFinalT { float out_final_t[]; };
+
+shared vec2 s_xy[S4D_TILE_PIXELS];
+shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
+shared vec4 s_color_depth[S4D_TILE_PIXELS];
+shared uint s_done;
+
+void main() {
+  uint tile = flat_group_id();
+  if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: the barriers below stay uniform
+  uint lid = gl_LocalInvocationIndex;
+  uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
+  bool inside = pix.x < p.size.x && pix.y < p.size.y;
+  vec2 centre = vec2(pix) + 0.5;
+  uvec2 range = ranges[tile];
+
+  bool done = !inside;
+  float T = 1.0, depth = 0.0;
+  vec3 color = vec3(0.0);
+  uint count = 0u, last = 0u;
+  for (uint base = range.x; base < range.y; base += S4D_TILE_PIXELS) {
+    barrier();
+    if (lid == 0u) s_done = 0u;
+    barrier();
+    if (done) atomicAdd(s_done, 1u);
+    barrier();
+    if (s_done == S4D_TILE_PIXELS) break;
+    if (base + lid < range.y) {
+      uint g = gaussian_ids[base + lid];
+      s_xy[lid] = xy[g];
+      s_conic_opacity[lid] = conic_opacity[g];
+      s_color_depth[lid] = color_depth[g];
+    }
+    barrier();
+    uint batch = min(uint(S4D_TILE_PIXELS), range.y - base);
+    for (uint j = 0u; !done && j < batch; ++j) {
+      SplatSample s = splat_sample(s_xy[j], s_conic_opacity[j], centre);
+      if (s.skip) continue;
+      float next = T * (1.0 - s.alpha);
+      if (next < S4D_MIN_TRANSMITTANCE) {
+        done = true;  // this Gaussian is not added, as in graphdeco
+        break;
+      }
+      vec4 cd = s_color_depth[j];
+      color += cd.rgb * (s.alpha * T);
+      depth += cd.w * (s.alpha * T);
+      T = next;
+      ++count;
+      last = base - range.x + j + 1u;
+    }
+  }
+  if (!inside) return;
+  uint o = pix.y * p.size.x + pix.x;
+  vec3 rgb = color + T * p.background.rgb;
+  out_rgb[3u * o] = rgb.r, out_rgb[3u * o + 1u] = rgb.g, out_rgb[3u * o + 2u] = rgb.b;
+  out_alpha[o] = 1.0 - T;
+  out_depth[o] = depth;
+  out_count[o] = count;
+  out_last[o] = last;
+  out_final_t[o] = T;
+}

@@ -1,0 +1,49 @@
+// Test harness for the GPU rasterizer: uploads twin-layout scenes, runs the GPU forward/backward
+// and downloads the results into the twin's own structs so tests compare like with like.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <random>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+#include "s4d/ref/splat_raster_ref.h"
+#include "s4d/splat/rasterizer.h"
+
+namespace s4d::test {
+
+using Scene = ref::Gaussians<float>;
+using Cam = ref::Camera<float>;
+
+// Device copies of a scene's parameters (and gradient buffers of the same shapes).
+struct DeviceScene {
+  engine::Buffer means, log_scales, quats, opacity_logits, sh, colors;
+  engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_colors;
+  splat::GaussianParams params;
+  splat::GaussianGrads grads;
+  DeviceScene(engine::Context& ctx, const Scene& g);
+};
+
+splat::Camera gpu_camera(const Cam& cam);
+
+struct GpuForward {
+  ref::Projected<float> proj;
+  ref::Image<float> img;
+  uint32_t instances = 0;
+};
+GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& cam, const std::array<float, 3>& bg);
+
+struct GpuBackward {
+  ref::GaussianGrads<float> grads;    // v_mean2d holds the screen-space mean cotangent from grad2d
+  ref::ProjectedGrads<float> grad2d;  // the raster backward's per-Gaussian cotangents
+};
+GpuBackward gpu_backward(splat::Rasterizer& r, DeviceScene& s, const ref::ImageGrads<float>& v, size_t pixels);
+
+// A camera looking down +z from the origin with a slight rotation, fx ~ width.
+Cam random_camera(uint32_t width, uint32_t height, std::mt19937& rng);
+
+// n Gaussians spread over the camera's view at depths 2..8 with random shapes, orientations,
+// opacities and SH coefficients of the given degree (K = 16 stored); colours when `colors`.
+Scene random_scene(size_t n, int sh_degree, bool colors, std::mt19937& rng);
+
+}  // namespace s4d::test

@@ -1,0 +1,111 @@
+// The tile-sorted Gaussian rasterizer on the GPU (ALGORITHMS.md 1): forward render to RGB, alpha,
+// expected depth and per-pixel contributor counts, and the backward pass to every Gaussian
+// parameter. Its CPU twin is training/ref/include/s4d/ref/splat_raster_ref.h.
+//
+// forward() runs in two submissions: projection, depth sort and tile counting first, then the
+// host reads the number of tile instances (4 bytes), sizes the instance buffers and records
+// binning, the tile sort and blending. Every intermediate buffer is owned here and grows on demand.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+#include "s4d/primitives/radix_sort.h"
+
+namespace s4d::splat {
+
+// A pinhole camera in this project's convention: OpenCV axes (x right, y down, z forward), pixel
+// (i, j) centred at (i + 0.5, j + 0.5), u = fx x/z + cx.
+struct Camera {
+  std::array<float, 12> world_to_cam{};  // rows of [R | t], row-major 3x4
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  uint32_t width = 0, height = 0;
+};
+
+// Device-resident Gaussian parameters, flat float arrays (layouts in shaders/shared/s4d_splat.h).
+struct GaussianParams {
+  const engine::Buffer* means = nullptr;           // [N*3]
+  const engine::Buffer* log_scales = nullptr;      // [N*3]
+  const engine::Buffer* quats = nullptr;           // [N*4] (w, x, y, z), normalised in the kernel
+  const engine::Buffer* opacity_logits = nullptr;  // [N]
+  const engine::Buffer* sh = nullptr;              // [N*K*3] coefficient-major
+  const engine::Buffer* colors = nullptr;          // [N*3] or nullptr: when set it replaces the SH colour
+  uint32_t count = 0;
+  uint32_t sh_degree = 0;  // active degree 0..3
+  uint32_t sh_coeffs = 1;  // K stored per Gaussian and channel, >= (sh_degree + 1)^2
+};
+
+// Gradient outputs, same layouts as the parameters; assigned (not accumulated) by backward().
+struct GaussianGrads {
+  engine::Buffer* v_means = nullptr;
+  engine::Buffer* v_log_scales = nullptr;
+  engine::Buffer* v_quats = nullptr;
+  engine::Buffer* v_opacity_logits = nullptr;
+  engine::Buffer* v_sh = nullptr;      // required unless colours were used
+  engine::Buffer* v_colors = nullptr;  // required when colours were used
+};
+
+// Cotangents of the forward images. v_rgb is required; v_alpha and v_depth are optional.
+struct ImageCotangents {
+  const engine::Buffer* v_rgb = nullptr;    // [H*W*3]
+  const engine::Buffer* v_alpha = nullptr;  // [H*W]
+  const engine::Buffer* v_depth = nullptr;  // [H*W]
+};
+
+struct RasterizerOptions {
+  bool force_cas_atomics = false;  // use the compare-and-swap gradient path even with float atomics
+};
+
+class Rasterizer {
+ public:
+  explicit Rasterizer(engine::Context& ctx, std::string name = "rasterizer", RasterizerOptions options = {});
+
+  // Renders and waits. Returns the number of (tile, Gaussian) instances blended. Throws
+  // std::invalid_argument on inconsistent parameters or a camera the kernels cannot address.
+  uint32_t forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background);
+
+  // Backward of the last forward(), which must have used the same `g`. Waits.
+  void backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out);
+
+  // Outputs of the last forward, row-major [H, W(, 3)].
+  const engine::Buffer& rgb() const { return rgb_; }              // float [H*W*3]
+  const engine::Buffer& alpha() const { return alpha_; }          // float [H*W], 1 - T_final
+  const engine::Buffer& depth() const { return depth_; }          // float [H*W], sum depth_i alpha_i T_i
+  const engine::Buffer& contributors() const { return count_; }   // u32 [H*W]
+  // Per-Gaussian intermediates of the last forward (layouts in s4d_splat.h).
+  const engine::Buffer& xy() const { return xy_; }
+  const engine::Buffer& conic_opacity() const { return conic_opacity_; }
+  const engine::Buffer& color_depth() const { return color_depth_; }
+  const engine::Buffer& info() const { return info_; }
+  // Screen-space cotangents of the last backward, [N * S4D_G2D_STRIDE] (densification reads the mean's).
+  const engine::Buffer& grad2d() const { return grad2d_; }
+  const Camera& camera() const { return cam_; }
+  engine::Context& context() const { return *ctx_; }
+
+ private:
+  void reserve_gaussians(uint32_t n);
+  void reserve_instances(uint32_t n);
+  void reserve_pixels(uint32_t width, uint32_t height);
+
+  engine::Context* ctx_;
+  std::string name_;
+  RasterizerOptions options_;
+  uint32_t gaussian_capacity_ = 0, instance_capacity_ = 0, pixel_capacity_ = 0, tile_capacity_ = 0;
+
+  // State of the last forward, reused by backward.
+  Camera cam_{};
+  std::array<float, 3> background_{};
+  uint32_t count_last_ = 0;
+  bool colors_last_ = false;
+  bool have_forward_ = false;
+
+  engine::Buffer xy_, conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_, sorted_ids_, offsets_;
+  engine::Buffer tile_keys_, gaussian_ids_, ranges_;
+  engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
+  engine::Buffer grad2d_, scan_scratch_;
+  primitives::RadixSortScratch depth_sort_, tile_sort_;
+};
+
+}  // namespace s4d::splat

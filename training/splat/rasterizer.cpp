@@ -1,0 +1,249 @@
+// Host side of the rasterizer: buffer management and the order of kernels (ALGORITHMS.md 1.3-1.6).
+#include "s4d/splat/rasterizer.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "s4d/engine/recorder.h"
+#include "s4d/primitives/iota.h"
+#include "s4d/primitives/scan.h"
+#include "s4d/primitives/shader_pipeline.h"
+#include "s4d_splat.h"
+
+namespace s4d::splat {
+namespace {
+
+using primitives::ceil_div;
+using primitives::shader_pipeline;
+
+// Grown buffers get headroom so a slowly growing count does not reallocate every call.
+uint32_t grown(uint32_t needed) { return needed + needed / 4 + 1024; }
+
+void require(const engine::Buffer* b, const char* what, size_t bytes) {
+  if (b == nullptr) throw std::invalid_argument(std::string("rasterizer: ") + what + " buffer is missing");
+  if (b->size() < bytes)
+    throw std::invalid_argument("rasterizer: buffer '" + b->name() + "' (" + what + ") holds " +
+                                std::to_string(b->size()) + " bytes, " + std::to_string(bytes) + " needed");
+}
+
+void check_params(const GaussianParams& g) {
+  const size_t n = g.count;
+  if (g.sh_degree > S4D_MAX_SH_DEGREE)
+    throw std::invalid_argument("rasterizer: sh_degree " + std::to_string(g.sh_degree) + " is above 3");
+  if (g.sh_coeffs < (g.sh_degree + 1) * (g.sh_degree + 1) || g.sh_coeffs > S4D_MAX_SH_COEFFS)
+    throw std::invalid_argument("rasterizer: sh_coeffs " + std::to_string(g.sh_coeffs) + " does not hold degree " +
+                                std::to_string(g.sh_degree));
+  require(g.means, "means", n * 12);
+  require(g.log_scales, "log_scales", n * 12);
+  require(g.quats, "quats", n * 16);
+  require(g.opacity_logits, "opacity_logits", n * 4);
+  if (g.colors != nullptr) require(g.colors, "colors", n * 12);
+  else require(g.sh, "sh", n * g.sh_coeffs * 12);
+}
+
+void check_camera(const Camera& cam) {
+  if (cam.width == 0 || cam.height == 0)
+    throw std::invalid_argument("rasterizer: camera size " + std::to_string(cam.width) + "x" +
+                                std::to_string(cam.height) + " is empty");
+  // Tile rectangles pack each corner coordinate into 16 bits.
+  if (ceil_div(cam.width, S4D_TILE_SIZE) > 0xFFFF || ceil_div(cam.height, S4D_TILE_SIZE) > 0xFFFF)
+    throw std::invalid_argument("rasterizer: camera size " + std::to_string(cam.width) + "x" +
+                                std::to_string(cam.height) + " exceeds 65535 tiles per axis");
+  for (float v : cam.world_to_cam)
+    if (!std::isfinite(v)) throw std::invalid_argument("rasterizer: camera pose is not finite");
+  if (!(cam.fx > 0) || !(cam.fy > 0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy) || !std::isfinite(cam.cx) ||
+      !std::isfinite(cam.cy))
+    throw std::invalid_argument("rasterizer: camera intrinsics must be finite with positive focal lengths");
+}
+
+gpu::ProjectParams project_params(const GaussianParams& g, const Camera& cam) {
+  const auto& V = cam.world_to_cam;
+  gpu::ProjectParams p{};
+  p.cam.view_row0 = {V[0], V[1], V[2], V[3]};
+  p.cam.view_row1 = {V[4], V[5], V[6], V[7]};
+  p.cam.view_row2 = {V[8], V[9], V[10], V[11]};
+  p.cam.intrinsics = {cam.fx, cam.fy, cam.cx, cam.cy};
+  p.cam.size = {cam.width, cam.height, ceil_div(cam.width, S4D_TILE_SIZE), ceil_div(cam.height, S4D_TILE_SIZE)};
+  p.n = g.count;
+  p.sh_degree = g.sh_degree;
+  p.sh_coeffs = g.sh_coeffs;
+  p.flags = g.colors != nullptr ? S4D_SPLAT_USE_COLORS : 0u;
+  return p;
+}
+
+}  // namespace
+
+Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions options)
+    : ctx_(&ctx), name_(std::move(name)), options_(options) {
+  reserve_gaussians(1);
+  reserve_instances(1);
+  reserve_pixels(1, 1);
+}
+
+void Rasterizer::reserve_gaussians(uint32_t n) {
+  if (n <= gaussian_capacity_ && xy_.valid()) return;
+  const uint32_t cap = grown(n);
+  const size_t c = cap;
+  auto make = [&](const char* what, size_t bytes) { return engine::Buffer(*ctx_, name_ + " " + what, bytes); };
+  xy_ = make("xy", c * 8);
+  conic_opacity_ = make("conic_opacity", c * 16);
+  color_depth_ = make("color_depth", c * 16);
+  info_ = make("info", c * 16);
+  depth_keys_ = make("depth keys", c * 4);
+  tiles_touched_ = make("tiles touched", c * 4);
+  sorted_ids_ = make("depth order", c * 4);
+  offsets_ = make("instance offsets", (c + 1) * 4);
+  grad2d_ = make("grad2d", c * S4D_G2D_STRIDE * 4);
+  scan_scratch_ = make("offsets scan scratch", primitives::scan_scratch_bytes(cap + 1));
+  depth_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " depth sort");
+  gaussian_capacity_ = cap;
+}
+
+void Rasterizer::reserve_instances(uint32_t n) {
+  if (n <= instance_capacity_ && tile_keys_.valid()) return;
+  // Keys, values and the sort's two temporaries are one u32 per instance each.
+  const uint64_t limit = ctx_->info().max_storage_buffer_range / 4;
+  if (n > limit)
+    throw std::invalid_argument("rasterizer: " + std::to_string(n) + " tile instances exceed what one buffer of " +
+                                ctx_->info().name + " can hold (" + std::to_string(limit) +
+                                "); lower the resolution or the number of Gaussians");
+  const uint32_t cap = static_cast<uint32_t>(std::min<uint64_t>(grown(n), limit));
+  tile_keys_ = engine::Buffer(*ctx_, name_ + " tile keys", size_t{cap} * 4);
+  gaussian_ids_ = engine::Buffer(*ctx_, name_ + " instance ids", size_t{cap} * 4);
+  tile_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " tile sort");
+  instance_capacity_ = cap;
+}
+
+void Rasterizer::reserve_pixels(uint32_t width, uint32_t height) {
+  const uint32_t pixels = width * height;
+  const uint32_t tiles = ceil_div(width, S4D_TILE_SIZE) * ceil_div(height, S4D_TILE_SIZE);
+  if (pixels <= pixel_capacity_ && tiles <= tile_capacity_ && rgb_.valid()) return;
+  const size_t p = std::max(pixels, pixel_capacity_), t = std::max(tiles, tile_capacity_);
+  auto make = [&](const char* what, size_t bytes) { return engine::Buffer(*ctx_, name_ + " " + what, bytes); };
+  rgb_ = make("rgb", p * 12);
+  alpha_ = make("alpha", p * 4);
+  depth_ = make("depth", p * 4);
+  count_ = make("contributors", p * 4);
+  last_ = make("last contributor", p * 4);
+  final_t_ = make("final transmittance", p * 4);
+  ranges_ = make("tile ranges", t * 8);
+  pixel_capacity_ = static_cast<uint32_t>(p);
+  tile_capacity_ = static_cast<uint32_t>(t);
+}
+
+uint32_t Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
+  check_params(g);
+  check_camera(cam);
+  if (uint64_t{cam.width} * cam.height * 12 > ctx_->info().max_storage_buffer_range)
+    throw std::invalid_argument("rasterizer: a " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                                " RGB image exceeds the storage-buffer range of " + ctx_->info().name);
+  const uint32_t n = g.count;
+  reserve_gaussians(n);
+  reserve_pixels(cam.width, cam.height);
+  const gpu::ProjectParams pp = project_params(g, cam);
+  const uint32_t tiles_x = pp.cam.size.z, num_tiles = pp.cam.size.z * pp.cam.size.w;
+  const engine::Buffer& colors = g.colors != nullptr ? *g.colors : *g.sh;
+
+  // Submission 1: project, sort by depth, count tiles in depth order, scan to offsets.
+  {
+    engine::Recorder rec(*ctx_, name_ + " project");
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_fwd),
+                 {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, xy_,
+                  conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_},
+                 pp, ceil_div(n, S4D_SPLAT_WG));
+    primitives::cmd_iota(rec, sorted_ids_, n);
+    rec.barrier();
+    primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
+    rec.barrier();
+    const gpu::BinningParams bp{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles), {sorted_ids_, tiles_touched_, offsets_}, bp,
+                 ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
+    rec.barrier();
+    primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
+    ctx_->run(std::move(rec));
+  }
+  uint32_t instances = 0;
+  ctx_->download(offsets_, &instances, 4, size_t{n} * 4);
+  reserve_instances(instances);
+
+  // Submission 2: emit instances, sort them by tile (stable: depth order survives), find each
+  // tile's range, blend.
+  {
+    engine::Recorder rec(*ctx_, name_ + " raster");
+    rec.fill(ranges_, 0, size_t{num_tiles} * 8);
+    const gpu::BinningParams ep{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::emit_instances),
+                 {sorted_ids_, offsets_, info_, tile_keys_, gaussian_ids_}, ep, ceil_div(n, S4D_SPLAT_WG));
+    rec.barrier();
+    const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(num_tiles - 1)));
+    primitives::cmd_radix_sort(rec, tile_keys_, gaussian_ids_, instances, tile_bits,
+                               tile_sort_);
+    rec.barrier();
+    const gpu::BinningParams rp{.n = instances, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_ranges), {tile_keys_, ranges_}, rp,
+                 ceil_div(instances, S4D_SPLAT_WG));
+    rec.barrier();
+    gpu::RasterParams raster{};
+    raster.size = pp.cam.size;
+    raster.background = {background[0], background[1], background[2], 0.0f};
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::raster_fwd),
+                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, rgb_, alpha_, depth_, count_, last_,
+                  final_t_},
+                 raster, num_tiles);
+    ctx_->run(std::move(rec));
+  }
+  cam_ = cam;
+  background_ = background;
+  count_last_ = n;
+  colors_last_ = g.colors != nullptr;
+  have_forward_ = true;
+  return instances;
+}
+
+void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out) {
+  if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
+  check_params(g);
+  if (g.count != count_last_ || (g.colors != nullptr) != colors_last_)
+    throw std::invalid_argument("rasterizer: backward() parameters differ from the last forward()");
+  const uint32_t n = g.count;
+  const size_t pixels = size_t{cam_.width} * cam_.height;
+  require(v.v_rgb, "v_rgb", pixels * 12);
+  if (v.v_alpha) require(v.v_alpha, "v_alpha", pixels * 4);
+  if (v.v_depth) require(v.v_depth, "v_depth", pixels * 4);
+  require(out.v_means, "v_means", size_t{n} * 12);
+  require(out.v_log_scales, "v_log_scales", size_t{n} * 12);
+  require(out.v_quats, "v_quats", size_t{n} * 16);
+  require(out.v_opacity_logits, "v_opacity_logits", size_t{n} * 4);
+  if (colors_last_) require(out.v_colors, "v_colors", size_t{n} * 12);
+  else require(out.v_sh, "v_sh", size_t{n} * g.sh_coeffs * 12);
+
+  const gpu::ProjectParams pp = project_params(g, cam_);
+  const uint32_t num_tiles = pp.cam.size.z * pp.cam.size.w;
+  gpu::RasterParams raster{};
+  raster.size = pp.cam.size;
+  raster.background = {background_[0], background_[1], background_[2], 0.0f};
+  raster.flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
+  const bool float_atomics = ctx_->info().float_atomic_add_buffer && !options_.force_cas_atomics;
+  const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
+  engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
+
+  engine::Recorder rec(*ctx_, name_ + " backward");
+  rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
+  rec.barrier();
+  rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas),
+               {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, final_t_, last_, *v.v_rgb,
+                v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_},
+               raster, num_tiles);
+  rec.barrier();
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
+               {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, info_,
+                conic_opacity_, grad2d_, *out.v_means, *out.v_log_scales, *out.v_quats, *out.v_opacity_logits,
+                out.v_sh ? *out.v_sh : v_colors, v_colors},
+               pp, ceil_div(n, S4D_SPLAT_WG));
+  ctx_->run(std::move(rec));
+}
+
+}  // namespace s4d::splat
