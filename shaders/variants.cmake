@@ -10,6 +10,7 @@ set(S4D_SHADER_VARIANTS
   "count_tiles|splat/count_tiles.comp"
   "emit_instances|splat/emit_instances.comp"
   "tile_ranges|splat/tile_ranges.comp"
+  "tile_list_stats|splat/tile_list_stats.comp"
   "raster_fwd|splat/raster_fwd.comp"
   "raster_bwd|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "raster_bwd_cas|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=0"

@@ -19,6 +19,15 @@
 #define S4D_MAX_SH_COEFFS 16
 
 #define S4D_SPLAT_WG 256                 // per-Gaussian and per-instance kernels
+// The blend loops visit S4D_BLEND_UNROLL list entries per loop iteration, written out without a
+// loop. llvmpipe (lavapipe) stops any invocation after 65535 loop iterations in total, so this sets
+// the longest tile list it renders correctly: 65535 / (1 + 256 / 8) batches of 256 = 508,000
+// entries (S4D_LLVMPIPE_MAX_TILE_LIST); the host checks it.
+// The compare-and-swap gradient path loops once per atomic (10 per list entry):
+// 65535 / (33 + 2560) batches = 25 batches, 6400 entries (S4D_LLVMPIPE_MAX_TILE_LIST_CAS).
+#define S4D_BLEND_UNROLL 8
+#define S4D_LLVMPIPE_MAX_TILE_LIST 508000u
+#define S4D_LLVMPIPE_MAX_TILE_LIST_CAS 6400u
 #define S4D_CULLED_DEPTH_KEY 0xFFFFFFFFu // depth sort key of a culled Gaussian: sorts after every visible one
 
 // Per-Gaussian cotangents accumulated by raster_bwd ("grad2d"), S4D_G2D_STRIDE floats per Gaussian.
@@ -61,6 +70,9 @@
 
 #define S4D_B_RANGES_TILE_KEYS 0    // [instances] tile ids, sorted
 #define S4D_B_RANGES_OUT 1          // [tiles] uvec2 (begin, end) into the sorted instances
+
+#define S4D_B_LIST_STATS_RANGES 0   // [tiles] uvec2
+#define S4D_B_LIST_STATS_OUT 1      // [1] u32 longest tile list (atomic max; zero it first)
 
 #define S4D_B_RASTER_RANGES 0
 #define S4D_B_RASTER_GAUSSIAN_IDS 1

@@ -15,6 +15,9 @@
 #include "s4d_splat.h"
 #include "flat_group.glsl"
 #include "splat_sample.glsl"
+#if S4D_BLEND_UNROLL != 8
+#error "main() calls accumulate() eight times per iteration"
+#endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
 layout(push_constant) uniform Push { RasterParams p; };
@@ -49,22 +52,78 @@ shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
 shared vec4 s_color_depth[S4D_TILE_PIXELS];
 shared uint s_max_last;
 
+// This pixel's backward state.
+vec2 centre;
+uint last;
+vec3 vc;                    // dL/d rgb of the pixel
+float v_pix_alpha, v_pix_depth, bg_dot, T_final;
+float T;                    // transmittance in front of the Gaussian after the current one
+vec3 behind = vec3(0.0);    // colour blended behind the current Gaussian, per unit of T after it
+float behind_depth = 0.0;
+
+// The cotangents of entry j of the batch (list position `end - 1 - j`), reduced over the subgroup
+// and added to grad2d by one lane. No loops inside: see S4D_BLEND_UNROLL.
+void accumulate(uint j, uint batch, uint end) {
+  if (j >= batch) return;  // uniform: every invocation has the same batch
+  uint position = end - 1u - j;
+  vec4 co = s_conic_opacity[j];
+  SplatSample s = splat_sample(s_xy[j], co, centre);
+  bool contributes = position < last && !s.skip;
+  vec2 g_xy = vec2(0.0);
+  vec3 g_conic = vec3(0.0), g_rgb = vec3(0.0);
+  float g_opacity = 0.0, g_depth = 0.0;
+  if (contributes) {
+    vec4 cd = s_color_depth[j];
+    float T_i = T / (1.0 - s.alpha);
+    float v_alpha = T_i * dot(cd.rgb - behind, vc) + T_i * (cd.w - behind_depth) * v_pix_depth +
+                    T_final / (1.0 - s.alpha) * (v_pix_alpha - bg_dot);
+    g_rgb = (s.alpha * T_i) * vc;
+    g_depth = s.alpha * T_i * v_pix_depth;
+    if (!s.clamped) {  // a capped alpha does not depend on conic, mean or opacity
+      g_opacity = s.G * v_alpha;
+      float v_power = co.w * s.G * v_alpha;
+      g_xy = -v_power * vec2(co.x * s.d.x + co.y * s.d.y, co.y * s.d.x + co.z * s.d.y);
+      g_conic = -v_power * vec3(0.5 * s.d.x * s.d.x, s.d.x * s.d.y, 0.5 * s.d.y * s.d.y);
+    }
+    behind = s.alpha * cd.rgb + (1.0 - s.alpha) * behind;
+    behind_depth = s.alpha * cd.w + (1.0 - s.alpha) * behind_depth;
+    T = T_i;
+  }
+  // The branch condition is uniform within the subgroup, so the reductions inside are legal.
+  if (!subgroupAny(contributes)) return;
+  g_xy = subgroupAdd(g_xy);
+  g_conic = subgroupAdd(g_conic);
+  g_rgb = subgroupAdd(g_rgb);
+  g_opacity = subgroupAdd(g_opacity);
+  g_depth = subgroupAdd(g_depth);
+  if (!subgroupElect()) return;
+  uint base = s_id[j] * S4D_G2D_STRIDE;
+  add_grad(base + S4D_G2D_XY, g_xy.x), add_grad(base + S4D_G2D_XY + 1, g_xy.y);
+  add_grad(base + S4D_G2D_CONIC, g_conic.x), add_grad(base + S4D_G2D_CONIC + 1, g_conic.y);
+  add_grad(base + S4D_G2D_CONIC + 2, g_conic.z);
+  add_grad(base + S4D_G2D_OPACITY, g_opacity);
+  add_grad(base + S4D_G2D_RGB, g_rgb.r), add_grad(base + S4D_G2D_RGB + 1, g_rgb.g);
+  add_grad(base + S4D_G2D_RGB + 2, g_rgb.b);
+  add_grad(base + S4D_G2D_DEPTH, g_depth);
+}
+
 void main() {
   uint tile = flat_group_id();
   if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: barriers stay uniform
   uint lid = gl_LocalInvocationIndex;
   uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
   bool inside = pix.x < p.size.x && pix.y < p.size.y;
-  vec2 centre = vec2(pix) + 0.5;
+  centre = vec2(pix) + 0.5;
   uint o = pix.y * p.size.x + pix.x;
   uint range_begin = ranges[tile].x;
 
-  uint last = inside ? last_buf[o] : 0u;
-  float T_final = inside ? final_t[o] : 1.0;
-  vec3 vc = inside ? vec3(v_rgb[3u * o], v_rgb[3u * o + 1u], v_rgb[3u * o + 2u]) : vec3(0.0);
-  float v_pix_alpha = inside && (p.flags & S4D_RASTER_HAS_V_ALPHA) != 0u ? v_alpha_img[o] : 0.0;
-  float v_pix_depth = inside && (p.flags & S4D_RASTER_HAS_V_DEPTH) != 0u ? v_depth_img[o] : 0.0;
-  float bg_dot = dot(p.background.rgb, vc);
+  last = inside ? last_buf[o] : 0u;
+  T_final = inside ? final_t[o] : 1.0;
+  vc = inside ? vec3(v_rgb[3u * o], v_rgb[3u * o + 1u], v_rgb[3u * o + 2u]) : vec3(0.0);
+  v_pix_alpha = inside && (p.flags & S4D_RASTER_HAS_V_ALPHA) != 0u ? v_alpha_img[o] : 0.0;
+  v_pix_depth = inside && (p.flags & S4D_RASTER_HAS_V_DEPTH) != 0u ? v_depth_img[o] : 0.0;
+  bg_dot = dot(p.background.rgb, vc);
+  T = T_final;
 
   if (lid == 0u) s_max_last = 0u;
   barrier();
@@ -72,9 +131,6 @@ void main() {
   barrier();
   uint entries = s_max_last;
 
-  float T = T_final;          // transmittance in front of the Gaussian after the current one
-  vec3 behind = vec3(0.0);    // colour blended behind the current Gaussian, per unit of T after it
-  float behind_depth = 0.0;
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_TILE_PIXELS))) {
     uint batch = min(end, uint(S4D_TILE_PIXELS));
     barrier();
@@ -86,43 +142,11 @@ void main() {
       s_color_depth[lid] = color_depth[g];
     }
     barrier();
-    for (uint j = 0u; j < batch; ++j) {
-      uint position = end - 1u - j;
-      vec4 co = s_conic_opacity[j];
-      SplatSample s = splat_sample(s_xy[j], co, centre);
-      bool contributes = position < last && !s.skip;
-      float g[S4D_G2D_STRIDE];
-      for (int k = 0; k < S4D_G2D_STRIDE; ++k) g[k] = 0.0;
-      if (contributes) {
-        vec4 cd = s_color_depth[j];
-        float T_i = T / (1.0 - s.alpha);
-        float v_alpha = T_i * dot(cd.rgb - behind, vc) + T_i * (cd.w - behind_depth) * v_pix_depth +
-                        T_final / (1.0 - s.alpha) * (v_pix_alpha - bg_dot);
-        vec3 v_c = (s.alpha * T_i) * vc;
-        g[S4D_G2D_RGB] = v_c.r, g[S4D_G2D_RGB + 1] = v_c.g, g[S4D_G2D_RGB + 2] = v_c.b;
-        g[S4D_G2D_DEPTH] = s.alpha * T_i * v_pix_depth;
-        if (!s.clamped) {  // a capped alpha does not depend on conic, mean or opacity
-          g[S4D_G2D_OPACITY] = s.G * v_alpha;
-          float v_power = co.w * s.G * v_alpha;
-          g[S4D_G2D_XY] = -v_power * (co.x * s.d.x + co.y * s.d.y);
-          g[S4D_G2D_XY + 1] = -v_power * (co.y * s.d.x + co.z * s.d.y);
-          g[S4D_G2D_CONIC] = -0.5 * v_power * s.d.x * s.d.x;
-          g[S4D_G2D_CONIC + 1] = -v_power * s.d.x * s.d.y;
-          g[S4D_G2D_CONIC + 2] = -0.5 * v_power * s.d.y * s.d.y;
-        }
-        behind = s.alpha * cd.rgb + (1.0 - s.alpha) * behind;
-        behind_depth = s.alpha * cd.w + (1.0 - s.alpha) * behind_depth;
-        T = T_i;
-      }
-      // The branch condition is uniform within the subgroup, so the reductions inside are legal.
-      if (subgroupAny(contributes)) {
-        for (int k = 0; k < S4D_G2D_STRIDE; ++k) g[k] = subgroupAdd(g[k]);
-        if (subgroupElect()) {
-          uint base = s_id[j] * S4D_G2D_STRIDE;
-          for (int k = 0; k < S4D_G2D_STRIDE; ++k)
-            if (g[k] != 0.0) add_grad(base + uint(k), g[k]);
-        }
-      }
+    for (uint j = 0u; j < batch; j += S4D_BLEND_UNROLL) {
+      accumulate(j, batch, end), accumulate(j + 1u, batch, end);
+      accumulate(j + 2u, batch, end), accumulate(j + 3u, batch, end);
+      accumulate(j + 4u, batch, end), accumulate(j + 5u, batch, end);
+      accumulate(j + 6u, batch, end), accumulate(j + 7u, batch, end);
     }
   }
 }

@@ -7,6 +7,9 @@
 #include "s4d_splat.h"
 #include "flat_group.glsl"
 #include "splat_sample.glsl"
+#if S4D_BLEND_UNROLL != 8
+#error "main() calls blend() eight times per iteration"
+#endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
 layout(push_constant) uniform Push { RasterParams p; };
@@ -27,19 +30,41 @@ shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
 shared vec4 s_color_depth[S4D_TILE_PIXELS];
 shared uint s_done;
 
+// This pixel's blend state.
+vec2 centre;
+bool done;
+float T = 1.0, depth = 0.0;
+vec3 color = vec3(0.0);
+uint count = 0u, last = 0u;
+
+// Blends entry j of the batch whose first entry is list position `position0`.
+void blend(uint j, uint batch, uint position0) {
+  if (done || j >= batch) return;
+  SplatSample s = splat_sample(s_xy[j], s_conic_opacity[j], centre);
+  if (s.skip) return;
+  float next = T * (1.0 - s.alpha);
+  if (next < S4D_MIN_TRANSMITTANCE) {
+    done = true;  // this Gaussian is not added, as in graphdeco
+    return;
+  }
+  vec4 cd = s_color_depth[j];
+  color += cd.rgb * (s.alpha * T);
+  depth += cd.w * (s.alpha * T);
+  T = next;
+  ++count;
+  last = position0 + j + 1u;
+}
+
 void main() {
   uint tile = flat_group_id();
   if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: the barriers below stay uniform
   uint lid = gl_LocalInvocationIndex;
   uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
   bool inside = pix.x < p.size.x && pix.y < p.size.y;
-  vec2 centre = vec2(pix) + 0.5;
+  centre = vec2(pix) + 0.5;
   uvec2 range = ranges[tile];
+  done = !inside;
 
-  bool done = !inside;
-  float T = 1.0, depth = 0.0;
-  vec3 color = vec3(0.0);
-  uint count = 0u, last = 0u;
   for (uint base = range.x; base < range.y; base += S4D_TILE_PIXELS) {
     barrier();
     if (lid == 0u) s_done = 0u;
@@ -54,21 +79,12 @@ void main() {
       s_color_depth[lid] = color_depth[g];
     }
     barrier();
-    uint batch = min(uint(S4D_TILE_PIXELS), range.y - base);
-    for (uint j = 0u; !done && j < batch; ++j) {
-      SplatSample s = splat_sample(s_xy[j], s_conic_opacity[j], centre);
-      if (s.skip) continue;
-      float next = T * (1.0 - s.alpha);
-      if (next < S4D_MIN_TRANSMITTANCE) {
-        done = true;  // this Gaussian is not added, as in graphdeco
-        break;
-      }
-      vec4 cd = s_color_depth[j];
-      color += cd.rgb * (s.alpha * T);
-      depth += cd.w * (s.alpha * T);
-      T = next;
-      ++count;
-      last = base - range.x + j + 1u;
+    uint batch = min(uint(S4D_TILE_PIXELS), range.y - base), position0 = base - range.x;
+    for (uint j = 0u; !done && j < batch; j += S4D_BLEND_UNROLL) {
+      blend(j, batch, position0), blend(j + 1u, batch, position0);
+      blend(j + 2u, batch, position0), blend(j + 3u, batch, position0);
+      blend(j + 4u, batch, position0), blend(j + 5u, batch, position0);
+      blend(j + 6u, batch, position0), blend(j + 7u, batch, position0);
     }
   }
   if (!inside) return;

@@ -63,7 +63,9 @@ GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& ca
   engine::Context& ctx = r.context();
   const size_t n = s.params.count, npix = static_cast<size_t>(cam.width) * static_cast<size_t>(cam.height);
   GpuForward out;
-  out.instances = r.forward(s.params, gpu_camera(cam), bg);
+  const splat::RenderStats stats = r.forward(s.params, gpu_camera(cam), bg);
+  out.instances = stats.instances;
+  out.longest_tile_list = stats.longest_tile_list;
 
   const auto xy = ctx.download<float>(r.xy(), 2 * n);
   const auto co = ctx.download<float>(r.conic_opacity(), 4 * n);

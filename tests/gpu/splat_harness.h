@@ -30,6 +30,7 @@ struct GpuForward {
   ref::Projected<float> proj;
   ref::Image<float> img;
   uint32_t instances = 0;
+  uint32_t longest_tile_list = 0;
 };
 GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& cam, const std::array<float, 3>& bg);
 

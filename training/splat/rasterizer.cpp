@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "s4d/engine/device_info.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/primitives/iota.h"
 #include "s4d/primitives/scan.h"
@@ -74,6 +75,19 @@ gpu::ProjectParams project_params(const GaussianParams& g, const Camera& cam) {
   return p;
 }
 
+// llvmpipe ends any invocation after 65535 loop iterations in total (Mesa's
+// LP_MAX_TGSI_LOOP_ITERATIONS), silently; the blend loops are unrolled so this allows long lists,
+// and longer ones are refused rather than rendered wrong.
+void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool cas, const char* pass) {
+  if (info.driver_name != "llvmpipe") return;
+  const uint32_t limit = cas ? S4D_LLVMPIPE_MAX_TILE_LIST_CAS : S4D_LLVMPIPE_MAX_TILE_LIST;
+  if (longest > limit)
+    throw std::runtime_error(std::string("rasterizer: a tile holds ") + std::to_string(longest) +
+                             " Gaussians, more than lavapipe can " + pass + " correctly (" + std::to_string(limit) +
+                             ": llvmpipe stops shader loops after 65535 iterations); use fewer or smaller "
+                             "Gaussians, or a GPU");
+}
+
 }  // namespace
 
 Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions options)
@@ -81,7 +95,9 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   reserve_gaussians(1);
   reserve_instances(1);
   reserve_pixels(1, 1);
+  list_stats_ = engine::Buffer(*ctx_, name_ + " tile list stats", 4);
 }
+
 
 void Rasterizer::reserve_gaussians(uint32_t n) {
   if (n <= gaussian_capacity_ && xy_.valid()) return;
@@ -134,7 +150,7 @@ void Rasterizer::reserve_pixels(uint32_t width, uint32_t height) {
   tile_capacity_ = static_cast<uint32_t>(t);
 }
 
-uint32_t Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
+RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
   check_params(g);
   check_camera(cam);
   if (uint64_t{cam.width} * cam.height * 12 > ctx_->info().max_storage_buffer_range)
@@ -186,6 +202,11 @@ uint32_t Rasterizer::forward(const GaussianParams& g, const Camera& cam, const s
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_ranges), {tile_keys_, ranges_}, rp,
                  ceil_div(instances, S4D_SPLAT_WG));
     rec.barrier();
+    rec.fill(list_stats_, 0);
+    rec.barrier();
+    const gpu::BinningParams sp{.n = num_tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats), {ranges_, list_stats_}, sp,
+                 ceil_div(num_tiles, S4D_SPLAT_WG));
     gpu::RasterParams raster{};
     raster.size = pp.cam.size;
     raster.background = {background[0], background[1], background[2], 0.0f};
@@ -195,12 +216,16 @@ uint32_t Rasterizer::forward(const GaussianParams& g, const Camera& cam, const s
                  raster, num_tiles);
     ctx_->run(std::move(rec));
   }
+  RenderStats stats{.instances = instances, .longest_tile_list = 0};
+  ctx_->download(list_stats_, &stats.longest_tile_list, 4);
+  check_list_length(ctx_->info(), stats.longest_tile_list, false, "blend");
   cam_ = cam;
   background_ = background;
   count_last_ = n;
   colors_last_ = g.colors != nullptr;
+  longest_last_ = stats.longest_tile_list;
   have_forward_ = true;
-  return instances;
+  return stats;
 }
 
 void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out) {
@@ -227,6 +252,7 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   raster.background = {background_[0], background_[1], background_[2], 0.0f};
   raster.flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
   const bool float_atomics = ctx_->info().float_atomic_add_buffer && !options_.force_cas_atomics;
+  check_list_length(ctx_->info(), longest_last_, !float_atomics, "differentiate");
   const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
   engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
 

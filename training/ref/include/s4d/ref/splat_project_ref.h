@@ -82,7 +82,8 @@ struct ProjectedGrads {
   std::vector<T> v_opacity;  // [N] dL/d(sigmoid(logit))
   std::vector<T> v_rgb;      // [N, 3]
 
-  explicit ProjectedGrads(size_t n = 0) : v_mean2d(2 * n), v_conic(3 * n), v_depth(n), v_opacity(n), v_rgb(3 * n) {}
+  ProjectedGrads() = default;
+  explicit ProjectedGrads(size_t n) : v_mean2d(2 * n), v_conic(3 * n), v_depth(n), v_opacity(n), v_rgb(3 * n) {}
 };
 
 // Gradients with respect to the raw parameters.

@@ -58,13 +58,18 @@ struct RasterizerOptions {
   bool force_cas_atomics = false;  // use the compare-and-swap gradient path even with float atomics
 };
 
+struct RenderStats {
+  uint32_t instances = 0;         // (tile, Gaussian) pairs blended
+  uint32_t longest_tile_list = 0; // entries of the fullest tile
+};
+
 class Rasterizer {
  public:
   explicit Rasterizer(engine::Context& ctx, std::string name = "rasterizer", RasterizerOptions options = {});
 
-  // Renders and waits. Returns the number of (tile, Gaussian) instances blended. Throws
-  // std::invalid_argument on inconsistent parameters or a camera the kernels cannot address.
-  uint32_t forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background);
+  // Renders and waits. Throws std::invalid_argument on inconsistent parameters or a camera the
+  // kernels cannot address, std::runtime_error when a tile list is longer than the device can blend.
+  RenderStats forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background);
 
   // Backward of the last forward(), which must have used the same `g`. Waits.
   void backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out);
@@ -79,6 +84,9 @@ class Rasterizer {
   const engine::Buffer& conic_opacity() const { return conic_opacity_; }
   const engine::Buffer& color_depth() const { return color_depth_; }
   const engine::Buffer& info() const { return info_; }
+  // The last forward's blend lists: per tile a (begin, end) range into the instance ids.
+  const engine::Buffer& tile_ranges() const { return ranges_; }    // uvec2 [tiles]
+  const engine::Buffer& instance_ids() const { return gaussian_ids_; }  // u32 [instances]
   // Screen-space cotangents of the last backward, [N * S4D_G2D_STRIDE] (densification reads the mean's).
   const engine::Buffer& grad2d() const { return grad2d_; }
   const Camera& camera() const { return cam_; }
@@ -98,13 +106,14 @@ class Rasterizer {
   Camera cam_{};
   std::array<float, 3> background_{};
   uint32_t count_last_ = 0;
+  uint32_t longest_last_ = 0;
   bool colors_last_ = false;
   bool have_forward_ = false;
 
   engine::Buffer xy_, conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_, sorted_ids_, offsets_;
   engine::Buffer tile_keys_, gaussian_ids_, ranges_;
   engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
-  engine::Buffer grad2d_, scan_scratch_;
+  engine::Buffer grad2d_, scan_scratch_, list_stats_;
   primitives::RadixSortScratch depth_sort_, tile_sort_;
 };
 
