@@ -1,0 +1,49 @@
+#include "s4d/splat/scene_upload.h"
+
+#include <algorithm>
+#include <span>
+
+namespace s4d::splat {
+namespace {
+
+engine::Buffer upload(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
+  engine::Buffer b(ctx, name, values.size() * sizeof(float));
+  if (!values.empty()) ctx.upload(b, std::span<const float>(values));
+  return b;
+}
+
+}  // namespace
+
+DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name)
+    : means_(upload(ctx, name + " means", cloud.means)),
+      log_scales_(upload(ctx, name + " log_scales", cloud.log_scales)),
+      quats_(upload(ctx, name + " quats", cloud.quats)),
+      opacity_logits_(upload(ctx, name + " opacity_logits", cloud.opacity_logits)),
+      sh_(upload(ctx, name + " sh", cloud.sh)),
+      count_(static_cast<uint32_t>(cloud.size())),
+      sh_degree_(cloud.sh_degree) {}
+
+GaussianParams DeviceGaussians::params(int sh_degree) const {
+  const int degree = sh_degree < 0 ? sh_degree_ : std::min(sh_degree, sh_degree_);
+  const uint32_t stored = static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1));
+  return {.means = &means_,
+          .log_scales = &log_scales_,
+          .quats = &quats_,
+          .opacity_logits = &opacity_logits_,
+          .sh = &sh_,
+          .colors = nullptr,
+          .count = count_,
+          .sh_degree = static_cast<uint32_t>(degree),
+          .sh_coeffs = stored};
+}
+
+Camera to_splat_camera(const io::CameraView& view) {
+  Camera cam;
+  for (size_t k = 0; k < 12; ++k) cam.world_to_cam[k] = static_cast<float>(view.world_to_cam[k]);
+  cam.fx = static_cast<float>(view.fx), cam.fy = static_cast<float>(view.fy);
+  cam.cx = static_cast<float>(view.cx), cam.cy = static_cast<float>(view.cy);
+  cam.width = static_cast<uint32_t>(view.width), cam.height = static_cast<uint32_t>(view.height);
+  return cam;
+}
+
+}  // namespace s4d::splat
