@@ -15,4 +15,8 @@ set(S4D_SHADER_VARIANTS
   "raster_bwd|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "raster_bwd_cas|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=0"
   "project_bwd|splat/project_bwd.comp"
+  "ssim_hpass|loss/ssim_hpass.comp"
+  "ssim_vpass|loss/ssim_vpass.comp"
+  "loss_grad|loss/loss_grad.comp"
+  "adam_step|optim/adam_step.comp"
 )

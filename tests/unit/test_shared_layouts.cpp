@@ -10,7 +10,10 @@
 
 #include "s4d/engine/spirv_reflect.h"
 #include "s4d/shader_registry.h"
+#include "s4d_loss.h"
+#include "s4d_optim.h"
 #include "s4d_primitives.h"
+#include "s4d_splat.h"
 
 using s4d::engine::CppStructLayout;
 using s4d::engine::StructMember;
@@ -25,6 +28,10 @@ using namespace s4d::gpu;
 static_assert(sizeof(ScanParams) == 16 && sizeof(ScanParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(RadixParams) == 16 && sizeof(RadixParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(SplatCamera) == 80);
+static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
+static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 16 && sizeof(AdamGroup) == 32);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -36,6 +43,24 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(RadixParams, num_blocks), S4D_MEMBER(RadixParams, digit_mask)),
       S4D_STRUCT(IotaParams, S4D_MEMBER(IotaParams, n), S4D_MEMBER(IotaParams, first), S4D_MEMBER(IotaParams, _pad0),
                  S4D_MEMBER(IotaParams, _pad1)),
+      S4D_STRUCT(SplatCamera, S4D_MEMBER(SplatCamera, view_row0), S4D_MEMBER(SplatCamera, view_row1),
+                 S4D_MEMBER(SplatCamera, view_row2), S4D_MEMBER(SplatCamera, intrinsics), S4D_MEMBER(SplatCamera, size)),
+      S4D_STRUCT(ProjectParams, S4D_MEMBER(ProjectParams, cam), S4D_MEMBER(ProjectParams, n),
+                 S4D_MEMBER(ProjectParams, sh_degree), S4D_MEMBER(ProjectParams, sh_coeffs),
+                 S4D_MEMBER(ProjectParams, flags)),
+      S4D_STRUCT(BinningParams, S4D_MEMBER(BinningParams, n), S4D_MEMBER(BinningParams, tiles_x),
+                 S4D_MEMBER(BinningParams, _pad0), S4D_MEMBER(BinningParams, _pad1)),
+      S4D_STRUCT(RasterParams, S4D_MEMBER(RasterParams, size), S4D_MEMBER(RasterParams, background),
+                 S4D_MEMBER(RasterParams, flags), S4D_MEMBER(RasterParams, _pad0), S4D_MEMBER(RasterParams, _pad1),
+                 S4D_MEMBER(RasterParams, _pad2)),
+      S4D_STRUCT(LossParams, S4D_MEMBER(LossParams, width), S4D_MEMBER(LossParams, height),
+                 S4D_MEMBER(LossParams, channels), S4D_MEMBER(LossParams, n), S4D_MEMBER(LossParams, ssim_weight),
+                 S4D_MEMBER(LossParams, inv_count), S4D_MEMBER(LossParams, mode), S4D_MEMBER(LossParams, _pad0)),
+      S4D_STRUCT(AdamGroup, S4D_MEMBER(AdamGroup, lr), S4D_MEMBER(AdamGroup, beta1), S4D_MEMBER(AdamGroup, beta2),
+                 S4D_MEMBER(AdamGroup, eps), S4D_MEMBER(AdamGroup, inv_bias1), S4D_MEMBER(AdamGroup, inv_sqrt_bias2),
+                 S4D_MEMBER(AdamGroup, step), S4D_MEMBER(AdamGroup, _pad0)),
+      S4D_STRUCT(AdamParams, S4D_MEMBER(AdamParams, n), S4D_MEMBER(AdamParams, group), S4D_MEMBER(AdamParams, _pad0),
+                 S4D_MEMBER(AdamParams, _pad1)),
   };
 }
 

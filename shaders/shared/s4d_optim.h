@@ -1,0 +1,38 @@
+// Shared layouts of the optimizer kernels: Adam (PyTorch semantics, bias-corrected) with
+// per-parameter-group hyperparameters in a small device buffer the host rewrites each step.
+#ifndef S4D_OPTIM_H
+#define S4D_OPTIM_H
+#include "s4d_common.h"
+
+#define S4D_ADAM_WG 256
+#define S4D_B_ADAM_GROUPS 0  // [groups] AdamGroup
+#define S4D_B_ADAM_PARAMS 1  // [n] float, updated in place
+#define S4D_B_ADAM_GRADS 2   // [n] float
+#define S4D_B_ADAM_M 3       // [n] float first moment
+#define S4D_B_ADAM_V 4       // [n] float second moment
+
+S4D_NAMESPACE_BEGIN
+
+// One parameter group's hyperparameters for the current step.
+struct AdamGroup {
+  float lr;
+  float beta1;
+  float beta2;
+  float eps;
+  float inv_bias1;       // 1 / (1 - beta1^t)
+  float inv_sqrt_bias2;  // 1 / sqrt(1 - beta2^t)
+  uint step;             // t, 1-based
+  uint _pad0;
+};
+
+// Push constants of adam_step.
+struct AdamParams {
+  uint n;      // elements of this tensor
+  uint group;  // index into the group buffer
+  uint _pad0;
+  uint _pad1;
+};
+
+S4D_NAMESPACE_END
+
+#endif  // S4D_OPTIM_H
