@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "s4d/optim/lr_schedule.h"
 #include "s4d/ref/adam_ref.h"
 #include "s4d/ref/loss_ref.h"
 
@@ -86,4 +87,13 @@ TEST_CASE("Adam's first step moves every parameter by lr against the gradient's 
   CHECK(p[0] == doctest::Approx(0.99).epsilon(1e-12));
   CHECK(p[1] == doctest::Approx(-1.99).epsilon(1e-12));
   CHECK(p[2] == doctest::Approx(0.49).epsilon(1e-9));
+}
+
+TEST_CASE("the position learning rate decays log-linearly and holds at the end") {
+  const s4d::optim::LogLinearSchedule s{.lr0 = 1.6e-4, .lr1 = 1.6e-6, .max_steps = 20000};
+  CHECK(s.at(0) == doctest::Approx(1.6e-4).epsilon(1e-12));
+  CHECK(s.at(10000) == doctest::Approx(1.6e-5).epsilon(1e-12));  // geometric mean halfway
+  CHECK(s.at(20000) == doctest::Approx(1.6e-6).epsilon(1e-12));
+  CHECK(s.at(50000) == doctest::Approx(1.6e-6).epsilon(1e-12));
+  CHECK(s4d::optim::LogLinearSchedule{.lr0 = 0, .lr1 = 1e-3, .max_steps = 10}.at(5) == 0.0);
 }
