@@ -24,6 +24,9 @@ Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx) {
                               .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
   S4D_VK_CHECK(vkBeginCommandBuffer(cmd_, &bi));
   ctx.recorder_opened();
+  // Writes of earlier submissions (kernels, copies) are only guaranteed visible to this command
+  // buffer's reads through a memory dependency; a timeline wait alone does not give one.
+  barrier();
 }
 
 Recorder::Recorder(Recorder&& other) noexcept

@@ -52,7 +52,11 @@ SplatProjection splat_project_one(SplatCamera cam, vec3 mu, vec3 log_scale, vec4
     p.W[3 * r] = V[r].x, p.W[3 * r + 1] = V[r].y, p.W[3 * r + 2] = V[r].z;
     p.t[r] = V[r].x * mu.x + V[r].y * mu.y + V[r].z * mu.z + V[r].w;
   }
-  if (!(p.t.z > S4D_NEAR_Z)) return p;
+  // Not in front of the near plane, or infinitely far (a NaN z fails the comparison too).
+  if (!(p.t.z > S4D_NEAR_Z) || isinf(p.t.z)) return p;
+  // A NaN quaternion would otherwise fall back to the identity on some drivers (max() with NaN is
+  // undefined in GLSL): cull it, as the twin does.
+  if (any(isnan(raw_quat))) return p;
 
   splat_normalise_quat(raw_quat, p.q, p.q_norm);
   splat_quat_to_rot(p.q, p.R);

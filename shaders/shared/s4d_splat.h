@@ -24,10 +24,10 @@
 // the longest tile list it renders correctly: 65535 / (1 + 256 / 8) batches of 256 = 508,000
 // entries (S4D_LLVMPIPE_MAX_TILE_LIST); the host checks it.
 // The compare-and-swap gradient path loops once per atomic (10 per list entry):
-// 65535 / (33 + 2560) batches = 25 batches, 6400 entries (S4D_LLVMPIPE_MAX_TILE_LIST_CAS).
+// 65535 / (33 + 2560) batches = 25 batches, 6400 entries; S4D_LLVMPIPE_MAX_TILE_LIST_CAS keeps a margin.
 #define S4D_BLEND_UNROLL 8
 #define S4D_LLVMPIPE_MAX_TILE_LIST 508000u
-#define S4D_LLVMPIPE_MAX_TILE_LIST_CAS 6400u
+#define S4D_LLVMPIPE_MAX_TILE_LIST_CAS 5000u  // 1,300 iterations of headroom for contended retries
 #define S4D_CULLED_DEPTH_KEY 0xFFFFFFFFu // depth sort key of a culled Gaussian: sorts after every visible one
 
 // Per-Gaussian cotangents accumulated by raster_bwd ("grad2d"), S4D_G2D_STRIDE floats per Gaussian.
@@ -61,6 +61,7 @@
 #define S4D_B_COUNT_SORTED_IDS 0    // [N] Gaussian ids in depth order
 #define S4D_B_COUNT_TILES_TOUCHED 1 // [N]
 #define S4D_B_COUNT_OFFSETS 2       // [N + 1] tiles touched in depth order; scanned afterwards
+#define S4D_B_COUNT_TOTALS 3        // [3] u32: instances (low word, carries), largest tiles_touched; zero first
 
 #define S4D_B_EMIT_SORTED_IDS 0     // [N]
 #define S4D_B_EMIT_OFFSETS 1        // [N + 1] exclusive scan of the counts; [N] is the instance count

@@ -41,7 +41,8 @@ void main() {
   vec3 ls = vec3(log_scales[3 * i], log_scales[3 * i + 1], log_scales[3 * i + 2]);
   vec4 rq = vec4(quats[4 * i], quats[4 * i + 1], quats[4 * i + 2], quats[4 * i + 3]);
   SplatProjection pr = splat_project_one(p.cam, mu, ls, rq);
-  if (!pr.visible) return;
+  float logit = opacity_logits[i];
+  if (!pr.visible || isnan(logit)) return;
 
   float u = p.cam.intrinsics.x * pr.t.x / pr.t.z + p.cam.intrinsics.z;
   float v = p.cam.intrinsics.y * pr.t.y / pr.t.z + p.cam.intrinsics.w;
@@ -59,7 +60,7 @@ void main() {
   uint area = (rect.z - rect.x) * (rect.w - rect.y);
   if (area == 0u) return;
 
-  float opacity = 1.0 / (1.0 + exp(-opacity_logits[i]));
+  float opacity = 1.0 / (1.0 + exp(-logit));
   vec3 rgb;
   uint clamped = 0u;
   if ((p.flags & S4D_SPLAT_USE_COLORS) != 0u) {

@@ -37,7 +37,7 @@ void add_grad(uint index, float value) { atomicAdd(grad2d[index], value); }
 #else
 layout(std430, binding = S4D_B_RBWD_GRAD2D) buffer Grad2d { uint grad2d[]; };
 void add_grad(uint index, float value) {
-  uint old = grad2d[index];
+  uint old = atomicOr(grad2d[index], 0u);  // an atomic read: a plain load would race the swaps
   for (;;) {
     uint seen = atomicCompSwap(grad2d[index], old, floatBitsToUint(uintBitsToFloat(old) + value));
     if (seen == old) break;

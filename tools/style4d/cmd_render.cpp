@@ -82,7 +82,12 @@ int cmd_render(const std::vector<std::string>& argv) {
   const std::filesystem::path ply_path = args.require("ply"), cameras_path = args.require("cameras");
   const std::filesystem::path out = args.require("out");
   const std::array<float, 3> background = parse_background(args.get_or("background", "0,0,0"));
-  const int sh_degree = std::stoi(args.get_or("sh-degree", "-1"));
+  int sh_degree = -1;
+  if (const auto d = args.get("sh-degree")) {
+    if (d->size() != 1 || (*d)[0] < '0' || (*d)[0] > '3')
+      throw std::invalid_argument("--sh-degree: expected 0, 1, 2 or 3, got '" + *d + "'");
+    sh_degree = (*d)[0] - '0';
+  }
 
   // Read and check everything before writing anything.
   const io::GaussianCloud cloud = io::read_ply_gaussians(ply_path);

@@ -96,6 +96,7 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   reserve_instances(1);
   reserve_pixels(1, 1);
   list_stats_ = engine::Buffer(*ctx_, name_ + " tile list stats", 4);
+  totals_ = engine::Buffer(*ctx_, name_ + " instance totals", 12);
 }
 
 
@@ -151,6 +152,7 @@ void Rasterizer::reserve_pixels(uint32_t width, uint32_t height) {
 }
 
 RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
+  have_forward_ = false;  // until this one completes: a failed forward leaves nothing to differentiate
   check_params(g);
   check_camera(cam);
   if (uint64_t{cam.width} * cam.height * 12 > ctx_->info().max_storage_buffer_range)
@@ -173,16 +175,25 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     primitives::cmd_iota(rec, sorted_ids_, n);
     rec.barrier();
     primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
+    rec.fill(totals_, 0);
     rec.barrier();
     const gpu::BinningParams bp{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles), {sorted_ids_, tiles_touched_, offsets_}, bp,
-                 ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles), {sorted_ids_, tiles_touched_, offsets_, totals_},
+                 bp, ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
     rec.barrier();
     primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
     ctx_->run(std::move(rec));
   }
-  uint32_t instances = 0;
+  uint32_t instances = 0, totals[3] = {0, 0, 0};
   ctx_->download(offsets_, &instances, 4, size_t{n} * 4);
+  ctx_->download(totals_, totals, sizeof(totals));
+  if (totals[1] != 0)
+    throw std::invalid_argument("rasterizer: the Gaussians cover more than 2^32 tile instances in this view; lower the "
+                                "resolution or the number or size of the Gaussians");
+  // emit_instances loops over one Gaussian's rectangle: keep it inside llvmpipe's loop cap.
+  if (ctx_->info().driver_name == "llvmpipe" && uint64_t{totals[2]} + pp.cam.size.w > 65000)
+    throw std::invalid_argument("rasterizer: one Gaussian covers " + std::to_string(totals[2]) +
+                                " tiles, more than lavapipe's 65535-iteration shader loops can emit");
   reserve_instances(instances);
 
   // Submission 2: emit instances, sort them by tile (stable: depth order survives), find each
@@ -223,6 +234,8 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   background_ = background;
   count_last_ = n;
   colors_last_ = g.colors != nullptr;
+  sh_degree_last_ = g.sh_degree;
+  sh_coeffs_last_ = g.sh_coeffs;
   longest_last_ = stats.longest_tile_list;
   have_forward_ = true;
   return stats;
@@ -231,7 +244,8 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
 void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out) {
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
   check_params(g);
-  if (g.count != count_last_ || (g.colors != nullptr) != colors_last_)
+  if (g.count != count_last_ || (g.colors != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
+      g.sh_coeffs != sh_coeffs_last_)
     throw std::invalid_argument("rasterizer: backward() parameters differ from the last forward()");
   const uint32_t n = g.count;
   const size_t pixels = size_t{cam_.width} * cam_.height;

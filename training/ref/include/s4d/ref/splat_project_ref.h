@@ -204,7 +204,10 @@ Projection<T> project_one(const Gaussians<T>& g, size_t i, const Camera<T>& cam)
   const T* mu = &g.means[3 * i];
   for (size_t r = 0; r < 3; ++r)
     p.t[r] = p.W[3 * r] * mu[0] + p.W[3 * r + 1] * mu[1] + p.W[3 * r + 2] * mu[2] + V[4 * r + 3];
-  if (!(p.t[2] > lit<T>(kNearZ))) return p;
+  if (!(p.t[2] > lit<T>(kNearZ)) || std::isinf(p.t[2])) return p;
+  if (std::isnan(g.quats[4 * i]) || std::isnan(g.quats[4 * i + 1]) || std::isnan(g.quats[4 * i + 2]) ||
+      std::isnan(g.quats[4 * i + 3]))
+    return p;  // culled, as on the GPU
 
   normalise_quat(&g.quats[4 * i], p.q, p.q_norm);
   p.R = quat_to_rot(p.q);
@@ -263,7 +266,7 @@ Projected<T> project_fwd(const Gaussians<T>& g, const Camera<T>& cam) {
   const size_t K = g.sh_coeffs();
   for (size_t i = 0; i < n; ++i) {
     const detail::Projection<T> p = detail::project_one(g, i, cam);
-    if (!p.visible) continue;
+    if (!p.visible || std::isnan(g.opacity_logits[i])) continue;
     const T u = cam.fx * p.t[0] / p.t[2] + cam.cx, v = cam.fy * p.t[1] / p.t[2] + cam.cy;
 
     // 3-sigma radius and tile rectangle exactly as graphdeco (1.3 steps 6-7), applied to (u, v).

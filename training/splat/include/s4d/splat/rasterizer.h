@@ -108,12 +108,13 @@ class Rasterizer {
   uint32_t count_last_ = 0;
   uint32_t longest_last_ = 0;
   bool colors_last_ = false;
+  uint32_t sh_degree_last_ = 0, sh_coeffs_last_ = 0;
   bool have_forward_ = false;
 
   engine::Buffer xy_, conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_, sorted_ids_, offsets_;
   engine::Buffer tile_keys_, gaussian_ids_, ranges_;
   engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
-  engine::Buffer grad2d_, scan_scratch_, list_stats_;
+  engine::Buffer grad2d_, scan_scratch_, list_stats_, totals_;
   primitives::RadixSortScratch depth_sort_, tile_sort_;
 };
 
