@@ -110,12 +110,18 @@ TEST_CASE("dynerf bad inputs") {
                     "end_header\n1 2 3\n");
     check_load_fails(root, (root / "points3D.ply").string() + ": vertex has no property 'red'");
   }
+  SUBCASE("point cloud with a malformed value") {
+    test::write_raw(root / "points3D.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n1 2 3 4 5 300\n");
+    check_load_fails(root, (root / "points3D.ply").string() + ": vertex 0: malformed or out-of-range number");
+  }
   SUBCASE("point cloud truncated") {
     test::write_raw(root / "points3D.ply",
                     "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                     "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"
                     "0123456789abcde");
-    check_load_fails(root, (root / "points3D.ply").string() + ": truncated: 2 vertices declared, 1 present");
+    check_load_fails(root, (root / "points3D.ply").string() + ": truncated: 2 vertices declared, at most 1 present");
   }
 }
 

@@ -1,5 +1,6 @@
 #include "dataset_parts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>

@@ -1,5 +1,6 @@
 // points3D.ply: the initial point cloud (COLMAP / Open3D output, or what a scene generator writes).
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -52,12 +53,20 @@ void read_point_cloud(const std::filesystem::path& path, std::vector<float>& poi
                         find_field(path, vertex, "green", PlyScalar::uint8),
                         find_field(path, vertex, "blue", PlyScalar::uint8)};
 
+  const size_t count = static_cast<size_t>(vertex.count);
+  const size_t item_size = vertex.fixed_item_size();
+  // Checked before allocating, so a corrupt count cannot ask for terabytes. An ASCII vertex takes at
+  // least one digit and one separator per value.
+  const uintmax_t data_bytes = std::filesystem::file_size(path) - header.data_offset;
+  const size_t min_item_bytes = ascii ? 2 * vertex.properties.size() : item_size;
+  if (count > data_bytes / min_item_bytes) {
+    fail(path, "truncated: " + std::to_string(count) + " vertices declared, at most " +
+                   std::to_string(data_bytes / min_item_bytes) + " present");
+  }
   std::ifstream in(path, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(header.data_offset));
-  const size_t count = static_cast<size_t>(vertex.count);
   points.assign(3 * count, 0.0f);
   colors.assign(3 * count, 0.0f);
-  const size_t item_size = vertex.fixed_item_size();
   std::string item(item_size, '\0');
   for (size_t i = 0; i < count; ++i) {
     if (ascii) {
