@@ -1,0 +1,164 @@
+// Every bad input gives a std::runtime_error naming the file and the field at fault.
+#include <doctest/doctest.h>
+
+#include "data_test_util.h"
+#include "s4d/data/frame_cache.h"
+
+using namespace s4d;
+namespace fs = std::filesystem;
+
+namespace {
+
+void check_load_fails(const fs::path& root, const std::string& expected) {
+  CHECK_THROWS_WITH_AS(data::load_dataset(root), doctest::Contains(expected.c_str()), std::runtime_error);
+}
+
+}  // namespace
+
+TEST_CASE("dataset layout and option errors") {
+  test::TempDir dir("errors_layout");
+  fs::create_directories(dir / "empty");
+  check_load_fails(dir / "empty", "found neither poses_bounds.npy (DyNeRF / Neu3D) nor transforms_train.json (D-NeRF)");
+  check_load_fails(dir / "nowhere", "nowhere: not a directory");
+  CHECK_THROWS_WITH_AS(data::load_dynerf(dir / "empty"), test::error_at(dir / "empty" / "poses_bounds.npy", "missing"),
+                       std::runtime_error);
+  test::write_dynerf(dir / "s", test::dynerf_cameras(), 1);
+  CHECK_THROWS_WITH_AS(data::load_dataset(dir / "s", {.downscale = 0, .background = {}}),
+                       test::error_at(dir / "s", "downscale must be >= 1"), std::runtime_error);
+}
+
+TEST_CASE("dynerf bad inputs") {
+  test::TempDir dir("errors_dynerf");
+  const auto root = dir / "s";
+  const auto npy = root / "poses_bounds.npy";
+  auto cams = test::dynerf_cameras();
+  test::write_dynerf(root, cams, 2);  // few frames: every subcase writes the scene afresh
+
+  SUBCASE("wrong shape") {
+    data::write_npy(npy, {{3, 15}, std::vector<double>(45, 1.0)});
+    check_load_fails(root, npy.string() + ": shape must be (N, 17)");
+  }
+  SUBCASE("rows do not match camera folders") {
+    test::write_poses_bounds(npy, {cams[0], cams[1]});
+    check_load_fails(root, npy.string() + ": shape has 2 rows but there are 3 camera folders (cam00 ... cam02)");
+  }
+  SUBCASE("non-finite pose") {
+    cams[1].centre[2] = std::nan("");
+    test::write_poses_bounds(npy, cams);
+    check_load_fails(root, npy.string() + ": row 1 (cam01): non-finite value at column 13");
+  }
+  SUBCASE("rotation not orthonormal") {
+    cams[2].right = {2, 0, 0};
+    test::write_poses_bounds(npy, cams);
+    check_load_fails(root, npy.string() + ": row 2 (cam02): rotation");
+  }
+  SUBCASE("reflection instead of rotation") {
+    cams[2].back = {-cams[2].back[0], -cams[2].back[1], -cams[2].back[2]};
+    test::write_poses_bounds(npy, cams);
+    check_load_fails(root, npy.string() + ": row 2 (cam02): rotation");
+  }
+  SUBCASE("hwf disagrees with the frames") {
+    cams[1].width = 20;
+    test::write_poses_bounds(npy, cams);
+    check_load_fails(root, npy.string() + ": row 1 (cam01): hwf says 20x12 (W x H) but " +
+                               (root / "cam01" / "0000.png").string() + " is 16x12");
+  }
+  SUBCASE("hwf within rounding of the downscaled frames is accepted") {
+    cams[1].width = 17;  // 8.5 after downscale 2; the frames give 8
+    test::write_poses_bounds(npy, cams);
+    CHECK(data::load_dynerf(root, {.downscale = 2, .background = {}}).views[2].camera.width == 8);
+  }
+  SUBCASE("cameras with different frame counts") {
+    fs::remove(root / "cam02" / "0001.png");
+    check_load_fails(root, (root / "cam02").string() + ": has 1 frames but cam00 has 2");
+  }
+  SUBCASE("camera folder without frames") {
+    for (int f = 0; f < 2; ++f) fs::remove(root / "cam01" / ("000" + std::to_string(f) + ".png"));
+    check_load_fails(root, (root / "cam01").string() + ": no .png frames");
+  }
+  SUBCASE("video without extracted frames") {
+    test::write_raw(root / "cam03.mp4", "not really a video");
+    check_load_fails(root, (root / "cam03.mp4").string() + ": has no frame folder cam03/");
+    check_load_fails(root, "ffmpeg -i cam03.mp4 cam03/%04d.png");
+  }
+  SUBCASE("first frame is not a PNG") {
+    test::write_raw(root / "cam01" / "0000.png", "garbage");
+    check_load_fails(root, (root / "cam01" / "0000.png").string() + ": not a PNG file");
+  }
+  SUBCASE("unreadable frame found when it is loaded") {
+    const data::Dataset d = data::load_dynerf(root);
+    data::FrameCache cache(d, 1 << 20);
+    test::write_raw(root / "cam01" / "0000.png", "garbage");
+    CHECK_THROWS_WITH_AS(cache.get(d.views[2]), doctest::Contains((root / "cam01" / "0000.png").string().c_str()),
+                         std::runtime_error);
+    fs::remove(root / "cam01" / "0001.png");
+    CHECK_THROWS_WITH_AS(cache.get(d.views[3]), doctest::Contains((root / "cam01" / "0001.png").string().c_str()),
+                         std::runtime_error);
+  }
+  SUBCASE("frame of the wrong size") {
+    const data::Dataset d = data::load_dynerf(root);
+    io::write_png(root / "cam02" / "0001.png", test::pattern(10, 12, 3, 0));
+    data::FrameCache cache(d, 1 << 20);
+    CHECK_THROWS_WITH_AS(cache.get(d.views[5]),
+                         test::error_at(root / "cam02" / "0001.png",
+                                        "image is 10x12 after downscale 1, but view 'cam02/0001' expects 16x12"),
+                         std::runtime_error);
+  }
+  SUBCASE("point cloud without colours") {
+    test::write_raw(root / "points3D.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "end_header\n1 2 3\n");
+    check_load_fails(root, (root / "points3D.ply").string() + ": vertex has no property 'red'");
+  }
+  SUBCASE("point cloud with a malformed value") {
+    test::write_raw(root / "points3D.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n1 2 3 4 5 300\n");
+    check_load_fails(root, (root / "points3D.ply").string() + ": vertex 0: malformed or out-of-range number");
+  }
+  SUBCASE("point cloud truncated") {
+    test::write_raw(root / "points3D.ply",
+                    "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                    "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"
+                    "0123456789abcde");
+    check_load_fails(root, (root / "points3D.ply").string() + ": truncated: 2 vertices declared, at most 1 present");
+  }
+}
+
+TEST_CASE("dnerf bad inputs") {
+  test::TempDir dir("errors_dnerf");
+  const auto root = dir / "s";
+  fs::create_directories(root / "train");
+  io::write_png(root / "train" / "r_000.png", test::pattern(4, 4, 4, 0));
+  const std::string identity = "[[1,0,0,0],[0,1,0,0],[0,0,1,4],[0,0,0,1]]";
+  auto json = [&](const std::string& frame_extra) {
+    return R"({"camera_angle_x": 1.0, "frames": [{"file_path": "./train/r_000", )" + frame_extra +
+           R"("transform_matrix": )" + identity + "}]}";
+  };
+  test::write_raw(root / "transforms_train.json", json("\"time\": 0.5, "));
+
+  SUBCASE("missing test split") {
+    check_load_fails(root, (root / "transforms_test.json").string() + ": missing");
+  }
+  test::write_raw(root / "transforms_test.json", json("\"time\": 0.5, "));
+  SUBCASE("missing time") {
+    test::write_raw(root / "transforms_test.json", json(""));
+    check_load_fails(root, (root / "transforms_test.json").string() + ": frames[0].time: missing");
+  }
+  SUBCASE("time outside [0, 1]") {
+    test::write_raw(root / "transforms_train.json", json("\"time\": 1.5, "));
+    check_load_fails(root, (root / "transforms_train.json").string() + ": frames[0].time");
+  }
+  SUBCASE("image named by the first frame does not exist") {
+    test::write_raw(root / "transforms_train.json",
+                    R"({"camera_angle_x": 1.0, "frames": [{"file_path": "./train/r_009", "time": 0, "transform_matrix": )" +
+                        identity + "}]}");
+    check_load_fails(root, (root / "transforms_train.json").string() + ": frames[0].file_path: image " +
+                               (root / "train" / "r_009.png").string() + " does not exist");
+  }
+  SUBCASE("bad background") {
+    CHECK_THROWS_WITH_AS(data::load_dnerf(root, {.downscale = 1, .background = std::array<float, 3>{0, 2, 0}}),
+                         test::error_at(root, "background components must be in [0, 1]"), std::runtime_error);
+  }
+  SUBCASE("valid") { CHECK(data::load_dataset(root).views.size() == 2); }
+}

@@ -1,0 +1,89 @@
+#include "dataset_parts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace s4d::data::detail {
+
+void fail(const std::filesystem::path& path, const std::string& what) {
+  throw std::runtime_error(path.string() + ": " + what);
+}
+
+std::pair<int, int> png_size(const std::filesystem::path& path) {
+  // Signature (8 bytes), then the IHDR chunk: length (4), "IHDR", width and height (4 each, big endian).
+  std::ifstream f(path, std::ios::binary);
+  if (!f) fail(path, "cannot open");
+  unsigned char b[24];
+  f.read(reinterpret_cast<char*>(b), sizeof b);
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (!f || !std::equal(kSignature, kSignature + 8, b) || !std::equal(b + 12, b + 16, "IHDR")) {
+    fail(path, "not a PNG file");
+  }
+  auto be32 = [&](int at) {
+    return static_cast<long>(b[at]) << 24 | static_cast<long>(b[at + 1]) << 16 | static_cast<long>(b[at + 2]) << 8 |
+           static_cast<long>(b[at + 3]);
+  };
+  const long width = be32(16), height = be32(20);
+  if (width <= 0 || height <= 0 || width > (1L << 24) || height > (1L << 24)) fail(path, "bad PNG size in IHDR");
+  return {static_cast<int>(width), static_cast<int>(height)};
+}
+
+void downscale_camera(io::CameraView& camera, int factor) {
+  camera.fx /= factor;
+  camera.fy /= factor;
+  camera.cx /= factor;
+  camera.cy /= factor;
+  camera.width = downscaled(camera.width, factor);
+  camera.height = downscaled(camera.height, factor);
+}
+
+int checked_downscale(const std::filesystem::path& root, const LoadOptions& options) {
+  if (options.downscale < 1) fail(root, "downscale must be >= 1, got " + std::to_string(options.downscale));
+  return options.downscale;
+}
+
+namespace {
+
+// Camera centre -R^T t of a row-major world-to-camera [R | t].
+std::array<double, 3> centre(const io::CameraView& camera) {
+  const auto& m = camera.world_to_cam;
+  std::array<double, 3> c{};
+  for (size_t i = 0; i < 3; ++i) c[i] = -(m[0 * 4 + i] * m[3] + m[1 * 4 + i] * m[7] + m[2 * 4 + i] * m[11]);
+  return c;
+}
+
+// 3DGS getNerfppNorm's radius: densification and learning rates scale with it.
+double camera_extent(const Dataset& dataset) {
+  std::vector<std::array<double, 3>> centres;
+  for (const View& v : dataset.views) {
+    if (!v.test) centres.push_back(centre(v.camera));
+  }
+  if (centres.empty()) fail(dataset.root, "no training views");
+  std::array<double, 3> mean{};
+  for (const auto& c : centres) {
+    for (size_t k = 0; k < 3; ++k) mean[k] += c[k] / static_cast<double>(centres.size());
+  }
+  double max_distance = 0;
+  for (const auto& c : centres) {
+    max_distance = std::max(max_distance, std::hypot(c[0] - mean[0], c[1] - mean[1], c[2] - mean[2]));
+  }
+  return 1.1 * max_distance;
+}
+
+}  // namespace
+
+void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background) {
+  dataset.downscale = options.downscale;
+  dataset.background = options.background.value_or(default_background);
+  for (size_t k = 0; k < 3; ++k) {
+    const float b = dataset.background[k];
+    if (!(b >= 0.0f && b <= 1.0f)) fail(dataset.root, "background components must be in [0, 1]");
+  }
+  dataset.extent = camera_extent(dataset);
+  const auto ply = dataset.root / "points3D.ply";
+  if (std::filesystem::exists(ply)) read_point_cloud(ply, dataset.points, dataset.colors);
+}
+
+}  // namespace s4d::data::detail
