@@ -36,6 +36,7 @@ TEST_CASE("tiny dataset: files, poses_bounds.npy shape, hwf, and the LLFF rotati
   for (const char* f : {"cam00/0000.png", "cam00/0001.png", "cam02/0001.png", "points3D.ply", "scene.json"})
     CHECK_MESSAGE(fs::exists(dir / f), f);
   CHECK_FALSE(fs::exists(dir / "cam03"));
+  CHECK_FALSE(fs::exists(dir / ".style4d-synth-partial"));
   const s4d::io::ImageF png = s4d::io::read_png(dir / "cam01" / "0000.png");
   CHECK(png.width == 32);
   CHECK(png.height == 24);
@@ -79,6 +80,27 @@ TEST_CASE("tiny dataset: files, poses_bounds.npy shape, hwf, and the LLFF rotati
   // An existing dataset is never written over.
   CHECK_THROWS_WITH_AS(write_dataset(dir, o), doctest::Contains("not an empty directory"), std::invalid_argument);
   fs::remove_all(dir);
+}
+
+TEST_CASE("an interrupted run's DIR.partial is replaced, a foreign one is left alone") {
+  const fs::path dir = fresh("partial");
+  const fs::path partial = fs::path(dir) += ".partial";
+  SynthOptions o;
+  o.cams = 2, o.frames = 2, o.width = 8, o.height = 8, o.points = 10;
+  fs::create_directories(partial / "cam00");
+  std::ofstream(partial / ".style4d-synth-partial") << "x";
+  write_dataset(dir, o);
+  CHECK(fs::exists(dir / "poses_bounds.npy"));
+  CHECK_FALSE(fs::exists(partial));
+
+  const fs::path other = fresh("foreign");
+  const fs::path foreign = fs::path(other) += ".partial";
+  fs::create_directories(foreign);
+  std::ofstream(foreign / "notes.txt") << "mine";
+  CHECK_THROWS_WITH_AS(write_dataset(other, o), doctest::Contains("not made by style4d synth"), std::invalid_argument);
+  CHECK(fs::exists(foreign / "notes.txt"));
+  fs::remove_all(dir);
+  fs::remove_all(foreign);
 }
 
 TEST_CASE("bad options are refused before anything is written") {

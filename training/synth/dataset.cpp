@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "s4d/data/npy.h"
@@ -32,6 +33,9 @@ void check_range(const char* what, int value, int lo, int hi) {
                                 "], got " + std::to_string(value));
 }
 
+// Marks a DIR.partial as ours, so that a later run may delete it without risking user files.
+constexpr char kPartialMarker[] = ".style4d-synth-partial";
+
 // A dataset is never written over: `out` must not exist or be an empty directory.
 void check_destination(const fs::path& out) {
   if (!fs::exists(out)) return;
@@ -44,8 +48,8 @@ void check_destination(const fs::path& out) {
 void check_options(const SynthOptions& o) {
   check_range("--cams", o.cams, 2, kMaxCams);
   check_range("--frames", o.frames, 2, kMaxFrames);
-  check_range("image width", o.width, kMinSide, kMaxSide);
-  check_range("image height", o.height, kMinSide, kMaxSide);
+  check_range("--size width", o.width, kMinSide, kMaxSide);
+  check_range("--size height", o.height, kMinSide, kMaxSide);
   check_range("samples per axis", o.samples_per_axis, 1, 16);
   check_range("point count", o.points, 1, 10'000'000);
 }
@@ -71,8 +75,14 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   check_destination(out);
   fs::path partial = out;
   partial += ".partial";
-  fs::remove_all(partial);  // what an interrupted earlier run left behind
+  if (fs::exists(partial)) {
+    // What an interrupted earlier run left behind is ours to delete; anything else is not.
+    if (!fs::exists(partial / kPartialMarker))
+      throw std::invalid_argument(partial.string() + " exists and was not made by style4d synth; move it away");
+    fs::remove_all(partial);
+  }
   fs::create_directories(partial);
+  util::write_file_atomic(partial / kPartialMarker, "an unfinished style4d synth dataset; safe to delete\n");
 
   const Scene scene;
   const ArcRig rig;
@@ -112,6 +122,7 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   util::write_file_atomic(partial / "scene.json", scene_json(scene, rig, options, cameras, bounds, points.size()));
 
   // Only now does DIR appear, complete. An empty directory the user made is replaced.
+  fs::remove(partial / kPartialMarker);
   if (fs::exists(out)) fs::remove(out);
   fs::rename(partial, out);
 }

@@ -73,17 +73,6 @@ void consider_sheet(const Scene& sc, const Ray& ray, double t, double s_min, dou
 
 }  // namespace
 
-const char* surface_name(Surface surface) {
-  switch (surface) {
-    case Surface::wall: return "wall";
-    case Surface::floor: return "floor";
-    case Surface::sphere: return "sphere";
-    case Surface::box: return "box";
-    case Surface::sheet: return "sheet";
-  }
-  return "?";
-}
-
 Vec3 Scene::box_centre(double t) const {
   const double a = box_arc_angle(t);
   return box_arc_centre + Vec3{std::sin(a), 0, std::cos(a)} * box_arc_radius;

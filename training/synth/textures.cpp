@@ -9,8 +9,9 @@
 namespace s4d::synth {
 namespace {
 
+// One mix per lattice point: the noise is evaluated for every sample on the wall and the floor.
 double lattice(long long i, long long j) {
-  return unit_double(hash_key(static_cast<uint64_t>(i), static_cast<uint64_t>(j), 0x5eed7e47u));
+  return unit_double(mix64(static_cast<uint64_t>(i) * 0x9e3779b97f4a7c15ull ^ static_cast<uint64_t>(j) * 0xc2b2ae3d27d4eb4full));
 }
 
 double smooth(double u) { return u * u * (3 - 2 * u); }

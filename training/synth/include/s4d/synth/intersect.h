@@ -2,6 +2,7 @@
 // open interval (s_min, s_max), or nothing.
 #pragma once
 #include <optional>
+#include <utility>
 
 #include "s4d/synth/vec3.h"
 

@@ -11,7 +11,6 @@
 namespace s4d::synth {
 
 enum class Surface { wall, floor, sphere, box, sheet };
-const char* surface_name(Surface surface);
 
 struct Scene {
   // Static background: wall plane z = wall_z over |x| <= half_width, floor_y <= y <= wall_top;

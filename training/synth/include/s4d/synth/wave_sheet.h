@@ -20,7 +20,7 @@ struct WaveSheet {
 };
 
 // Nearest crossing with s in (s_min, s_max): the ray is clipped to the sheet's bounding box,
-// marched in fixed steps until z - z(x, t) changes sign, then the crossing is bisected to double
+// marched in short steps until z - z(x, t) changes sign, then the crossing is bisected to double
 // precision. A ray crossing twice within one step (only possible at grazing angles) may miss.
 std::optional<double> intersect_wave_sheet(const Ray& ray, const WaveSheet& sheet, double t, double s_min,
                                            double s_max);
