@@ -47,6 +47,8 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
 
 RenderedView render_view(const Scene& scene, const PinholeCamera& camera, double t, const RenderSettings& settings) {
   if (settings.samples_per_axis < 1) throw std::invalid_argument("render_view: samples_per_axis must be >= 1");
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.focal > 0))
+    throw std::invalid_argument("render_view: the camera needs a positive size and focal length");
   RenderedView view;
   view.width = camera.width;
   view.height = camera.height;

@@ -5,9 +5,11 @@
 namespace s4d::synth {
 namespace {
 
-nlohmann::json vec(Vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+// ordered_json keeps the keys in the order written here, which reads better than sorted.
 
-nlohmann::json describe_scene(const Scene& s) {
+nlohmann::ordered_json vec(Vec3 v) { return nlohmann::ordered_json::array({v.x, v.y, v.z}); }
+
+nlohmann::ordered_json describe_scene(const Scene& s) {
   const WaveSheet& w = s.sheet;
   return {
       {"units", "metres; y up; time t in [0, 1]"},
@@ -39,7 +41,7 @@ nlohmann::json describe_scene(const Scene& s) {
 std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions& options,
                        const std::vector<PinholeCamera>& cameras, const std::vector<DepthBounds>& bounds,
                        size_t num_points) {
-  nlohmann::json cams = nlohmann::json::array();
+  nlohmann::ordered_json cams = nlohmann::ordered_json::array();
   for (size_t c = 0; c < cameras.size(); ++c)
     cams.push_back({{"name", camera_dir_name(static_cast<int>(c))},
                     {"position", vec(cameras[c].position)},
@@ -47,7 +49,7 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
                     {"near", bounds[c].near},
                     {"far", bounds[c].far}});
   const PinholeCamera& first = cameras.front();
-  const nlohmann::json doc = {
+  const nlohmann::ordered_json doc = {
       {"generator", "style4d synth"},
       {"layout", "DyNeRF/Neu3D: camNN/NNNN.png, poses_bounds.npy, points3D.ply"},
       {"parameters", {{"cams", options.cams}, {"frames", options.frames}, {"width", options.width},
