@@ -1,0 +1,130 @@
+#include "s4d/synth/dataset.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "s4d/data/npy.h"
+#include "s4d/io/image_io.h"
+#include "s4d/synth/camera_rig.h"
+#include "s4d/synth/point_cloud.h"
+#include "s4d/synth/render.h"
+#include "s4d/synth/scene.h"
+#include "s4d/synth/scene_json.h"
+#include "s4d/util/atomic_file.h"
+
+namespace s4d::synth {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The fixed-width names (camNN, NNNN) keep lexicographic and numeric order the same, which
+// loaders that sort directory listings rely on.
+constexpr int kMaxCams = 99, kMaxFrames = 9999, kMinSide = 8, kMaxSide = 4096;
+
+// Margin on the rendered depth range, so content at the edges of the range is not clipped.
+constexpr double kNearScale = 0.9, kFarScale = 1.1;
+
+void check_range(const char* what, int value, int lo, int hi) {
+  if (value < lo || value > hi)
+    throw std::invalid_argument(std::string(what) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                "], got " + std::to_string(value));
+}
+
+// Marks a DIR.partial as ours, so that a later run may delete it without risking user files.
+constexpr char kPartialMarker[] = ".style4d-synth-partial";
+
+// A dataset is never written over: `out` must not exist or be an empty directory.
+void check_destination(const fs::path& out) {
+  if (!fs::exists(out)) return;
+  if (!fs::is_directory(out) || !fs::is_empty(out))
+    throw std::invalid_argument(out.string() + " already exists and is not an empty directory; choose a new --out");
+}
+
+}  // namespace
+
+void check_options(const SynthOptions& o) {
+  check_range("--cams", o.cams, 2, kMaxCams);
+  check_range("--frames", o.frames, 2, kMaxFrames);
+  check_range("--size width", o.width, kMinSide, kMaxSide);
+  check_range("--size height", o.height, kMinSide, kMaxSide);
+  check_range("samples per axis", o.samples_per_axis, 1, 16);
+  check_range("point count", o.points, 1, 10'000'000);
+}
+
+std::string camera_dir_name(int cam) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "cam%02d", cam);
+  return buf;
+}
+
+std::string frame_file_name(int frame) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%04d.png", frame);
+  return buf;
+}
+
+void write_dataset(const fs::path& out_arg, const SynthOptions& options, const ProgressFn& progress) {
+  check_options(options);
+  // "DIR/" must give DIR.partial beside DIR, not DIR/.partial inside it.
+  fs::path out = out_arg.lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();
+  if (out.empty()) throw std::invalid_argument("--out must name a directory");
+  check_destination(out);
+  fs::path partial = out;
+  partial += ".partial";
+  if (fs::exists(partial)) {
+    // What an interrupted earlier run left behind is ours to delete; anything else is not.
+    if (!fs::exists(partial / kPartialMarker))
+      throw std::invalid_argument(partial.string() + " exists and was not made by style4d synth; move it away");
+    fs::remove_all(partial);
+  }
+  fs::create_directories(partial);
+  util::write_file_atomic(partial / kPartialMarker, "an unfinished style4d synth dataset; safe to delete\n");
+
+  const Scene scene;
+  const ArcRig rig;
+  const std::vector<PinholeCamera> cameras = arc_cameras(rig, scene.centre, options.cams, options.width, options.height);
+  const RenderSettings settings{options.samples_per_axis, options.seed, 0};
+
+  const uint64_t total = static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames);
+  uint64_t done = 0;
+  std::vector<DepthBounds> bounds;
+  for (int c = 0; c < options.cams; ++c) {
+    const fs::path cam_dir = partial / camera_dir_name(c);
+    fs::create_directories(cam_dir);
+    double lo = 1e300, hi = -1e300;
+    for (int f = 0; f < options.frames; ++f) {
+      const double t = static_cast<double>(f) / (options.frames - 1);
+      RenderedView view = render_view(scene, cameras[static_cast<size_t>(c)], t, settings);
+      lo = std::min(lo, view.min_depth);
+      hi = std::max(hi, view.max_depth);
+      io::write_png(cam_dir / frame_file_name(f), io::ImageF{view.width, view.height, 3, std::move(view.rgb)});
+      if (progress) progress(++done, total);
+    }
+    if (!(lo > 0 && lo <= hi)) throw std::runtime_error(camera_dir_name(c) + " sees no surface in front of it");
+    bounds.push_back({lo * kNearScale, hi * kFarScale});
+  }
+
+  const std::vector<ColouredPoint> points = sample_points(scene, cameras, options.points, options.seed);
+  util::write_file_atomic(partial / "points3D.ply", points_to_ply(points));
+
+  data::NpyArray poses{{static_cast<size_t>(options.cams), 17}, {}};
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const std::array<double, 15> m = llff_pose(cameras[c]);
+    poses.values.insert(poses.values.end(), m.begin(), m.end());
+    poses.values.push_back(bounds[c].near);
+    poses.values.push_back(bounds[c].far);
+  }
+  data::write_npy(partial / "poses_bounds.npy", poses);
+  util::write_file_atomic(partial / "scene.json", scene_json(scene, rig, options, cameras, bounds, points.size()));
+
+  // Only now does DIR appear, complete. An empty directory the user made is replaced.
+  fs::remove(partial / kPartialMarker);
+  if (fs::exists(out)) fs::remove(out);
+  fs::rename(partial, out);
+}
+
+}  // namespace s4d::synth

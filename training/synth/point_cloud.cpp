@@ -1,0 +1,50 @@
+#include "s4d/synth/point_cloud.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "s4d/synth/hash_rng.h"
+
+namespace s4d::synth {
+namespace {
+
+uint8_t to_byte(double v) { return static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); }
+
+// Distinguishes this stream from the pixel jitter that uses the same seed.
+constexpr uint64_t kPointStream = 0x90196c10d5ull;
+
+}  // namespace
+
+std::vector<ColouredPoint> sample_points(const Scene& scene, const std::vector<PinholeCamera>& cameras, int count,
+                                         uint64_t seed) {
+  std::vector<ColouredPoint> points;
+  if (cameras.empty() || count <= 0) return points;
+  const int per_camera = (count + static_cast<int>(cameras.size()) - 1) / static_cast<int>(cameras.size());
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const PinholeCamera& cam = cameras[c];
+    for (int k = 0; k < per_camera; ++k) {
+      const uint64_t h = hash_key(seed ^ kPointStream, c, static_cast<uint64_t>(k));
+      const Ray ray = cam.ray(unit_double(h) * cam.width, unit_double(mix64(h)) * cam.height);
+      const auto hit = trace(scene, ray, 0.0);
+      if (!hit) continue;
+      const Vec3 colour = shade(scene, *hit);
+      points.push_back({static_cast<float>(hit->point.x), static_cast<float>(hit->point.y),
+                        static_cast<float>(hit->point.z), to_byte(colour.x), to_byte(colour.y), to_byte(colour.z)});
+    }
+  }
+  return points;
+}
+
+std::string points_to_ply(const std::vector<ColouredPoint>& points) {
+  std::ostringstream out;
+  out << "ply\nformat ascii 1.0\ncomment style4d synth: surface points at t = 0\nelement vertex " << points.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  out.precision(7);
+  for (const ColouredPoint& p : points)
+    out << p.x << ' ' << p.y << ' ' << p.z << ' ' << int{p.r} << ' ' << int{p.g} << ' ' << int{p.b} << '\n';
+  return out.str();
+}
+
+}  // namespace s4d::synth
