@@ -6,6 +6,7 @@
 // issues; each is listed with its status so nobody mistakes the report for a full run.
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -15,6 +16,7 @@
 #include "device_json.h"
 #include "primitives_bench.h"
 #include "s4d/engine/context.h"
+#include "s4d/synth/dataset.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
 
@@ -31,7 +33,7 @@ struct Stage {
 // The pipeline of ARCHITECTURE.md, in order, with what exists today.
 const Stage kStages[] = {
     {"engine", "Vulkan compute engine, GPU radix sort and scan", true},
-    {"synth", "built-in synthetic dynamic scene (analytic ray caster)", false},
+    {"synth", "built-in synthetic dynamic scene (analytic ray caster)", true},
     {"train", "stage 1-2: static Gaussians, then 4DGS HexPlane deformation", false},
     {"stylize", "stage 3-4: 2D stylizer on training frames, Style Gaussians", false},
     {"render", "render protocols: test-camera and spiral videos", false},
@@ -58,6 +60,16 @@ int cmd_demo(const std::vector<std::string>& argv) {
   std::filesystem::create_directories(out);
 
   util::Progress progress("demo", 3);
+  // The built-in scene, reused when an earlier demo run already finished writing it.
+  const std::filesystem::path data = out / "data";
+  const auto synth_start = std::chrono::steady_clock::now();
+  const s4d::synth::SynthOptions scene;
+  if (!std::filesystem::exists(data / "poses_bounds.npy")) {
+    util::Progress synth_progress("synth", static_cast<uint64_t>(scene.cams) * static_cast<uint64_t>(scene.frames));
+    s4d::synth::write_dataset(data, scene, [&](uint64_t done, uint64_t) { synth_progress.update(done); });
+    synth_progress.finish();
+  }
+  const double synth_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - synth_start).count();
   engine::Context ctx;
   progress.update(1, {});
   std::cerr << "[demo] device: " << ctx.info().name << " (" << ctx.info().driver_info << ")\n";
@@ -80,6 +92,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
                                  {"engine_check", {{"radix_sort", timing_json(sort)}, {"exclusive_scan", timing_json(scan)}}},
                                  {"engine_ok", engine_ok},
                                  {"stages", stages},
+                                 {"synth", {{"dataset", data.string()}, {"cams", scene.cams}, {"frames", scene.frames},
+                                            {"width", scene.width}, {"height", scene.height}, {"seconds", synth_s}}},
                                  {"complete", false}};
   util::write_file_atomic(out / "demo.json", report.dump(2) + "\n");
 
@@ -88,6 +102,11 @@ int cmd_demo(const std::vector<std::string>& argv) {
      << "Device: **" << ctx.info().name << "** (" << ctx.info().driver_info << ")\n\n"
      << "## Stages\n\n| stage | what | status |\n|---|---|---|\n";
   for (const Stage& s : kStages) md << "| " << s.name << " | " << s.what << " | " << (s.built ? "built" : "**not built yet**") << " |\n";
+  md << "\n## Built-in scene\n\n" << scene.cams << " cameras x " << scene.frames << " frames at " << scene.width << "x"
+     << scene.height << " in `data/` (DyNeRF layout, " << synth_s << " s). First and last frame of the middle camera:\n\n"
+     << "![first](data/" << s4d::synth::camera_dir_name(scene.cams / 2) << "/" << s4d::synth::frame_file_name(0) << ") "
+     << "![last](data/" << s4d::synth::camera_dir_name(scene.cams / 2) << "/"
+     << s4d::synth::frame_file_name(scene.frames - 1) << ")\n";
   md << "\n## Engine check (GPU vs CPU twin)\n\n| primitive | n | GPU ms (p50) | keys/s | matches twin |\n|---|---|---|---|---|\n";
   for (const auto* t : {&sort, &scan})
     md << "| " << t->primitive << " | " << t->n << " | " << t->ms_p50 << " | " << t->keys_per_s << " | "
