@@ -15,4 +15,5 @@ set(S4D_SHADER_VARIANTS
   "raster_bwd|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "raster_bwd_cas|splat/raster_bwd.comp|S4D_FLOAT_ATOMICS=0"
   "project_bwd|splat/project_bwd.comp"
+  "blend_ceiling|bench/blend_ceiling.comp"
 )

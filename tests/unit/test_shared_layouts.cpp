@@ -10,6 +10,7 @@
 
 #include "s4d/engine/spirv_reflect.h"
 #include "s4d/shader_registry.h"
+#include "s4d_bench.h"
 #include "s4d_primitives.h"
 
 using s4d::engine::CppStructLayout;
@@ -25,6 +26,7 @@ using namespace s4d::gpu;
 static_assert(sizeof(ScanParams) == 16 && sizeof(ScanParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(RadixParams) == 16 && sizeof(RadixParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -36,6 +38,9 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(RadixParams, num_blocks), S4D_MEMBER(RadixParams, digit_mask)),
       S4D_STRUCT(IotaParams, S4D_MEMBER(IotaParams, n), S4D_MEMBER(IotaParams, first), S4D_MEMBER(IotaParams, _pad0),
                  S4D_MEMBER(IotaParams, _pad1)),
+      S4D_STRUCT(BlendCeilingParams, S4D_MEMBER(BlendCeilingParams, size), S4D_MEMBER(BlendCeilingParams, background),
+                 S4D_MEMBER(BlendCeilingParams, list_length), S4D_MEMBER(BlendCeilingParams, _pad0),
+                 S4D_MEMBER(BlendCeilingParams, _pad1), S4D_MEMBER(BlendCeilingParams, _pad2)),
   };
 }
 
