@@ -19,4 +19,5 @@ set(S4D_SHADER_VARIANTS
   "ssim_vpass|loss/ssim_vpass.comp"
   "loss_grad|loss/loss_grad.comp"
   "adam_step|optim/adam_step.comp"
+  "blend_ceiling|bench/blend_ceiling.comp"
 )

@@ -12,6 +12,7 @@
 #include "s4d/shader_registry.h"
 #include "s4d_loss.h"
 #include "s4d_optim.h"
+#include "s4d_bench.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
 
@@ -32,6 +33,7 @@ static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
 static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 16 && sizeof(AdamGroup) == 32);
+static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -61,6 +63,9 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(AdamGroup, step), S4D_MEMBER(AdamGroup, _pad0)),
       S4D_STRUCT(AdamParams, S4D_MEMBER(AdamParams, n), S4D_MEMBER(AdamParams, group), S4D_MEMBER(AdamParams, _pad0),
                  S4D_MEMBER(AdamParams, _pad1)),
+      S4D_STRUCT(BlendCeilingParams, S4D_MEMBER(BlendCeilingParams, size), S4D_MEMBER(BlendCeilingParams, background),
+                 S4D_MEMBER(BlendCeilingParams, list_length), S4D_MEMBER(BlendCeilingParams, _pad0),
+                 S4D_MEMBER(BlendCeilingParams, _pad1), S4D_MEMBER(BlendCeilingParams, _pad2)),
   };
 }
 

@@ -7,6 +7,7 @@
 // binning, the tile sort and blending. Every intermediate buffer is owned here and grows on demand.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -91,6 +92,8 @@ class Rasterizer {
   const engine::Buffer& grad2d() const { return grad2d_; }
   const Camera& camera() const { return cam_; }
   engine::Context& context() const { return *ctx_; }
+  // Bytes of device memory in this rasterizer's buffers. They only grow, so this is its peak so far.
+  size_t device_bytes() const;
 
  private:
   void reserve_gaussians(uint32_t n);

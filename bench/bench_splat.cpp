@@ -1,0 +1,223 @@
+// GPU rasterizer speed vs image size and Gaussian count on the chosen device (S4D_DEVICE to pick
+// another), next to the device's ceiling for the same blend loop. Per size, one JSON line for the
+// ceiling and one per rasterizer pass on stdout; a human table on stderr. Timings are never
+// pass/fail; the smallest size's forward image is checked against the CPU twin.
+//
+//   s4d_bench_splat [--sizes 128x128:1000,...] [--repeats 5] [--only fwd|fwdbwd]
+//
+// --only fwd skips the backward (and its gradient buffers); --only fwdbwd skips the forward line
+// and the ceiling. A size the device cannot hold (memory, buffer range, lavapipe's tile-list cap)
+// gets a line with "skipped": true and the reason.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <new>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "blend_ceiling.h"
+#include "s4d/engine/check.h"
+#include "s4d/engine/context.h"
+#include "splat_bench.h"
+
+namespace {
+
+using nlohmann::json;
+using s4d::bench::SplatPoint;
+
+struct Options {
+  std::vector<SplatPoint> points = {{128, 128, 1000}, {256, 256, 10000}, {512, 512, 100000}, {1352, 1014, 200000}};
+  int repeats = 5;
+  bool fwd = true, fwdbwd = true;
+};
+
+// "WxH:N" -> point; throws std::invalid_argument on anything else.
+SplatPoint parse_point(const std::string& s) {
+  const size_t x = s.find('x'), colon = s.find(':');
+  if (x == std::string::npos || colon == std::string::npos || colon < x)
+    throw std::invalid_argument("size '" + s + "' is not WxH:N");
+  return {.width = static_cast<uint32_t>(std::stoul(s.substr(0, x))),
+          .height = static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
+          .gaussians = static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
+}
+
+// The point the twin check runs at: the fewest pixels, then the fewest Gaussians.
+size_t smallest(const std::vector<SplatPoint>& points) {
+  auto key = [](const SplatPoint& p) { return std::pair(uint64_t{p.width} * p.height, p.gaussians); };
+  size_t best = 0;
+  for (size_t i = 1; i < points.size(); ++i)
+    if (key(points[i]) < key(points[best])) best = i;
+  return best;
+}
+
+// A table cell: `v` in printf format `fmt`, or "-" for a value that was not measured (0).
+std::string cell(const char* fmt, double v) {
+  if (v == 0) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+double mib(size_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
+double per_s(uint64_t pairs, double ms) { return ms > 0 ? static_cast<double>(pairs) / (ms * 1e-3) : 0; }
+
+json ceiling_json(json line, const s4d::bench::CeilingTiming& c) {
+  line.update({{"bench", "blend_ceiling"},
+               {"width", c.width},
+               {"height", c.height},
+               {"tiles", c.tiles},
+               {"list_length", c.list_length},
+               {"timing", "gpu timestamps around the dispatch"},
+               {"repeats", c.gpu.repeats},
+               {"ms_gpu_p50", c.gpu.ms_p50},
+               {"ms_gpu_min", c.gpu.ms_min},
+               {"ms_gpu_max", c.gpu.ms_max},
+               {"pixel_pairs", c.pixel_pairs},
+               {"pairs_per_s", c.pairs_per_s},
+               {"all_blended", c.all_blended}});
+  return line;
+}
+
+// What both rasterizer lines of a point share.
+json splat_json(json line, const s4d::bench::SplatTiming& t) {
+  line.update({{"sh_degree", 3},
+               {"timing", "wall clock around forward() / forward() + backward(), which submit and wait"},
+               {"repeats", t.fwd.repeats},
+               {"instances", t.instances},
+               {"tiles", t.tiles},
+               {"avg_tile_list", static_cast<double>(t.instances) / t.tiles},
+               {"longest_tile_list", t.longest_tile_list},
+               {"pixel_pairs_listed", t.pixel_pairs_listed},
+               {"pixel_pairs_blended", t.pixel_pairs_blended},
+               {"peak_device_mib", mib(t.device_bytes)}});
+  if (t.twin_checked) line.update({{"matches_twin", t.matches_twin}, {"twin_max_abs_diff", t.twin_max_abs_diff}});
+  return line;
+}
+
+json pass_json(json line, const char* pass, const s4d::bench::Timing& ms, uint64_t pairs) {
+  line.update({{"pass", pass},
+               {"ms_wall_p50", ms.ms_p50},
+               {"ms_wall_min", ms.ms_min},
+               {"ms_wall_max", ms.ms_max},
+               {"listed_pairs_per_s", per_s(pairs, ms.ms_p50)}});
+  return line;
+}
+
+// Measures one point and prints its lines; false when a result is wrong. `base` holds the fields
+// every line of the point carries (device, size, Gaussian count).
+bool run_point(s4d::engine::Context& ctx, const json& base, const SplatPoint& pt, const Options& o, bool twin) {
+  const auto t = s4d::bench::bench_splat(ctx, pt, o.repeats, o.fwdbwd, twin);
+  const json line = splat_json(base, t);
+  bool ok = !t.twin_checked || t.matches_twin;
+  const double rate = per_s(t.pixel_pairs_listed, t.fwd.ms_p50);
+  double ceiling = 0;
+  if (o.fwd) {
+    const uint32_t list = s4d::bench::ceiling_list_length(t.instances, t.tiles);
+    const auto c = s4d::bench::bench_blend_ceiling(ctx, pt.width, pt.height, list, o.repeats);
+    std::cout << ceiling_json(base, c).dump() << std::endl;
+    ok = ok && c.all_blended;
+    ceiling = c.pairs_per_s;
+    // Early termination skips listed pairs, so the listed ratio can pass 1; the blended ratio (useful
+    // work only) is the lower bound of the loop's efficiency.
+    const double blended = per_s(t.pixel_pairs_blended, t.fwd.ms_p50);
+    json fl = pass_json(line, "fwd", t.fwd, t.pixel_pairs_listed);
+    fl.update({{"blended_pairs_per_s", blended},
+               {"ceiling_pairs_per_s", ceiling},
+               {"ratio_to_ceiling", ceiling > 0 ? rate / ceiling : 0},
+               {"blended_ratio_to_ceiling", ceiling > 0 ? blended / ceiling : 0}});
+    std::cout << fl.dump() << std::endl;
+  }
+  if (o.fwdbwd) std::cout << pass_json(line, "fwdbwd", t.fwdbwd, t.pixel_pairs_listed).dump() << std::endl;
+  std::fprintf(stderr, "%5ux%-5u %7u %9.1f %9s %9u %7u %10.3g %10.3g %10s %6s %8.1f %6s\n", pt.width, pt.height,
+               pt.gaussians, t.fwd.ms_p50, cell("%.1f", t.fwdbwd.ms_p50).c_str(), t.instances, t.longest_tile_list,
+               rate, per_s(t.pixel_pairs_blended, t.fwd.ms_p50), cell("%.3g", ceiling).c_str(),
+               cell("%.2f", ceiling > 0 ? rate / ceiling : 0).c_str(), mib(t.device_bytes),
+               !t.twin_checked ? "-" : t.matches_twin ? "ok" : "WRONG");
+  return ok;
+}
+
+void print_skipped(json line, const SplatPoint& pt, const std::string& reason) {
+  line.update({{"skipped", true}, {"reason", reason}});
+  std::cout << line.dump() << std::endl;
+  std::fprintf(stderr, "%5ux%-5u %7u skipped: %s\n", pt.width, pt.height, pt.gaussians, reason.c_str());
+}
+
+// The options, or nothing for --help. Throws std::invalid_argument on a bad command line.
+std::optional<Options> parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const std::string value = i + 1 < argc ? argv[i + 1] : "";
+    if (a == "--sizes" && !value.empty()) {
+      o.points.clear();
+      std::stringstream ss(argv[++i]);
+      for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
+    } else if (a == "--repeats" && !value.empty()) {
+      o.repeats = std::stoi(argv[++i]);
+    } else if (a == "--only" && (value == "fwd" || value == "fwdbwd")) {
+      o.fwd = value == "fwd", o.fwdbwd = value == "fwdbwd";
+      ++i;
+    } else if (a == "--help") {
+      return std::nullopt;
+    } else {
+      throw std::invalid_argument("unknown or incomplete option '" + a + "'");
+    }
+  }
+  if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* usage = "usage: s4d_bench_splat [--sizes WxH:N,...] [--repeats R] [--only fwd|fwdbwd]\n";
+  std::optional<Options> parsed;
+  try {
+    parsed = parse(argc, argv);
+  } catch (const std::exception& e) {  // std::stoul and std::stoi throw on numbers that do not parse
+    std::cerr << "s4d_bench_splat: " << e.what() << "\n" << usage;
+    return 2;
+  }
+  if (!parsed) {
+    std::cout << usage;
+    return 0;
+  }
+  const Options& o = *parsed;
+  bool all_ok = true;
+  try {
+    s4d::engine::Context ctx;
+    const auto& info = ctx.info();
+    const json device = {{"device", info.name}, {"driver", info.driver_name + " " + info.driver_info}};
+    std::fprintf(stderr, "device: %s (%s)\n%-11s %7s %9s %9s %9s %7s %10s %10s %10s %6s %8s %6s\n",
+                 info.name.c_str(), info.driver_info.c_str(), "size", "N", "fwd ms", "f+b ms", "instances", "longest",
+                 "listed/s", "blended/s", "ceiling/s", "ratio", "MiB", "twin");
+    const size_t twin_at = smallest(o.points);
+    for (size_t i = 0; i < o.points.size(); ++i) {
+      const SplatPoint& pt = o.points[i];
+      json line = device;
+      line.update(
+          {{"bench", "splat_raster"}, {"width", pt.width}, {"height", pt.height}, {"n_gaussians", pt.gaussians}});
+      try {
+        all_ok = run_point(ctx, line, pt, o, i == twin_at) && all_ok;
+      } catch (const s4d::engine::VulkanError& e) {
+        if (e.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY && e.result() != VK_ERROR_OUT_OF_HOST_MEMORY) throw;
+        print_skipped(line, pt, e.what());
+      } catch (const std::invalid_argument& e) {  // buffer range, allocation size, instance count
+        print_skipped(line, pt, e.what());
+      } catch (const std::runtime_error& e) {  // a tile list longer than lavapipe can blend
+        print_skipped(line, pt, e.what());
+      } catch (const std::bad_alloc&) {
+        print_skipped(line, pt, "out of host memory");
+      }
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "s4d_bench_splat: error: " << e.what() << "\n";
+    return 1;
+  }
+  return all_ok ? 0 : 1;
+}

@@ -1,0 +1,148 @@
+#include "splat_bench.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/primitives/shader_pipeline.h"
+#include "s4d/splat/rasterizer.h"
+#include "s4d_splat.h"
+#include "splat_scene.h"
+
+namespace s4d::bench {
+
+namespace {
+
+constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
+
+engine::Buffer upload(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
+  engine::Buffer b(ctx, name, values.size() * 4);
+  if (!values.empty()) ctx.upload(b, std::span<const float>(values));
+  return b;
+}
+
+// The scene's parameters on the device.
+struct DeviceScene {
+  engine::Buffer means, log_scales, quats, opacity_logits, sh;
+  splat::GaussianParams params;
+
+  DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g)
+      : means(upload(ctx, "bench means", g.means)),
+        log_scales(upload(ctx, "bench log_scales", g.log_scales)),
+        quats(upload(ctx, "bench quats", g.quats)),
+        opacity_logits(upload(ctx, "bench opacity_logits", g.opacity_logits)),
+        sh(upload(ctx, "bench sh", g.sh)) {
+    params = {.means = &means,
+              .log_scales = &log_scales,
+              .quats = &quats,
+              .opacity_logits = &opacity_logits,
+              .sh = &sh,
+              .count = static_cast<uint32_t>(g.size()),
+              .sh_degree = static_cast<uint32_t>(g.sh_degree),
+              .sh_coeffs = kSceneShCoeffs};
+  }
+  size_t bytes() const { return means.size() + log_scales.size() + quats.size() + opacity_logits.size() + sh.size(); }
+};
+
+// Gradient outputs and a random RGB cotangent (an RGB-only loss, as in training).
+struct DeviceGrads {
+  engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_rgb;
+
+  DeviceGrads(engine::Context& ctx, const splat::GaussianParams& p, size_t pixels, uint32_t seed) {
+    const size_t n = p.count;
+    auto make = [&](const char* what, size_t floats) {
+      return engine::Buffer(ctx, std::string("bench ") + what, floats * 4);
+    };
+    v_means = make("v_means", 3 * n);
+    v_log_scales = make("v_log_scales", 3 * n);
+    v_quats = make("v_quats", 4 * n);
+    v_opacity_logits = make("v_opacity_logits", n);
+    v_sh = make("v_sh", 3 * n * p.sh_coeffs);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<float> v(3 * pixels);
+    for (float& x : v) x = u(rng);
+    v_rgb = upload(ctx, "bench v_rgb", v);
+  }
+  splat::GaussianGrads out() {
+    return {.v_means = &v_means,
+            .v_log_scales = &v_log_scales,
+            .v_quats = &v_quats,
+            .v_opacity_logits = &v_opacity_logits,
+            .v_sh = &v_sh};
+  }
+  size_t bytes() const {
+    return v_means.size() + v_log_scales.size() + v_quats.size() + v_opacity_logits.size() + v_sh.size() +
+           v_rgb.size();
+  }
+};
+
+double ms_between(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// Largest |gpu - twin| over RGB and alpha; infinity when either holds a NaN or infinity.
+double max_abs_diff(const std::vector<float>& gpu, const std::vector<float>& twin) {
+  double worst = 0;
+  for (size_t i = 0; i < gpu.size(); ++i) {
+    const double d = std::abs(static_cast<double>(gpu[i]) - static_cast<double>(twin[i]));
+    worst = std::isfinite(d) ? std::max(worst, d) : std::numeric_limits<double>::infinity();
+  }
+  return worst;
+}
+
+}  // namespace
+
+SplatTiming bench_splat(engine::Context& ctx, SplatPoint point, int repeats, bool backward, bool check_twin,
+                        uint32_t seed) {
+  SplatTiming t{.point = point};
+  const SplatScene scene = make_splat_scene(point.width, point.height, point.gaussians, seed);
+  const splat::Camera cam = to_gpu_camera(scene.camera);
+  const size_t pixels = size_t{point.width} * point.height;
+  const DeviceScene dev(ctx, scene.gaussians);
+  std::optional<DeviceGrads> grads;
+  if (backward) grads.emplace(ctx, dev.params, pixels, seed);
+  splat::Rasterizer raster(ctx, "bench rasterizer");
+
+  std::vector<double> fwd_ms, fwdbwd_ms;
+  splat::RenderStats stats;
+  for (int r = -1; r < repeats; ++r) {  // run -1 grows the buffers and compiles pipelines; not counted
+    const auto t0 = std::chrono::steady_clock::now();
+    stats = raster.forward(dev.params, cam, kBackground);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (backward) raster.backward(dev.params, {.v_rgb = &grads->v_rgb}, grads->out());
+    const auto t2 = std::chrono::steady_clock::now();
+    if (r < 0) continue;
+    fwd_ms.push_back(ms_between(t0, t1));
+    if (backward) fwdbwd_ms.push_back(ms_between(t0, t2));
+  }
+  t.fwd = summarise_ms(std::move(fwd_ms));
+  if (backward) t.fwdbwd = summarise_ms(std::move(fwdbwd_ms));
+  t.instances = stats.instances;
+  t.longest_tile_list = stats.longest_tile_list;
+  t.tiles = primitives::ceil_div(point.width, S4D_TILE_SIZE) * primitives::ceil_div(point.height, S4D_TILE_SIZE);
+  t.pixel_pairs_listed = uint64_t{stats.instances} * S4D_TILE_PIXELS;
+  const std::vector<uint32_t> contributors = ctx.download<uint32_t>(raster.contributors(), pixels);
+  t.pixel_pairs_blended = std::accumulate(contributors.begin(), contributors.end(), uint64_t{0});
+  t.device_bytes = raster.device_bytes() + dev.bytes() + (grads ? grads->bytes() : 0);
+
+  if (check_twin) {
+    const ref::Image<float> img = ref::render_fwd(scene.gaussians, scene.camera, kBackground).second;
+    t.twin_checked = true;
+    t.twin_max_abs_diff = std::max(max_abs_diff(ctx.download<float>(raster.rgb(), 3 * pixels), img.rgb),
+                                   max_abs_diff(ctx.download<float>(raster.alpha(), pixels), img.alpha));
+    t.matches_twin = t.twin_max_abs_diff <= kTwinTolerance;
+  }
+  return t;
+}
+
+}  // namespace s4d::bench

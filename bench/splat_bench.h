@@ -1,0 +1,45 @@
+// Speed of the GPU rasterizer (s4d::splat::Rasterizer) on a random scene (splat_scene.h): forward
+// and forward+backward wall-clock time, tile-list statistics and device memory, with an optional
+// check of the forward image against the CPU twin.
+#pragma once
+#include <cstdint>
+
+#include "s4d/engine/context.h"
+#include "timing.h"
+
+namespace s4d::bench {
+
+struct SplatPoint {
+  uint32_t width = 0, height = 0, gaussians = 0;
+};
+
+struct SplatTiming {
+  SplatPoint point;
+  // Wall clock around forward() and forward() + backward(), which both submit and wait; taken from
+  // the same runs. fwdbwd is empty unless the backward was measured.
+  Timing fwd, fwdbwd;
+  uint32_t instances = 0, tiles = 0, longest_tile_list = 0;
+  // (pixel, Gaussian) pairs the tile lists hold: instances * 256, every pixel of a tile counted up to
+  // the end of its list. Early termination means fewer are actually visited.
+  uint64_t pixel_pairs_listed = 0;
+  uint64_t pixel_pairs_blended = 0;  // pairs that contributed to a pixel (sum of per-pixel contributors)
+  size_t device_bytes = 0;           // rasterizer buffers + the scene, gradient and cotangent buffers
+  bool twin_checked = false;
+  bool matches_twin = false;       // forward RGB and alpha within kTwinTolerance of ref::render_fwd
+  double twin_max_abs_diff = 0;
+};
+
+// Maximum absolute difference allowed between the GPU forward image and the CPU twin's. The twin
+// runs the same float operations in the same order; on lavapipe (Mesa 22.3.6) the two agree to
+// 3.6e-7 on the 128x128 scene (3.0e-7 at 64x48). 1e-4 leaves room for other drivers' exp (the
+// Vulkan spec allows 3 + 2|x| ULP) and fused multiply-adds, while a Gaussian binned, sorted or
+// blended wrongly moves pixels by far more.
+inline constexpr double kTwinTolerance = 1e-4;
+
+// Runs one warm-up and `repeats` measured forward passes (each followed by a backward when
+// `backward`) on a fresh rasterizer. Throws what the rasterizer or the allocator throws when the
+// point exceeds the device's memory or limits.
+SplatTiming bench_splat(engine::Context& ctx, SplatPoint point, int repeats, bool backward, bool check_twin,
+                        uint32_t seed = 1);
+
+}  // namespace s4d::bench
