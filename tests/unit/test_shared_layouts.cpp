@@ -10,9 +10,9 @@
 
 #include "s4d/engine/spirv_reflect.h"
 #include "s4d/shader_registry.h"
+#include "s4d_bench.h"
 #include "s4d_loss.h"
 #include "s4d_optim.h"
-#include "s4d_bench.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
 
