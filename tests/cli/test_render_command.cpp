@@ -14,11 +14,12 @@
 
 #include "s4d/io/image_io.h"
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kExe = S4D_STYLE4D_EXE;
 constexpr double kC0 = 0.28209479177387814;
 
 struct Splat {
@@ -68,24 +69,9 @@ const char* kCameras = R"({
   ]
 })";
 
-int run(const std::string& args, const fs::path& log) {
-  const std::string cmd = kExe.string() + " render " + args + " > " + log.string() + " 2>&1";
-  return std::system(cmd.c_str());
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_render_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+int run(const std::string& args, const fs::path& log) { return s4d::test::run_style4d("render", args, log); }
+std::string read_text(const fs::path& p) { return s4d::test::read_text(p); }
+fs::path fresh_dir(const std::string& name) { return s4d::test::fresh_dir("render_" + name); }
 
 }  // namespace
 

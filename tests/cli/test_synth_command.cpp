@@ -9,30 +9,15 @@
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kExe = S4D_STYLE4D_EXE;
-
-int run(const std::string& args, const fs::path& log) {
-  const std::string cmd = kExe.string() + " synth " + args + " > " + log.string() + " 2>&1";
-  return std::system(cmd.c_str());
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_synth_cli_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+int run(const std::string& args, const fs::path& log) { return s4d::test::run_style4d("synth", args, log); }
+std::string read_text(const fs::path& p) { return s4d::test::read_text(p); }
+fs::path fresh_dir(const std::string& name) { return s4d::test::fresh_dir("synth_" + name); }
 
 }  // namespace
 
