@@ -1,6 +1,8 @@
 // CPU twin of the image loss kernels (shaders/loss): (1 - lambda) L1 + lambda (1 - SSIM) with an
 // 11x11 Gaussian window (sigma 1.5), zero padding, per channel, the SSIM map averaged; value and
-// gradient with respect to the rendered image. Templated on the scalar type.
+// gradient with respect to the rendered image. One function per kernel (ssim_hpass, ssim_vpass,
+// loss_grad) so each kernel is tested on its own, and l1_ssim_loss chains them. Templated on the
+// scalar type.
 #pragma once
 #include <array>
 #include <cmath>
@@ -11,6 +13,11 @@
 
 namespace s4d::ref {
 
+struct LossShape {
+  int width = 0, height = 0, channels = 0;
+  size_t n() const { return static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels); }
+};
+
 template <class T>
 struct LossValue {
   T loss{}, l1{}, ssim{};  // l1 and ssim are means over all elements
@@ -19,78 +26,102 @@ struct LossValue {
 
 namespace detail {
 
+// Zero-padded 1-D window along x (step = channels) or y (step = row) over `planes` maps of n.
 template <class T>
-std::array<T, 2 * S4D_SSIM_RADIUS + 1> ssim_taps() {
+std::vector<T> ssim_window_pass(const std::vector<T>& in, size_t planes, const LossShape& s, bool along_y) {
   const double w[6] = {S4D_SSIM_W0, S4D_SSIM_W1, S4D_SSIM_W2, S4D_SSIM_W3, S4D_SSIM_W4, S4D_SSIM_W5};
-  std::array<T, 2 * S4D_SSIM_RADIUS + 1> t{};
-  for (int k = -S4D_SSIM_RADIUS; k <= S4D_SSIM_RADIUS; ++k) t[static_cast<size_t>(k + S4D_SSIM_RADIUS)] = T(w[std::abs(k)]);
-  return t;
-}
-
-// Separable zero-padded filtering of `planes` maps of an interleaved [H, W, C] image.
-template <class T>
-std::vector<T> ssim_filter(const std::vector<T>& in, size_t planes, int width, int height, int channels) {
-  const auto taps = ssim_taps<T>();
-  const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(channels);
-  std::vector<T> h(planes * n, T(0)), v(planes * n, T(0));
-  auto index = [&](int x, int y, int c) { return (static_cast<size_t>(y) * width + x) * channels + c; };
+  const size_t n = s.n();
+  std::vector<T> out(planes * n, T(0));
+  const long step = along_y ? static_cast<long>(s.width) * s.channels : s.channels;
+  const int extent = along_y ? s.height : s.width;
   for (size_t m = 0; m < planes; ++m)
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
-        for (int c = 0; c < channels; ++c) {
-          T acc = 0;
-          for (int k = -S4D_SSIM_RADIUS; k <= S4D_SSIM_RADIUS; ++k)
-            if (x + k >= 0 && x + k < width) acc += taps[static_cast<size_t>(k + S4D_SSIM_RADIUS)] * in[m * n + index(x + k, y, c)];
-          h[m * n + index(x, y, c)] = acc;
-        }
-  for (size_t m = 0; m < planes; ++m)
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
-        for (int c = 0; c < channels; ++c) {
-          T acc = 0;
-          for (int k = -S4D_SSIM_RADIUS; k <= S4D_SSIM_RADIUS; ++k)
-            if (y + k >= 0 && y + k < height) acc += taps[static_cast<size_t>(k + S4D_SSIM_RADIUS)] * h[m * n + index(x, y + k, c)];
-          v[m * n + index(x, y, c)] = acc;
-        }
-  return v;
+    for (size_t e = 0; e < n; ++e) {
+      const size_t pixel = e / static_cast<size_t>(s.channels);
+      const int coord = static_cast<int>(along_y ? pixel / static_cast<size_t>(s.width) : pixel % static_cast<size_t>(s.width));
+      T acc = 0;
+      for (int k = -S4D_SSIM_RADIUS; k <= S4D_SSIM_RADIUS; ++k)
+        if (coord + k >= 0 && coord + k < extent)
+          acc += T(w[std::abs(k)]) * in[m * n + static_cast<size_t>(static_cast<long>(e) + k * step)];
+      out[m * n + e] = acc;
+    }
+  return out;
 }
 
 }  // namespace detail
 
+// ssim_hpass, forward mode: the five statistics x, y, x^2, y^2, xy filtered along x, [5n].
 template <class T>
-LossValue<T> l1_ssim_loss(const std::vector<T>& x, const std::vector<T>& y, int width, int height, int channels,
-                          T ssim_weight) {
-  const size_t n = x.size();
+std::vector<T> ssim_hpass_stats(const std::vector<T>& x, const std::vector<T>& y, const LossShape& s) {
+  const size_t n = s.n();
   std::vector<T> stats(5 * n);
   for (size_t e = 0; e < n; ++e) {
     stats[e] = x[e], stats[n + e] = y[e], stats[2 * n + e] = x[e] * x[e];
     stats[3 * n + e] = y[e] * y[e], stats[4 * n + e] = x[e] * y[e];
   }
-  const std::vector<T> f = detail::ssim_filter(stats, 5, width, height, channels);
+  return detail::ssim_window_pass(stats, 5, s, false);
+}
+
+// ssim_hpass, backward mode: the three dS maps filtered along x (the symmetric zero-padded window
+// is its own adjoint), [3n].
+template <class T>
+std::vector<T> ssim_hpass_dmaps(const std::vector<T>& dmaps, const LossShape& s) {
+  return detail::ssim_window_pass(dmaps, 3, s, false);
+}
+
+template <class T>
+struct SsimVpass {
+  std::vector<T> dmaps;        // [3n] dS/d mu_x, dS/d E[x^2], dS/d E[xy], scaled by -lambda / n
+  T ssim_sum{}, l1_sum{};      // what the kernel's partial sums add up to
+};
+
+// ssim_vpass: the statistics filtered along y, the SSIM map, its derivative maps and the sums.
+template <class T>
+SsimVpass<T> ssim_vpass(const std::vector<T>& x, const std::vector<T>& y, const std::vector<T>& stats_h,
+                        const LossShape& s, T ssim_weight) {
+  const size_t n = s.n();
+  const std::vector<T> f = detail::ssim_window_pass(stats_h, 5, s, true);
   const T c1 = T(S4D_SSIM_C1), c2 = T(S4D_SSIM_C2), scale = -ssim_weight / static_cast<T>(n);
-  std::vector<T> dmaps(3 * n);
-  LossValue<T> out;
+  SsimVpass<T> out;
+  out.dmaps.resize(3 * n);
   for (size_t e = 0; e < n; ++e) {
     const T mx = f[e], my = f[n + e];
     const T a1 = 2 * mx * my + c1, a2 = 2 * (f[4 * n + e] - mx * my) + c2;
     const T b1 = mx * mx + my * my + c1, b2 = (f[2 * n + e] - mx * mx) + (f[3 * n + e] - my * my) + c2;
-    const T s = a1 * a2 / (b1 * b2);
-    out.ssim += s;
-    out.l1 += std::abs(x[e] - y[e]);
-    dmaps[e] = scale * s * (2 * my / a1 - 2 * my / a2 - 2 * mx / b1 + 2 * mx / b2);
-    dmaps[n + e] = scale * s * (-1 / b2);
-    dmaps[2 * n + e] = scale * s * (2 / a2);
+    const T ssim = a1 * a2 / (b1 * b2);
+    out.ssim_sum += ssim;
+    out.l1_sum += std::abs(x[e] - y[e]);
+    out.dmaps[e] = scale * ssim * (2 * my / a1 - 2 * my / a2 - 2 * mx / b1 + 2 * mx / b2);
+    out.dmaps[n + e] = scale * ssim * (-1 / b2);
+    out.dmaps[2 * n + e] = scale * ssim * (2 / a2);
   }
-  out.ssim /= static_cast<T>(n), out.l1 /= static_cast<T>(n);
-  out.loss = (1 - ssim_weight) * out.l1 + ssim_weight * (1 - out.ssim);
-  // The zero-padded symmetric window is its own adjoint: filter the dS maps the same way.
-  const std::vector<T> g = detail::ssim_filter(dmaps, 3, width, height, channels);
-  out.grad.resize(n);
+  return out;
+}
+
+// loss_grad: the filtered dS maps along y combined with the L1 term into dL/dx, [n].
+template <class T>
+std::vector<T> loss_grad(const std::vector<T>& x, const std::vector<T>& y, const std::vector<T>& dmaps_h,
+                         const LossShape& s, T ssim_weight) {
+  const size_t n = s.n();
+  const std::vector<T> g = detail::ssim_window_pass(dmaps_h, 3, s, true);
+  std::vector<T> grad(n);
   for (size_t e = 0; e < n; ++e) {
     const T d = x[e] - y[e];
-    const T sign = d > 0 ? T(1) : (d < 0 ? T(-1) : T(0));
-    out.grad[e] = g[e] + 2 * x[e] * g[n + e] + y[e] * g[2 * n + e] + (1 - ssim_weight) / static_cast<T>(n) * sign;
+    const T sign = d > 0 ? T(1) : (d < 0 ? T(-1) : T(0));  // 0 at 0, like torch.abs
+    grad[e] = g[e] + 2 * x[e] * g[n + e] + y[e] * g[2 * n + e] + (1 - ssim_weight) / static_cast<T>(n) * sign;
   }
+  return grad;
+}
+
+// The whole loss, chaining the kernels' twins.
+template <class T>
+LossValue<T> l1_ssim_loss(const std::vector<T>& x, const std::vector<T>& y, int width, int height, int channels,
+                          T ssim_weight) {
+  const LossShape s{width, height, channels};
+  const SsimVpass<T> v = ssim_vpass(x, y, ssim_hpass_stats(x, y, s), s, ssim_weight);
+  LossValue<T> out;
+  out.ssim = v.ssim_sum / static_cast<T>(s.n()), out.l1 = v.l1_sum / static_cast<T>(s.n());
+  out.loss = (1 - ssim_weight) * out.l1 + ssim_weight * (1 - out.ssim);
+  out.grad = loss_grad(x, y, ssim_hpass_dmaps(v.dmaps, s), s, ssim_weight);
   return out;
 }
 
