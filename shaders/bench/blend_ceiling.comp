@@ -1,7 +1,7 @@
 // blend_ceiling: the device's ceiling for raster_fwd's blend loop. One 16x16 workgroup per tile, one
 // invocation per pixel, as in raster_fwd: every tile streams a list of L entries through shared
 // memory in batches of 256, votes on "every pixel done" before each batch, and blends with the
-// same unrolled-by-8 loop and the same blend(). Unlike raster_fwd it reads contiguous arrays (no
+// same blend_batch() (splat_blend.glsl). Unlike raster_fwd it reads contiguous arrays (no
 // per-Gaussian index gather), every tile blends the same cache-resident list (means are
 // tile-local), and the entries' alphas (1/255 < alpha < 0.0045 over a tile) never end a pixel
 // early, so all tiles x 256 x L (pixel, entry) pairs are blended.
@@ -12,10 +12,6 @@
 #include "s4d_splat.h"
 #include "s4d_bench.h"
 #include "flat_group.glsl"
-#include "splat_sample.glsl"
-#if S4D_BLEND_UNROLL != 8
-#error "main() calls blend() eight times per iteration"
-#endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
 layout(push_constant) uniform Push { BlendCeilingParams p; };
@@ -29,31 +25,7 @@ shared vec2 s_xy[S4D_TILE_PIXELS];
 shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
 shared vec4 s_color_depth[S4D_TILE_PIXELS];
 shared uint s_done;
-
-// This pixel's blend state.
-vec2 centre;
-bool done;
-float T = 1.0, depth = 0.0;
-vec3 color = vec3(0.0);
-uint count = 0u, last = 0u;
-
-// raster_fwd.comp's blend(), unchanged.
-void blend(uint j, uint batch, uint position0) {
-  if (done || j >= batch) return;
-  SplatSample s = splat_sample(s_xy[j], s_conic_opacity[j], centre);
-  if (s.skip) return;
-  float next = T * (1.0 - s.alpha);
-  if (next < S4D_MIN_TRANSMITTANCE) {
-    done = true;
-    return;
-  }
-  vec4 cd = s_color_depth[j];
-  color += cd.rgb * (s.alpha * T);
-  depth += cd.w * (s.alpha * T);
-  T = next;
-  ++count;
-  last = position0 + j + 1u;
-}
+#include "splat_blend.glsl"
 
 void main() {
   uint tile = flat_group_id();
@@ -77,13 +49,7 @@ void main() {
       s_color_depth[lid] = color_depth[base + lid];
     }
     barrier();
-    uint batch = min(uint(S4D_TILE_PIXELS), p.list_length - base);
-    for (uint j = 0u; !done && j < batch; j += S4D_BLEND_UNROLL) {
-      blend(j, batch, base), blend(j + 1u, batch, base);
-      blend(j + 2u, batch, base), blend(j + 3u, batch, base);
-      blend(j + 4u, batch, base), blend(j + 5u, batch, base);
-      blend(j + 6u, batch, base), blend(j + 7u, batch, base);
-    }
+    blend_batch(min(uint(S4D_TILE_PIXELS), p.list_length - base), base);
   }
   if (!inside) return;
   uint o = pix.y * p.size.x + pix.x;

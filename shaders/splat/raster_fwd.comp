@@ -6,10 +6,6 @@
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_splat.h"
 #include "flat_group.glsl"
-#include "splat_sample.glsl"
-#if S4D_BLEND_UNROLL != 8
-#error "main() calls blend() eight times per iteration"
-#endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
 layout(push_constant) uniform Push { RasterParams p; };
@@ -29,31 +25,7 @@ shared vec2 s_xy[S4D_TILE_PIXELS];
 shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
 shared vec4 s_color_depth[S4D_TILE_PIXELS];
 shared uint s_done;
-
-// This pixel's blend state.
-vec2 centre;
-bool done;
-float T = 1.0, depth = 0.0;
-vec3 color = vec3(0.0);
-uint count = 0u, last = 0u;
-
-// Blends entry j of the batch whose first entry is list position `position0`.
-void blend(uint j, uint batch, uint position0) {
-  if (done || j >= batch) return;
-  SplatSample s = splat_sample(s_xy[j], s_conic_opacity[j], centre);
-  if (s.skip) return;
-  float next = T * (1.0 - s.alpha);
-  if (next < S4D_MIN_TRANSMITTANCE) {
-    done = true;  // this Gaussian is not added, as in graphdeco
-    return;
-  }
-  vec4 cd = s_color_depth[j];
-  color += cd.rgb * (s.alpha * T);
-  depth += cd.w * (s.alpha * T);
-  T = next;
-  ++count;
-  last = position0 + j + 1u;
-}
+#include "splat_blend.glsl"
 
 void main() {
   uint tile = flat_group_id();
@@ -79,13 +51,7 @@ void main() {
       s_color_depth[lid] = color_depth[g];
     }
     barrier();
-    uint batch = min(uint(S4D_TILE_PIXELS), range.y - base), position0 = base - range.x;
-    for (uint j = 0u; !done && j < batch; j += S4D_BLEND_UNROLL) {
-      blend(j, batch, position0), blend(j + 1u, batch, position0);
-      blend(j + 2u, batch, position0), blend(j + 3u, batch, position0);
-      blend(j + 4u, batch, position0), blend(j + 5u, batch, position0);
-      blend(j + 6u, batch, position0), blend(j + 7u, batch, position0);
-    }
+    blend_batch(min(uint(S4D_TILE_PIXELS), range.y - base), base - range.x);
   }
   if (!inside) return;
   uint o = pix.y * p.size.x + pix.x;
