@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <random>
-#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/engine/timestamps.h"
@@ -40,12 +40,6 @@ Entries make_entries(uint32_t n, uint32_t seed) {
   return e;
 }
 
-engine::Buffer upload(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
-  engine::Buffer b(ctx, name, values.size() * 4);
-  ctx.upload(b, std::span<const float>(values));
-  return b;
-}
-
 }  // namespace
 
 CeilingTiming bench_blend_ceiling(engine::Context& ctx, uint32_t width, uint32_t height, uint32_t list_length,
@@ -58,9 +52,9 @@ CeilingTiming bench_blend_ceiling(engine::Context& ctx, uint32_t width, uint32_t
   t.tiles = tiles_x * tiles_y;
   const size_t pixels = size_t{width} * height;
   const Entries e = make_entries(list_length, seed);
-  engine::Buffer xy = upload(ctx, "ceiling xy", e.xy);
-  engine::Buffer conic_opacity = upload(ctx, "ceiling conic_opacity", e.conic_opacity);
-  engine::Buffer color_depth = upload(ctx, "ceiling color_depth", e.color_depth);
+  engine::Buffer xy = engine::buffer_from(ctx, "ceiling xy", e.xy);
+  engine::Buffer conic_opacity = engine::buffer_from(ctx, "ceiling conic_opacity", e.conic_opacity);
+  engine::Buffer color_depth = engine::buffer_from(ctx, "ceiling color_depth", e.color_depth);
   engine::Buffer rgb(ctx, "ceiling rgb", pixels * 12), state(ctx, "ceiling state", pixels * 16);
   engine::TimestampQueries q(ctx, 2, "ceiling timestamps");
   gpu::BlendCeilingParams p{};

@@ -8,10 +8,10 @@
 #include <numeric>
 #include <optional>
 #include <random>
-#include <span>
 #include <string>
 #include <vector>
 
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/primitives/shader_pipeline.h"
 #include "s4d/splat/rasterizer.h"
@@ -24,23 +24,17 @@ namespace {
 
 constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
 
-engine::Buffer upload(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
-  engine::Buffer b(ctx, name, values.size() * 4);
-  if (!values.empty()) ctx.upload(b, std::span<const float>(values));
-  return b;
-}
-
 // The scene's parameters on the device.
 struct DeviceScene {
   engine::Buffer means, log_scales, quats, opacity_logits, sh;
   splat::GaussianParams params;
 
   DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g)
-      : means(upload(ctx, "bench means", g.means)),
-        log_scales(upload(ctx, "bench log_scales", g.log_scales)),
-        quats(upload(ctx, "bench quats", g.quats)),
-        opacity_logits(upload(ctx, "bench opacity_logits", g.opacity_logits)),
-        sh(upload(ctx, "bench sh", g.sh)) {
+      : means(engine::buffer_from(ctx, "bench means", g.means)),
+        log_scales(engine::buffer_from(ctx, "bench log_scales", g.log_scales)),
+        quats(engine::buffer_from(ctx, "bench quats", g.quats)),
+        opacity_logits(engine::buffer_from(ctx, "bench opacity_logits", g.opacity_logits)),
+        sh(engine::buffer_from(ctx, "bench sh", g.sh)) {
     params = {.means = &means,
               .log_scales = &log_scales,
               .quats = &quats,
@@ -71,7 +65,7 @@ struct DeviceGrads {
     std::uniform_real_distribution<float> u(-1, 1);
     std::vector<float> v(3 * pixels);
     for (float& x : v) x = u(rng);
-    v_rgb = upload(ctx, "bench v_rgb", v);
+    v_rgb = engine::buffer_from(ctx, "bench v_rgb", v);
   }
   splat::GaussianGrads out() {
     return {.v_means = &v_means,

@@ -1,32 +1,26 @@
+#include "s4d/engine/buffer_from.h"
 #include "splat_harness.h"
 
 #include <cmath>
-#include <span>
 #include <string>
 #include <vector>
 
 namespace s4d::test {
 namespace {
 
-engine::Buffer make(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
-  engine::Buffer b(ctx, name, values.size() * 4);
-  if (!values.empty()) ctx.upload(b, std::span<const float>(values));
-  return b;
-}
-
 engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t count) {
-  return make(ctx, name, std::vector<float>(count, 0.0f));
+  return engine::buffer_from(ctx, name, std::vector<float>(count, 0.0f));
 }
 
 }  // namespace
 
 DeviceScene::DeviceScene(engine::Context& ctx, const Scene& g)
-    : means(make(ctx, "means", g.means)),
-      log_scales(make(ctx, "log_scales", g.log_scales)),
-      quats(make(ctx, "quats", g.quats)),
-      opacity_logits(make(ctx, "opacity_logits", g.opacity_logits)),
-      sh(make(ctx, "sh", g.sh)),
-      colors(make(ctx, "colors", g.colors)),
+    : means(engine::buffer_from(ctx, "means", g.means)),
+      log_scales(engine::buffer_from(ctx, "log_scales", g.log_scales)),
+      quats(engine::buffer_from(ctx, "quats", g.quats)),
+      opacity_logits(engine::buffer_from(ctx, "opacity_logits", g.opacity_logits)),
+      sh(engine::buffer_from(ctx, "sh", g.sh)),
+      colors(engine::buffer_from(ctx, "colors", g.colors)),
       v_means(zeros(ctx, "v_means", g.means.size())),
       v_log_scales(zeros(ctx, "v_log_scales", g.log_scales.size())),
       v_quats(zeros(ctx, "v_quats", g.quats.size())),
@@ -102,9 +96,9 @@ GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& ca
 GpuBackward gpu_backward(splat::Rasterizer& r, DeviceScene& s, const ref::ImageGrads<float>& v, size_t pixels) {
   engine::Context& ctx = r.context();
   const size_t n = s.params.count;
-  engine::Buffer v_rgb = make(ctx, "v_rgb", v.v_rgb);
-  engine::Buffer v_alpha = make(ctx, "v_alpha", v.v_alpha.empty() ? std::vector<float>(pixels, 0.0f) : v.v_alpha);
-  engine::Buffer v_depth = make(ctx, "v_depth", v.v_depth.empty() ? std::vector<float>(pixels, 0.0f) : v.v_depth);
+  engine::Buffer v_rgb = engine::buffer_from(ctx, "v_rgb", v.v_rgb);
+  engine::Buffer v_alpha = engine::buffer_from(ctx, "v_alpha", v.v_alpha.empty() ? std::vector<float>(pixels, 0.0f) : v.v_alpha);
+  engine::Buffer v_depth = engine::buffer_from(ctx, "v_depth", v.v_depth.empty() ? std::vector<float>(pixels, 0.0f) : v.v_depth);
   r.backward(s.params,
              {.v_rgb = &v_rgb, .v_alpha = v.v_alpha.empty() ? nullptr : &v_alpha,
               .v_depth = v.v_depth.empty() ? nullptr : &v_depth},

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstring>
 #include <random>
-#include <span>
 #include <vector>
 
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/primitives/shader_pipeline.h"
@@ -17,17 +17,7 @@
 #include "s4d_splat.h"
 #include "test_context.h"
 
-namespace {
-
 using namespace s4d;
-
-engine::Buffer upload(const char* name, const std::vector<float>& v) {
-  engine::Buffer b(test::context(), name, v.size() * 4);
-  test::context().upload(b, std::span<const float>(v));
-  return b;
-}
-
-}  // namespace
 
 TEST_CASE("blend_ceiling blends every tile like the twin blends one tile") {
   // 300 entries in increasing depth (the twin orders by depth), alphas from skipped to capped, so
@@ -55,7 +45,7 @@ TEST_CASE("blend_ceiling blends every tile like the twin blends one tile") {
   const ref::Image<float> want = ref::raster_fwd(p, tile, bg);
 
   engine::Context& ctx = test::context();
-  engine::Buffer bxy = upload("xy", xy), bco = upload("conic_opacity", co), bcd = upload("color_depth", cd);
+  engine::Buffer bxy = engine::buffer_from(test::context(), "xy", xy), bco = engine::buffer_from(test::context(), "conic_opacity", co), bcd = engine::buffer_from(test::context(), "color_depth", cd);
   engine::Buffer rgb(ctx, "rgb", size_t{width} * height * 12), state(ctx, "state", size_t{width} * height * 16);
   gpu::BlendCeilingParams params{};
   params.size = {width, height, 3, 2};

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <span>
 #include <vector>
 
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
 #include "s4d/optim/image_loss.h"
@@ -28,12 +28,6 @@ std::vector<float> random_values(size_t n, unsigned seed, float lo = 0, float hi
   return v;
 }
 
-engine::Buffer upload(const std::string& name, const std::vector<float>& v) {
-  engine::Buffer b(test::context(), name, v.size() * 4);
-  test::context().upload(b, std::span<const float>(v));
-  return b;
-}
-
 }  // namespace
 
 TEST_CASE("GPU L1 + SSIM loss and gradient match the twin") {
@@ -42,7 +36,7 @@ TEST_CASE("GPU L1 + SSIM loss and gradient match the twin") {
     CAPTURE(h);
     const size_t n = static_cast<size_t>(w * h * c);
     const std::vector<float> x = random_values(n, 1), y = random_values(n, 2);
-    engine::Buffer bx = upload("image", x), by = upload("target", y), grad = upload("grad", std::vector<float>(n, 0));
+    engine::Buffer bx = engine::buffer_from(test::context(), "image", x), by = engine::buffer_from(test::context(), "target", y), grad = engine::buffer_from(test::context(), "grad", std::vector<float>(n, 0));
     optim::ImageLoss loss(test::context());
     engine::Recorder rec(test::context(), "loss");
     loss.record(rec, bx, by, static_cast<uint32_t>(w), static_cast<uint32_t>(h), static_cast<uint32_t>(c), 0.2f, grad);
@@ -68,16 +62,16 @@ TEST_CASE("GPU L1 + SSIM loss and gradient match the twin") {
 TEST_CASE("GPU Adam matches the twin over several steps with two parameter groups") {
   const size_t n = 1000;
   std::vector<float> p = random_values(n, 3, -1, 1), q = random_values(n, 4, -1, 1);
-  engine::Buffer bp = upload("p", p), bq = upload("q", q);
-  engine::Buffer mp = upload("mp", std::vector<float>(n, 0)), vp = upload("vp", std::vector<float>(n, 0));
-  engine::Buffer mq = upload("mq", std::vector<float>(n, 0)), vq = upload("vq", std::vector<float>(n, 0));
+  engine::Buffer bp = engine::buffer_from(test::context(), "p", p), bq = engine::buffer_from(test::context(), "q", q);
+  engine::Buffer mp = engine::buffer_from(test::context(), "mp", std::vector<float>(n, 0)), vp = engine::buffer_from(test::context(), "vp", std::vector<float>(n, 0));
+  engine::Buffer mq = engine::buffer_from(test::context(), "mq", std::vector<float>(n, 0)), vq = engine::buffer_from(test::context(), "vq", std::vector<float>(n, 0));
   std::vector<double> pd(p.begin(), p.end()), qd(q.begin(), q.end()), m1(n), v1(n), m2(n), v2(n);
   optim::Adam adam(test::context(), 2);
   const optim::AdamSettings sp{.lr = 0.01, .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-15};
   const optim::AdamSettings sq{.lr = 0.05, .beta1 = 0.8, .beta2 = 0.99, .eps = 1e-8};
   for (uint32_t step = 1; step <= 5; ++step) {
     const std::vector<float> gp = random_values(n, 10 + step, -1, 1), gq = random_values(n, 20 + step, -1, 1);
-    engine::Buffer bgp = upload("gp", gp), bgq = upload("gq", gq);
+    engine::Buffer bgp = engine::buffer_from(test::context(), "gp", gp), bgq = engine::buffer_from(test::context(), "gq", gq);
     adam.set_group(0, sp, step);
     adam.set_group(1, sq, step);
     adam.upload();
@@ -115,7 +109,7 @@ TEST_CASE("each loss kernel matches its twin on the same inputs: ssim_hpass, ssi
   const std::vector<float> x = random_values(n, 5), y = random_values(n, 6);
   const std::vector<float> dmaps_in = random_values(3 * n, 7, -1e-3f, 1e-3f);
   engine::Context& ctx = test::context();
-  engine::Buffer bx = upload("x", x), by = upload("y", y), bdmaps_in = upload("dmaps in", dmaps_in);
+  engine::Buffer bx = engine::buffer_from(test::context(), "x", x), by = engine::buffer_from(test::context(), "y", y), bdmaps_in = engine::buffer_from(test::context(), "dmaps in", dmaps_in);
   engine::Buffer stats_h(ctx, "stats_h", 5 * n * 4), dmaps(ctx, "dmaps", 3 * n * 4), dmaps_h(ctx, "dmaps_h", 3 * n * 4);
   engine::Buffer partials(ctx, "partials", 2 * size_t{groups} * 4), grad(ctx, "grad", n * 4);
   gpu::LossParams p{.width = 29, .height = 17, .channels = 3, .n = static_cast<uint32_t>(n), .ssim_weight = 0.2f,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "expect_equal.h"
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/primitives/shader_pipeline.h"
 #include "s4d/ref/scan_ref.h"
@@ -21,12 +22,6 @@
 namespace {
 
 using namespace s4d;
-
-engine::Buffer upload(const char* name, const std::vector<uint32_t>& v) {
-  engine::Buffer b(test::context(), name, std::max<size_t>(v.size(), 1) * 4);
-  if (!v.empty()) test::context().upload(b, std::span<const uint32_t>(v));
-  return b;
-}
 
 // mt19937's results are 32-bit values in a wider type.
 uint32_t draw(std::mt19937& rng, uint32_t bound) { return static_cast<uint32_t>(rng() % bound); }
@@ -74,8 +69,8 @@ TEST_CASE("count_tiles gathers tiles touched in depth order and counts instances
     std::vector<uint32_t> touched(n);
     // huge: areas near 2^31 so the u32 total wraps many times (the host refuses those views).
     for (uint32_t& t : touched) t = draw(rng, 5) == 0 ? 0u : (huge ? 0x7FFF0000u + draw(rng, 1000) : 1 + draw(rng, 40));
-    engine::Buffer bids = upload("ids", ids), btouched = upload("touched", touched);
-    engine::Buffer offsets = upload("offsets", std::vector<uint32_t>(n + 1, 7)), totals = upload("totals", {0, 0, 0});
+    engine::Buffer bids = engine::buffer_from(test::context(), "ids", ids), btouched = engine::buffer_from(test::context(), "touched", touched);
+    engine::Buffer offsets = engine::buffer_from(test::context(), "offsets", std::vector<uint32_t>(n + 1, 7)), totals = engine::buffer_from(test::context(), "totals", std::vector<uint32_t>{0, 0, 0});
     engine::Recorder rec(test::context(), "count_tiles");
     rec.dispatch(primitives::shader_pipeline(test::context(), shaders::Id::count_tiles), {bids, btouched, offsets, totals},
                  gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = 1, ._pad0 = 0, ._pad1 = 0}, groups(n + 1));
@@ -101,9 +96,9 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   const uint32_t instances = offsets.back();
 
   engine::Context& ctx = test::context();
-  engine::Buffer bids = upload("ids", ids), boffsets = upload("offsets", offsets), binfo = upload("info", info);
-  engine::Buffer keys = upload("keys", std::vector<uint32_t>(instances, 0xDEAD));
-  engine::Buffer values = upload("values", std::vector<uint32_t>(instances, 0xDEAD));
+  engine::Buffer bids = engine::buffer_from(test::context(), "ids", ids), boffsets = engine::buffer_from(test::context(), "offsets", offsets), binfo = engine::buffer_from(test::context(), "info", info);
+  engine::Buffer keys = engine::buffer_from(test::context(), "keys", std::vector<uint32_t>(instances, 0xDEAD));
+  engine::Buffer values = engine::buffer_from(test::context(), "values", std::vector<uint32_t>(instances, 0xDEAD));
   engine::Recorder rec(ctx, "emit_instances");
   rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::emit_instances), {bids, boffsets, binfo, keys, values},
                gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(n));
@@ -119,8 +114,8 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   std::vector<uint32_t> sorted_keys(instances);
   for (size_t i = 0; i < instances; ++i) sorted_keys[i] = want.tile_keys[order[i]];
   sorted_keys.erase(std::remove(sorted_keys.begin(), sorted_keys.end(), 11u), sorted_keys.end());  // one empty tile
-  engine::Buffer bsorted = upload("sorted keys", sorted_keys), ranges = upload("ranges", std::vector<uint32_t>(2 * tiles, 0));
-  engine::Buffer longest = upload("longest", {0});
+  engine::Buffer bsorted = engine::buffer_from(test::context(), "sorted keys", sorted_keys), ranges = engine::buffer_from(test::context(), "ranges", std::vector<uint32_t>(2 * tiles, 0));
+  engine::Buffer longest = engine::buffer_from(test::context(), "longest", std::vector<uint32_t>{0});
   const uint32_t m = static_cast<uint32_t>(sorted_keys.size());
   engine::Recorder rec2(ctx, "tile_ranges");
   rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_ranges), {bsorted, ranges},

@@ -69,4 +69,13 @@ std::string usage(const std::string& command, const std::string& synopsis, const
   return s.str();
 }
 
+std::pair<int, int> parse_size(const std::string& option, const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || x != 'x' || !in.eof() || w <= 0 || h <= 0)
+    throw std::invalid_argument("--" + option + ": expected WxH (for example 160x120), got '" + text + "'");
+  return {w, h};
+}
+
 }  // namespace s4d::cli

@@ -4,7 +4,11 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace s4d::cli {
@@ -35,6 +39,20 @@ class Args {
   std::map<std::string, std::string> values_;
   std::vector<std::string> positionals_;
 };
+
+// Whole-string integer parse: "10x" or "" is an error naming the option, never a silent 10.
+template <typename T>
+T parse_number(const std::string& option, const std::string& text) {
+  T value{};
+  std::istringstream in(text);
+  if (text.empty() || (std::is_unsigned_v<T> && text[0] == '-') || !(in >> value) || !in.eof())
+    throw std::invalid_argument("--" + option + ": expected a " +
+                                (std::is_unsigned_v<T> ? "non-negative integer" : "integer") + ", got '" + text + "'");
+  return value;
+}
+
+// "WxH" with both positive; an error naming the option otherwise.
+std::pair<int, int> parse_size(const std::string& option, const std::string& text);
 
 // "usage: style4d NAME ARGS\n\nSUMMARY\n\noptions:\n  --x VALUE  help..."
 std::string usage(const std::string& command, const std::string& synopsis, const std::string& summary,

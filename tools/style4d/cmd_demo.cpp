@@ -56,7 +56,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::filesystem::path out = args.get_or("out", "style4d-demo");
-  const uint32_t keys = static_cast<uint32_t>(std::stoul(args.get_or("keys", "1048576")));
+  const uint32_t keys = parse_number<uint32_t>("keys", args.get_or("keys", "1048576"));
   std::filesystem::create_directories(out);
 
   util::Progress progress("demo", 3);

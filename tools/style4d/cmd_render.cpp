@@ -34,16 +34,6 @@ std::array<float, 3> parse_background(const std::string& text) {
   return bg;
 }
 
-std::optional<std::pair<int, int>> parse_size(const std::optional<std::string>& text) {
-  if (!text) return std::nullopt;
-  int w = 0, h = 0;
-  char x = 0;
-  std::istringstream in(*text);
-  if (!(in >> w >> x >> h) || x != 'x' || !in.eof() || w <= 0 || h <= 0)
-    throw std::invalid_argument("--size: expected WxH (for example 800x800), got '" + *text + "'");
-  return std::pair{w, h};
-}
-
 // Expected depth: the alpha-weighted depth sum divided by the accumulated alpha; 0 where nothing
 // was blended.
 std::vector<float> expected_depth(const std::vector<float>& depth_sum, const std::vector<float>& alpha) {
@@ -82,16 +72,15 @@ int cmd_render(const std::vector<std::string>& argv) {
   const std::filesystem::path ply_path = args.require("ply"), cameras_path = args.require("cameras");
   const std::filesystem::path out = args.require("out");
   const std::array<float, 3> background = parse_background(args.get_or("background", "0,0,0"));
-  int sh_degree = -1;
-  if (const auto d = args.get("sh-degree")) {
-    if (d->size() != 1 || (*d)[0] < '0' || (*d)[0] > '3')
-      throw std::invalid_argument("--sh-degree: expected 0, 1, 2 or 3, got '" + *d + "'");
-    sh_degree = (*d)[0] - '0';
-  }
+  const int sh_degree = parse_number<int>("sh-degree", args.get_or("sh-degree", "-1"));
+  if (sh_degree < -1 || sh_degree > 3) throw std::invalid_argument("--sh-degree: expected 0, 1, 2 or 3");
+
+  const std::optional<std::pair<int, int>> default_size =
+      args.get("size") ? std::optional(parse_size("size", *args.get("size"))) : std::nullopt;
 
   // Read and check everything before writing anything.
   const io::GaussianCloud cloud = io::read_ply_gaussians(ply_path);
-  const std::vector<io::CameraView> views = io::read_nerf_cameras(cameras_path, parse_size(args.get("size")));
+  const std::vector<io::CameraView> views = io::read_nerf_cameras(cameras_path, default_size);
   std::cerr << "[render] " << cloud.size() << " Gaussians (SH degree " << cloud.sh_degree << ") from " << ply_path
             << ", " << views.size() << " cameras from " << cameras_path << "\n";
 

@@ -2,10 +2,8 @@
 // dynamic scene with the independent CPU ray caster (s4d_synth) into a DyNeRF / Neu3D dataset.
 #include <cstdint>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 #include <tuple>
-#include <type_traits>
 
 #include "args.h"
 #include "commands.h"
@@ -13,29 +11,6 @@
 #include "s4d/util/progress.h"
 
 namespace s4d::cli {
-namespace {
-
-// Whole-string integer parse: "10x" or "" is an error naming the option, never a silent 10.
-template <typename T>
-T parse_number(const std::string& option, const std::string& text) {
-  T value{};
-  std::istringstream in(text);
-  if (text.empty() || (std::is_unsigned_v<T> && text[0] == '-') || !(in >> value) || !in.eof())
-    throw std::invalid_argument("--" + option + ": expected a " +
-                                (std::is_unsigned_v<T> ? "non-negative integer" : "integer") + ", got '" + text + "'");
-  return value;
-}
-
-std::pair<int, int> parse_size(const std::string& text) {
-  int w = 0, h = 0;
-  char x = 0;
-  std::istringstream in(text);
-  if (!(in >> w >> x >> h) || x != 'x' || !in.eof() || w <= 0 || h <= 0)
-    throw std::invalid_argument("--size: expected WxH (for example 160x120), got '" + text + "'");
-  return {w, h};
-}
-
-}  // namespace
 
 int cmd_synth(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
@@ -62,7 +37,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   const std::string out = args.require("out");
   options.cams = parse_number<int>("cams", args.get_or("cams", "10"));
   options.frames = parse_number<int>("frames", args.get_or("frames", "30"));
-  std::tie(options.width, options.height) = parse_size(args.get_or("size", "160x120"));
+  std::tie(options.width, options.height) = parse_size("size", args.get_or("size", "160x120"));
   options.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   synth::check_options(options);
 

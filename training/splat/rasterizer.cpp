@@ -95,8 +95,8 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   reserve_gaussians(1);
   reserve_instances(1);
   reserve_pixels(1, 1);
-  list_stats_ = engine::Buffer(*ctx_, name_ + " tile list stats", 4);
-  totals_ = engine::Buffer(*ctx_, name_ + " instance totals", 12);
+  list_stats_ = buffer("tile list stats", 4);
+  totals_ = buffer("instance totals", 12);
 }
 
 size_t Rasterizer::device_bytes() const {
@@ -110,21 +110,24 @@ size_t Rasterizer::device_bytes() const {
   return total;
 }
 
+engine::Buffer Rasterizer::buffer(const char* what, size_t bytes) const {
+  return engine::Buffer(*ctx_, name_ + " " + what, bytes);
+}
+
 void Rasterizer::reserve_gaussians(uint32_t n) {
   if (n <= gaussian_capacity_ && xy_.valid()) return;
   const uint32_t cap = grown(n);
   const size_t c = cap;
-  auto make = [&](const char* what, size_t bytes) { return engine::Buffer(*ctx_, name_ + " " + what, bytes); };
-  xy_ = make("xy", c * 8);
-  conic_opacity_ = make("conic_opacity", c * 16);
-  color_depth_ = make("color_depth", c * 16);
-  info_ = make("info", c * 16);
-  depth_keys_ = make("depth keys", c * 4);
-  tiles_touched_ = make("tiles touched", c * 4);
-  sorted_ids_ = make("depth order", c * 4);
-  offsets_ = make("instance offsets", (c + 1) * 4);
-  grad2d_ = make("grad2d", c * S4D_G2D_STRIDE * 4);
-  scan_scratch_ = make("offsets scan scratch", primitives::scan_scratch_bytes(cap + 1));
+  xy_ = buffer("xy", c * 8);
+  conic_opacity_ = buffer("conic_opacity", c * 16);
+  color_depth_ = buffer("color_depth", c * 16);
+  info_ = buffer("info", c * 16);
+  depth_keys_ = buffer("depth keys", c * 4);
+  tiles_touched_ = buffer("tiles touched", c * 4);
+  sorted_ids_ = buffer("depth order", c * 4);
+  offsets_ = buffer("instance offsets", (c + 1) * 4);
+  grad2d_ = buffer("grad2d", c * S4D_G2D_STRIDE * 4);
+  scan_scratch_ = buffer("offsets scan scratch", primitives::scan_scratch_bytes(cap + 1));
   depth_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " depth sort");
   gaussian_capacity_ = cap;
 }
@@ -138,8 +141,8 @@ void Rasterizer::reserve_instances(uint32_t n) {
                                 ctx_->info().name + " can hold (" + std::to_string(limit) +
                                 "); lower the resolution or the number of Gaussians");
   const uint32_t cap = static_cast<uint32_t>(std::min<uint64_t>(grown(n), limit));
-  tile_keys_ = engine::Buffer(*ctx_, name_ + " tile keys", size_t{cap} * 4);
-  gaussian_ids_ = engine::Buffer(*ctx_, name_ + " instance ids", size_t{cap} * 4);
+  tile_keys_ = buffer("tile keys", size_t{cap} * 4);
+  gaussian_ids_ = buffer("instance ids", size_t{cap} * 4);
   tile_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " tile sort");
   instance_capacity_ = cap;
 }
@@ -149,14 +152,13 @@ void Rasterizer::reserve_pixels(uint32_t width, uint32_t height) {
   const uint32_t tiles = ceil_div(width, S4D_TILE_SIZE) * ceil_div(height, S4D_TILE_SIZE);
   if (pixels <= pixel_capacity_ && tiles <= tile_capacity_ && rgb_.valid()) return;
   const size_t p = std::max(pixels, pixel_capacity_), t = std::max(tiles, tile_capacity_);
-  auto make = [&](const char* what, size_t bytes) { return engine::Buffer(*ctx_, name_ + " " + what, bytes); };
-  rgb_ = make("rgb", p * 12);
-  alpha_ = make("alpha", p * 4);
-  depth_ = make("depth", p * 4);
-  count_ = make("contributors", p * 4);
-  last_ = make("last contributor", p * 4);
-  final_t_ = make("final transmittance", p * 4);
-  ranges_ = make("tile ranges", t * 8);
+  rgb_ = buffer("rgb", p * 12);
+  alpha_ = buffer("alpha", p * 4);
+  depth_ = buffer("depth", p * 4);
+  count_ = buffer("contributors", p * 4);
+  last_ = buffer("last contributor", p * 4);
+  final_t_ = buffer("final transmittance", p * 4);
+  ranges_ = buffer("tile ranges", t * 8);
   pixel_capacity_ = static_cast<uint32_t>(p);
   tile_capacity_ = static_cast<uint32_t>(t);
 }
@@ -194,9 +196,11 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
     ctx_->run(std::move(rec));
   }
-  uint32_t instances = 0, totals[3] = {0, 0, 0};
-  ctx_->download(offsets_, &instances, 4, size_t{n} * 4);
+  // totals = (instances mod 2^32, carries, largest rectangle); without carries the first is
+  // offsets[n], the scan's total.
+  uint32_t totals[3] = {0, 0, 0};
   ctx_->download(totals_, totals, sizeof(totals));
+  const uint32_t instances = totals[0];
   if (totals[1] != 0)
     throw std::invalid_argument("rasterizer: the Gaussians cover more than 2^32 tile instances in this view; lower the "
                                 "resolution or the number or size of the Gaussians");

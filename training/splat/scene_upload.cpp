@@ -1,25 +1,17 @@
 #include "s4d/splat/scene_upload.h"
 
 #include <algorithm>
-#include <span>
+
+#include "s4d/engine/buffer_from.h"
 
 namespace s4d::splat {
-namespace {
-
-engine::Buffer upload(engine::Context& ctx, const std::string& name, const std::vector<float>& values) {
-  engine::Buffer b(ctx, name, values.size() * sizeof(float));
-  if (!values.empty()) ctx.upload(b, std::span<const float>(values));
-  return b;
-}
-
-}  // namespace
 
 DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name)
-    : means_(upload(ctx, name + " means", cloud.means)),
-      log_scales_(upload(ctx, name + " log_scales", cloud.log_scales)),
-      quats_(upload(ctx, name + " quats", cloud.quats)),
-      opacity_logits_(upload(ctx, name + " opacity_logits", cloud.opacity_logits)),
-      sh_(upload(ctx, name + " sh", cloud.sh)),
+    : means_(engine::buffer_from(ctx, name + " means", cloud.means)),
+      log_scales_(engine::buffer_from(ctx, name + " log_scales", cloud.log_scales)),
+      quats_(engine::buffer_from(ctx, name + " quats", cloud.quats)),
+      opacity_logits_(engine::buffer_from(ctx, name + " opacity_logits", cloud.opacity_logits)),
+      sh_(engine::buffer_from(ctx, name + " sh", cloud.sh)),
       count_(static_cast<uint32_t>(cloud.size())),
       sh_degree_(cloud.sh_degree) {}
 

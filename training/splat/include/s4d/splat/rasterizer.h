@@ -96,6 +96,7 @@ class Rasterizer {
   size_t device_bytes() const;
 
  private:
+  engine::Buffer buffer(const char* what, size_t bytes) const;  // named after this rasterizer
   void reserve_gaussians(uint32_t n);
   void reserve_instances(uint32_t n);
   void reserve_pixels(uint32_t width, uint32_t height);
