@@ -1,0 +1,177 @@
+#include "s4d/model/trainable_gaussians.h"
+
+#include <stdexcept>
+#include <utility>
+
+#include "s4d/engine/buffer_from.h"
+
+namespace s4d::model {
+
+const char* attr_name(Attr a) {
+  switch (a) {
+    case kMeans: return "means";
+    case kLogScales: return "log_scales";
+    case kQuats: return "quats";
+    case kOpacity: return "opacity_logits";
+    case kSh: return "sh";
+    case kAttrCount: break;
+  }
+  throw std::out_of_range("attr_name: no attribute " + std::to_string(static_cast<uint32_t>(a)));
+}
+
+const char* stat_name(Stat s) {
+  switch (s) {
+    case kGradAccum: return "grad_accum";
+    case kGradCount: return "grad_count";
+    case kMaxRadius: return "max_radius";
+    case kStatCount: break;
+  }
+  throw std::out_of_range("stat_name: no statistic " + std::to_string(static_cast<uint32_t>(s)));
+}
+
+namespace {
+
+std::array<const std::vector<float>*, kAttrCount> cloud_arrays(const io::GaussianCloud& c) {
+  return {&c.means, &c.log_scales, &c.quats, &c.opacity_logits, &c.sh};
+}
+
+std::array<std::vector<float>*, kAttrCount> cloud_arrays(io::GaussianCloud& c) {
+  return {&c.means, &c.log_scales, &c.quats, &c.opacity_logits, &c.sh};
+}
+
+HostState zero_state(const io::GaussianCloud& cloud) {
+  HostState s{cloud, {}, {}, {}};
+  const auto arrays = cloud_arrays(cloud);
+  for (uint32_t a = 0; a < kAttrCount; ++a) {
+    s.m[a].assign(arrays[a]->size(), 0.0f);
+    s.v[a].assign(arrays[a]->size(), 0.0f);
+  }
+  for (auto& stat : s.stats) stat.assign(cloud.size(), 0.0f);
+  return s;
+}
+
+}  // namespace
+
+TrainableGaussians::TrainableGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, std::string name)
+    : TrainableGaussians(ctx, zero_state(cloud), std::move(name)) {}
+
+TrainableGaussians::TrainableGaussians(engine::Context& ctx, const HostState& state, std::string name)
+    : ctx_(&ctx), name_(std::move(name)), count_(static_cast<uint32_t>(state.cloud.size())), sh_degree_(state.cloud.sh_degree) {
+  if (sh_degree_ < 0 || sh_degree_ > 3) throw std::invalid_argument(name_ + ": SH degree must be 0..3");
+  upload(state);
+}
+
+uint32_t TrainableGaussians::width(Attr a) const {
+  switch (a) {
+    case kMeans: case kLogScales: return 3;
+    case kQuats: return 4;
+    case kOpacity: return 1;
+    case kSh: return sh_coeffs() * 3;
+    case kAttrCount: break;
+  }
+  throw std::out_of_range(name_ + ": no attribute " + std::to_string(static_cast<uint32_t>(a)));
+}
+
+void TrainableGaussians::upload(const HostState& state) {
+  const auto arrays = cloud_arrays(state.cloud);
+  for (uint32_t a = 0; a < kAttrCount; ++a) {
+    const size_t n = size_t{count_} * width(Attr(a));
+    const std::string what = name_ + " " + attr_name(Attr(a));
+    if (arrays[a]->size() != n || state.m[a].size() != n || state.v[a].size() != n)
+      throw std::invalid_argument(what + ": expected " + std::to_string(n) + " floats for " + std::to_string(count_) +
+                                  " Gaussians in the parameters and both Adam moments");
+    param_[a] = engine::buffer_from(*ctx_, what, *arrays[a]);
+    m_[a] = engine::buffer_from(*ctx_, what + " adam m", state.m[a]);
+    v_[a] = engine::buffer_from(*ctx_, what + " adam v", state.v[a]);
+  }
+  for (uint32_t s = 0; s < kStatCount; ++s) {
+    const std::string what = name_ + " " + stat_name(Stat(s));
+    if (state.stats[s].size() != count_)
+      throw std::invalid_argument(what + ": expected " + std::to_string(count_) + " values");
+    stat_[s] = engine::buffer_from(*ctx_, what, state.stats[s]);
+  }
+  allocate_grads();
+}
+
+void TrainableGaussians::allocate_grads() {
+  for (uint32_t a = 0; a < kAttrCount; ++a)
+    grad_[a] = engine::Buffer(*ctx_, name_ + " " + attr_name(Attr(a)) + " grad", size_t{count_} * width(Attr(a)) * 4);
+}
+
+splat::GaussianParams TrainableGaussians::params(int active_degree) const {
+  const int degree = active_degree < 0 ? sh_degree_ : std::min(active_degree, sh_degree_);
+  return {.means = &param_[kMeans],
+          .log_scales = &param_[kLogScales],
+          .quats = &param_[kQuats],
+          .opacity_logits = &param_[kOpacity],
+          .sh = &param_[kSh],
+          .colors = nullptr,
+          .count = count_,
+          .sh_degree = static_cast<uint32_t>(degree),
+          .sh_coeffs = sh_coeffs()};
+}
+
+splat::GaussianGrads TrainableGaussians::grads() {
+  return {.v_means = &grad_[kMeans],
+          .v_log_scales = &grad_[kLogScales],
+          .v_quats = &grad_[kQuats],
+          .v_opacity_logits = &grad_[kOpacity],
+          .v_sh = &grad_[kSh],
+          .v_colors = nullptr};
+}
+
+TrainableGaussians::Arrays TrainableGaussians::allocate(uint32_t count) const {
+  Arrays out;
+  for (uint32_t a = 0; a < kAttrCount; ++a) {
+    const size_t bytes = size_t{count} * width(Attr(a)) * 4;
+    const std::string what = name_ + " " + attr_name(Attr(a));
+    out.param[a] = engine::Buffer(*ctx_, what, bytes);
+    out.m[a] = engine::Buffer(*ctx_, what + " adam m", bytes);
+    out.v[a] = engine::Buffer(*ctx_, what + " adam v", bytes);
+  }
+  for (uint32_t s = 0; s < kStatCount; ++s) out.stat[s] = engine::Buffer(*ctx_, name_ + " " + stat_name(Stat(s)), size_t{count} * 4);
+  return out;
+}
+
+void TrainableGaussians::adopt(Arrays&& next, uint32_t count) {
+  for (uint32_t a = 0; a < kAttrCount; ++a) {
+    const size_t bytes = size_t{count} * width(Attr(a)) * 4;
+    for (const engine::Buffer* b : {&next.param[a], &next.m[a], &next.v[a]})
+      if (b->size() != bytes)
+        throw std::invalid_argument(name_ + ": adopted buffer '" + b->name() + "' holds " + std::to_string(b->size()) +
+                                    " bytes, expected " + std::to_string(bytes));
+  }
+  for (const engine::Buffer& b : next.stat)
+    if (b.size() != size_t{count} * 4)
+      throw std::invalid_argument(name_ + ": adopted statistic '" + b.name() + "' has the wrong size");
+  param_ = std::move(next.param);
+  m_ = std::move(next.m);
+  v_ = std::move(next.v);
+  stat_ = std::move(next.stat);
+  count_ = count;
+  allocate_grads();
+}
+
+HostState TrainableGaussians::download() const {
+  HostState s;
+  s.cloud.sh_degree = sh_degree_;
+  const auto arrays = cloud_arrays(s.cloud);
+  for (uint32_t a = 0; a < kAttrCount; ++a) {
+    const size_t n = size_t{count_} * width(Attr(a));
+    *arrays[a] = ctx_->download<float>(param_[a], n);
+    s.m[a] = ctx_->download<float>(m_[a], n);
+    s.v[a] = ctx_->download<float>(v_[a], n);
+  }
+  for (uint32_t k = 0; k < kStatCount; ++k) s.stats[k] = ctx_->download<float>(stat_[k], count_);
+  return s;
+}
+
+io::GaussianCloud TrainableGaussians::download_cloud() const {
+  io::GaussianCloud c;
+  c.sh_degree = sh_degree_;
+  const auto arrays = cloud_arrays(c);
+  for (uint32_t a = 0; a < kAttrCount; ++a) *arrays[a] = ctx_->download<float>(param_[a], size_t{count_} * width(Attr(a)));
+  return c;
+}
+
+}  // namespace s4d::model
