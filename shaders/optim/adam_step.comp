@@ -16,7 +16,7 @@ layout(std430, binding = S4D_B_ADAM_V) buffer V { float v[]; };
 void main() {
   uint i = flat_group_id() * S4D_ADAM_WG + gl_LocalInvocationIndex;
   if (i >= p.n) return;
-  AdamGroup h = groups[p.group];
+  AdamGroup h = groups[i % p.row < p.head ? p.group : p.tail_group];
   float g = grads[i];
   float mi = h.beta1 * m[i] + (1.0 - h.beta1) * g;
   float vi = h.beta2 * v[i] + (1.0 - h.beta2) * g * g;

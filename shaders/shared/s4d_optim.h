@@ -25,12 +25,18 @@ struct AdamGroup {
   uint _pad0;
 };
 
-// Push constants of adam_step.
+// Push constants of adam_step. A tensor of rows (one per Gaussian) may split each row between two
+// groups: element i uses `group` when i % row < head and `tail_group` otherwise (3DGS trains the SH
+// DC term and the higher coefficients, stored in one row, at different learning rates).
 struct AdamParams {
-  uint n;      // elements of this tensor
-  uint group;  // index into the group buffer
+  uint n;           // elements of this tensor
+  uint group;       // index into the group buffer
+  uint tail_group;  // group of each row's elements from `head` on
+  uint row;         // row length (1 with head 1: one group for all)
+  uint head;
   uint _pad0;
   uint _pad1;
+  uint _pad2;
 };
 
 S4D_NAMESPACE_END

@@ -32,7 +32,7 @@ static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CON
 static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
-static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 16 && sizeof(AdamGroup) == 32);
+static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
@@ -61,8 +61,9 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(AdamGroup, S4D_MEMBER(AdamGroup, lr), S4D_MEMBER(AdamGroup, beta1), S4D_MEMBER(AdamGroup, beta2),
                  S4D_MEMBER(AdamGroup, eps), S4D_MEMBER(AdamGroup, inv_bias1), S4D_MEMBER(AdamGroup, inv_sqrt_bias2),
                  S4D_MEMBER(AdamGroup, step), S4D_MEMBER(AdamGroup, _pad0)),
-      S4D_STRUCT(AdamParams, S4D_MEMBER(AdamParams, n), S4D_MEMBER(AdamParams, group), S4D_MEMBER(AdamParams, _pad0),
-                 S4D_MEMBER(AdamParams, _pad1)),
+      S4D_STRUCT(AdamParams, S4D_MEMBER(AdamParams, n), S4D_MEMBER(AdamParams, group),
+                 S4D_MEMBER(AdamParams, tail_group), S4D_MEMBER(AdamParams, row), S4D_MEMBER(AdamParams, head),
+                 S4D_MEMBER(AdamParams, _pad0), S4D_MEMBER(AdamParams, _pad1), S4D_MEMBER(AdamParams, _pad2)),
       S4D_STRUCT(BlendCeilingParams, S4D_MEMBER(BlendCeilingParams, size), S4D_MEMBER(BlendCeilingParams, background),
                  S4D_MEMBER(BlendCeilingParams, list_length), S4D_MEMBER(BlendCeilingParams, _pad0),
                  S4D_MEMBER(BlendCeilingParams, _pad1), S4D_MEMBER(BlendCeilingParams, _pad2)),

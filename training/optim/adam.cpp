@@ -32,12 +32,24 @@ void Adam::upload() { ctx_->upload(buffer_, std::span<const gpu::AdamGroup>(grou
 
 void Adam::record(engine::Recorder& rec, uint32_t group, const engine::Buffer& params, const engine::Buffer& grads,
                   const engine::Buffer& m, const engine::Buffer& v, uint32_t n) const {
-  if (group >= groups_.size()) throw std::out_of_range(name_ + ": group " + std::to_string(group) + " does not exist");
-  if (groups_[group].step == 0) throw std::logic_error(name_ + ": group " + std::to_string(group) + " was never set");
+  record_rows(rec, group, group, 1, 1, params, grads, m, v, n);
+}
+
+void Adam::record_rows(engine::Recorder& rec, uint32_t group, uint32_t tail_group, uint32_t row, uint32_t head,
+                       const engine::Buffer& params, const engine::Buffer& grads, const engine::Buffer& m,
+                       const engine::Buffer& v, uint32_t n) const {
+  for (uint32_t g : {group, tail_group}) {
+    if (g >= groups_.size()) throw std::out_of_range(name_ + ": group " + std::to_string(g) + " does not exist");
+    if (groups_[g].step == 0) throw std::logic_error(name_ + ": group " + std::to_string(g) + " was never set");
+  }
+  if (row == 0 || head == 0 || head > row)
+    throw std::invalid_argument(name_ + ": rows of " + std::to_string(row) + " with a head of " + std::to_string(head) +
+                                " (need 1 <= head <= row)");
   for (const engine::Buffer* b : {&params, &grads, &m, &v})
     if (b->size() < size_t{n} * 4)
       throw std::invalid_argument(name_ + ": buffer '" + b->name() + "' holds fewer than " + std::to_string(n) + " floats");
-  const gpu::AdamParams p{.n = n, .group = group, ._pad0 = 0, ._pad1 = 0};
+  const gpu::AdamParams p{
+      .n = n, .group = group, .tail_group = tail_group, .row = row, .head = head, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::adam_step), {buffer_, params, grads, m, v}, p,
                primitives::ceil_div(n, S4D_ADAM_WG));
 }

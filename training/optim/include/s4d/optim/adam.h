@@ -27,6 +27,11 @@ class Adam {
   // Records one update of `params` (n floats) from `grads` with moments `m`, `v` (zero-initialised).
   void record(engine::Recorder& rec, uint32_t group, const engine::Buffer& params, const engine::Buffer& grads,
               const engine::Buffer& m, const engine::Buffer& v, uint32_t n) const;
+  // As record(), for a tensor of rows of `row` floats whose first `head` elements belong to
+  // `group` and the rest to `tail_group` (SH rows: DC term and higher coefficients).
+  void record_rows(engine::Recorder& rec, uint32_t group, uint32_t tail_group, uint32_t row, uint32_t head,
+                   const engine::Buffer& params, const engine::Buffer& grads, const engine::Buffer& m,
+                   const engine::Buffer& v, uint32_t n) const;
 
  private:
   engine::Context* ctx_;

@@ -9,17 +9,27 @@ struct AdamHyper {
   double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, eps = 1e-15;
 };
 
+template <class T>
+void adam_update(T& p, T g, T& m, T& v, const AdamHyper& h, int t) {
+  const T b1 = T(h.beta1), b2 = T(h.beta2);
+  const T inv_bias1 = T(1 / (1 - std::pow(h.beta1, t))), inv_sqrt_bias2 = T(1 / std::sqrt(1 - std::pow(h.beta2, t)));
+  m = b1 * m + (1 - b1) * g;
+  v = b2 * v + (1 - b2) * g * g;
+  p -= T(h.lr) * (m * inv_bias1) / (std::sqrt(v) * inv_sqrt_bias2 + T(h.eps));
+}
+
 // One update at step t (1-based), in place.
 template <class T>
 void adam_step(std::vector<T>& params, const std::vector<T>& grads, std::vector<T>& m, std::vector<T>& v,
                const AdamHyper& h, int t) {
-  const T b1 = T(h.beta1), b2 = T(h.beta2);
-  const T inv_bias1 = T(1 / (1 - std::pow(h.beta1, t))), inv_sqrt_bias2 = T(1 / std::sqrt(1 - std::pow(h.beta2, t)));
-  for (size_t i = 0; i < params.size(); ++i) {
-    m[i] = b1 * m[i] + (1 - b1) * grads[i];
-    v[i] = b2 * v[i] + (1 - b2) * grads[i] * grads[i];
-    params[i] -= T(h.lr) * (m[i] * inv_bias1) / (std::sqrt(v[i]) * inv_sqrt_bias2 + T(h.eps));
-  }
+  for (size_t i = 0; i < params.size(); ++i) adam_update(params[i], grads[i], m[i], v[i], h, t);
+}
+
+// adam_step for rows of `row` elements whose first `head` use `h_head` and the rest `h_tail`.
+template <class T>
+void adam_step_rows(std::vector<T>& params, const std::vector<T>& grads, std::vector<T>& m, std::vector<T>& v,
+                    size_t row, size_t head, const AdamHyper& h_head, const AdamHyper& h_tail, int t) {
+  for (size_t i = 0; i < params.size(); ++i) adam_update(params[i], grads[i], m[i], v[i], i % row < head ? h_head : h_tail, t);
 }
 
 }  // namespace s4d::ref
