@@ -10,5 +10,6 @@ int cmd_devices(const std::vector<std::string>& args);
 int cmd_demo(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
 int cmd_synth(const std::vector<std::string>& args);
+int cmd_train(const std::vector<std::string>& args);
 
 }  // namespace s4d::cli

@@ -20,6 +20,8 @@ const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
       {"synth", "render the built-in synthetic dynamic scene into a DyNeRF/Neu3D dataset (CPU)", s4d::cli::cmd_synth},
       {"devices", "list Vulkan devices and the features the engine uses", s4d::cli::cmd_devices},
+      {"train", "train Gaussians on a dataset (stage 1: static Gaussians), with checkpoints and --resume",
+       s4d::cli::cmd_train},
       {"render", "render a 3DGS PLY from NeRF-style cameras to PNG and EXR", s4d::cli::cmd_render},
       {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
   };

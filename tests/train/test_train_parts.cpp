@@ -1,0 +1,155 @@
+// The training stage's host-side parts: initial cloud, checkpoints, settings, view order, PSNR.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "s4d/train/checkpoint.h"
+#include "s4d/train/evaluate.h"
+#include "s4d/train/init_cloud.h"
+#include "s4d/train/train_config.h"
+#include "s4d/train/view_sampler.h"
+
+using namespace s4d;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+model::HostState small_state(size_t n, int degree) {
+  model::HostState s;
+  s.cloud.sh_degree = degree;
+  const size_t k = size_t((degree + 1) * (degree + 1));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1, 1);
+  auto fill = [&](std::vector<float>& v, size_t count) {
+    v.resize(count);
+    for (float& x : v) x = u(rng);
+  };
+  fill(s.cloud.means, n * 3), fill(s.cloud.log_scales, n * 3), fill(s.cloud.quats, n * 4), fill(s.cloud.opacity_logits, n);
+  fill(s.cloud.sh, n * k * 3);
+  const size_t widths[] = {3, 3, 4, 1, k * 3};
+  for (uint32_t a = 0; a < model::kAttrCount; ++a) fill(s.m[a], n * widths[a]), fill(s.v[a], n * widths[a]);
+  for (auto& st : s.stats) fill(st, n);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("mean_sq_dist_3nn matches brute force on a surface-like cloud and an isolated cluster") {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> p;
+  for (int i = 0; i < 1500; ++i) p.insert(p.end(), {u(rng) * 4, u(rng) * 2, 0.01f * u(rng)});  // a thin slab
+  for (int i = 0; i < 5; ++i) p.insert(p.end(), {40 + u(rng), 40, 40});                        // far away, sparse
+  const std::vector<float> fast = train::mean_sq_dist_3nn(p);
+  const size_t n = p.size() / 3;
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<float> d;
+    for (size_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      float s = 0;
+      for (int a = 0; a < 3; ++a) s += (p[j * 3 + a] - p[i * 3 + a]) * (p[j * 3 + a] - p[i * 3 + a]);
+      d.push_back(s);
+    }
+    std::partial_sort(d.begin(), d.begin() + 3, d.end());
+    CHECK(fast[i] == doctest::Approx((d[0] + d[1] + d[2]) / 3).epsilon(1e-6));  // same float sums; exact in practice
+  }
+}
+
+TEST_CASE("cloud_from_points follows graphdeco's initialisation") {
+  const std::vector<float> pts = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const std::vector<float> cols = {0.5f, 0.5f, 0.5f, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const io::GaussianCloud c = train::cloud_from_points(pts, cols, 2);
+  REQUIRE(c.size() == 4);
+  CHECK(c.sh.size() == 4 * 9 * 3);
+  // Point 0's 3 neighbours are all at distance 1: scale 1, log 0.
+  CHECK(c.log_scales[0] == doctest::Approx(0.0).epsilon(1e-6));
+  CHECK(c.quats[0] == 1.0f);
+  CHECK(1 / (1 + std::exp(-c.opacity_logits[0])) == doctest::Approx(0.1));
+  CHECK(0.5f + 0.28209479f * c.sh[9 * 3] == doctest::Approx(1.0));  // point 1 is red: DC reproduces it
+  CHECK(c.sh[9 * 3 + 3] == 0.0f);                                    // higher coefficients start at zero
+  CHECK_THROWS_AS(train::cloud_from_points({0, 0}, {0, 0}, 0), std::invalid_argument);
+  CHECK_THROWS_AS(train::cloud_from_points({0, 0, NAN}, {0, 0, 0}, 0), std::invalid_argument);
+}
+
+TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, truncation and other files") {
+  const fs::path dir = fresh_dir("s4d_checkpoint_test");
+  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, small_state(50, 1)};
+  write_checkpoint(dir / "a.s4dckpt", cp);
+  const train::Checkpoint back = train::read_checkpoint(dir / "a.s4dckpt");
+  CHECK(back.meta == cp.meta);
+  CHECK(back.state.cloud.means == cp.state.cloud.means);
+  CHECK(back.state.cloud.sh == cp.state.cloud.sh);
+  CHECK(back.state.m[model::kSh] == cp.state.m[model::kSh]);
+  CHECK(back.state.v[model::kQuats] == cp.state.v[model::kQuats]);
+  CHECK(back.state.stats[model::kMaxRadius] == cp.state.stats[model::kMaxRadius]);
+
+  train::Checkpoint bad = cp;
+  bad.state.m[model::kOpacity][7] = NAN;
+  CHECK_THROWS_WITH_AS(write_checkpoint(dir / "a.s4dckpt", bad), doctest::Contains("opacity_logits.adam_m"),
+                       std::invalid_argument);
+  CHECK(train::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
+
+  const auto size = fs::file_size(dir / "a.s4dckpt");
+  fs::copy_file(dir / "a.s4dckpt", dir / "cut.s4dckpt");
+  fs::resize_file(dir / "cut.s4dckpt", size - 10);
+  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "cut.s4dckpt"), doctest::Contains("truncated"), std::runtime_error);
+  std::ofstream(dir / "text.s4dckpt") << "hello";
+  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "text.s4dckpt"), doctest::Contains("not a style4d checkpoint"),
+                       std::runtime_error);
+  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "missing.s4dckpt"), doctest::Contains("missing.s4dckpt"),
+                       std::runtime_error);
+}
+
+TEST_CASE("settings round-trip through JSON and --iters rescales the schedules") {
+  train::TrainConfig c = train::preset_config("fast");
+  c.background = {1, 0.5f, 0};
+  CHECK(train::to_json(train::config_from_json(train::to_json(c))) == train::to_json(c));
+  train::TrainConfig d = train::preset_config("default");
+  train::set_iterations(d, 3000);
+  CHECK(d.iterations == 3000);
+  CHECK(d.densify_until == 1500);
+  CHECK(d.densify_from == 50);
+  CHECK(d.densify_every == 100);  // the interval is a rate, kept
+  CHECK_THROWS_AS(train::preset_config("turbo"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(train::config_from_json(nlohmann::json{{"iterations", "many"}}), doctest::Contains("iterations"),
+                       std::runtime_error);
+}
+
+TEST_CASE("the view sampler visits every view once per epoch and resumes identically") {
+  train::ViewSampler s(7, 11);
+  std::set<uint32_t> epoch;
+  for (int i = 0; i < 7; ++i) epoch.insert(s.next());
+  CHECK(epoch.size() == 7);
+  s.next();
+  s.next();
+  const std::string saved = s.save();
+  std::vector<uint32_t> a, b;
+  for (int i = 0; i < 20; ++i) a.push_back(s.next());
+  train::ViewSampler t(7, 999);
+  t.load(saved);
+  for (int i = 0; i < 20; ++i) b.push_back(t.next());
+  CHECK(a == b);
+  train::ViewSampler other(8, 0);
+  CHECK_THROWS_AS(other.load(saved), std::runtime_error);
+}
+
+TEST_CASE("psnr_of clamps the render and uses the mean over all channels") {
+  const std::vector<float> target(12, 0.5f);
+  std::vector<float> image(12, 0.6f);
+  CHECK(train::psnr_of(image, target) == doctest::Approx(20.0));  // mse 0.01
+  image.assign(12, 7.0f);                                         // clamped to 1: mse 0.25
+  CHECK(train::psnr_of(image, target) == doctest::Approx(-10 * std::log10(0.25)));
+}

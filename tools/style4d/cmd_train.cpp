@@ -1,0 +1,112 @@
+// style4d train --data DIR --out RUN [--preset P] [--iters N] | --resume RUN: stage 1 (static
+// Gaussians). SIGINT or SIGTERM writes a checkpoint and exits with 130; --resume continues it.
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "args.h"
+#include "commands.h"
+#include "s4d/engine/context.h"
+#include "s4d/train/static_trainer.h"
+
+namespace s4d::cli {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void request_stop(int) { g_stop.store(true); }
+
+// "r,g,b" with each in [0, 1].
+std::array<float, 3> parse_colour(const std::string& option, const std::string& text) {
+  std::array<float, 3> c{};
+  std::istringstream in(text);
+  char comma1 = 0, comma2 = 0;
+  in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2];
+  if (!in || !in.eof() || comma1 != ',' || comma2 != ',' || c[0] < 0 || c[0] > 1 || c[1] < 0 || c[1] > 1 || c[2] < 0 ||
+      c[2] > 1)
+    throw std::invalid_argument("--" + option + ": expected r,g,b with each in [0, 1], got '" + text + "'");
+  return c;
+}
+
+train::TrainConfig config_from_args(const Args& args) {
+  train::TrainConfig c = train::preset_config(args.get_or("preset", "default"));
+  if (auto v = args.get("iters")) train::set_iterations(c, parse_number<uint32_t>("iters", *v));
+  if (auto v = args.get("downscale")) c.downscale = parse_number<int>("downscale", *v);
+  if (c.downscale < 1) throw std::invalid_argument("--downscale: must be at least 1");
+  if (auto v = args.get("max-time")) {
+    std::istringstream in(*v);
+    if (!(in >> c.max_time) || !in.eof() || c.max_time < 0 || c.max_time > 1)
+      throw std::invalid_argument("--max-time: expected a time in [0, 1], got '" + *v + "'");
+  }
+  if (auto v = args.get("background")) c.background = parse_colour("background", *v);
+  if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
+  if (auto v = args.get("budget")) c.budget = parse_number<uint32_t>("budget", *v);
+  if (auto v = args.get("sh-degree")) {
+    c.sh_degree = parse_number<int>("sh-degree", *v);
+    if (c.sh_degree < 0 || c.sh_degree > 3) throw std::invalid_argument("--sh-degree: must be 0..3");
+  }
+  if (auto v = args.get("lr-scale")) {
+    std::istringstream in(*v);
+    if (!(in >> c.lr_scale) || !in.eof() || !(c.lr_scale > 0) || !std::isfinite(c.lr_scale))
+      throw std::invalid_argument("--lr-scale: expected a positive number, got '" + *v + "'");
+  }
+  if (auto v = args.get("checkpoint-every")) c.checkpoint_every = std::max(1u, parse_number<uint32_t>("checkpoint-every", *v));
+  return c;
+}
+
+}  // namespace
+
+int cmd_train(const std::vector<std::string>& argv) {
+  const std::vector<OptionSpec> specs = {
+      {"data", "dataset directory (DyNeRF/Neu3D or D-NeRF layout, e.g. from style4d synth)", true, "DIR"},
+      {"out", "run directory to create (must not exist, or be empty)", true, "RUN"},
+      {"resume", "continue the run in RUN from its last checkpoint (other options are taken from the run)", true, "RUN"},
+      {"stage", "static: stage 1 only (the 4DGS deformation stage is not built yet)", true, "static"},
+      {"preset", "fast | default | quality (default: default)", true, "P"},
+      {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
+      {"downscale", "integer image downscale factor (default 1)", true, "K"},
+      {"max-time", "use only views with time <= T, e.g. 0 for the first frame (default 1)", true, "T"},
+      {"background", "render and compositing background r,g,b in [0, 1] (default: the dataset's)", true, "R,G,B"},
+      {"seed", "seed of view order, initial points and split samples (default 0)", true, "S"},
+      {"budget", "most Gaussians densification may create", true, "N"},
+      {"sh-degree", "highest spherical-harmonic degree, 0..3", true, "D"},
+      {"checkpoint-every", "iterations between checkpoints", true, "N"},
+      {"lr-scale", "multiply every learning rate (default 1)", true, "X"},
+  };
+  Args args(argv, specs);
+  if (args.help()) {
+    std::cout << usage("train", "--data DIR --out RUN [options] | --resume RUN",
+                       "Trains Gaussians on a dataset. Writes RUN/geometry/gaussians.ply (standard 3DGS PLY),\n"
+                       "RUN/train.json (test_psnr, test_ssim, seconds, num_gaussians, settings, per test view),\n"
+                       "RUN/checkpoint/state.s4dckpt, RUN/loss.csv and RUN/eval/*.png (test-view renders).\n"
+                       "Ctrl-C writes a checkpoint and exits; --resume RUN continues where it stopped.",
+                       specs);
+    return 0;
+  }
+  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (args.get_or("stage", "static") != "static")
+    throw std::invalid_argument("--stage: only 'static' exists so far; the 4DGS deformation stage is not built yet");
+
+  engine::Context ctx;
+  std::unique_ptr<train::StaticTrainer> trainer;
+  if (auto run = args.get("resume")) {
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale"})
+      if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
+    trainer = train::StaticTrainer::resume(ctx, *run);
+  } else {
+    trainer = std::make_unique<train::StaticTrainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
+  }
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  const train::TrainResult r = trainer->run(g_stop);
+  if (!r.complete) return 130;
+  std::cout << "static stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
+            << " Gaussians, " << r.seconds << " s\n";
+  return 0;
+}
+
+}  // namespace s4d::cli

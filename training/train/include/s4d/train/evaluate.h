@@ -1,0 +1,44 @@
+// Test-view evaluation as 3DGS reports it: each render clamped to [0, 1], PSNR from the mean squared
+// error over all pixels and channels, SSIM with the 11x11 Gaussian window (sigma 1.5) averaged over
+// the map (the training loss's own kernels), both averaged over the views.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "s4d/data/dataset.h"
+#include "s4d/data/frame_cache.h"
+#include "s4d/engine/buffer.h"
+#include "s4d/optim/image_loss.h"
+#include "s4d/splat/rasterizer.h"
+
+namespace s4d::train {
+
+struct ViewScore {
+  std::string name;
+  double time = 0, psnr = 0, ssim = 0;
+};
+
+struct Evaluation {
+  double psnr = 0, ssim = 0;  // means over the views
+  std::vector<ViewScore> views;
+};
+
+double psnr_of(const std::vector<float>& image, const std::vector<float>& target);  // image clamped to [0, 1]
+
+class Evaluator {
+ public:
+  explicit Evaluator(engine::Context& ctx);
+  // Renders every view with `params`; when `save_dir` is set, writes each render there as
+  // <view name with '/' as '_'>.png.
+  Evaluation evaluate(splat::Rasterizer& rast, const splat::GaussianParams& params, const std::vector<const data::View*>& views,
+                      data::FrameCache& frames, const std::array<float, 3>& background,
+                      const std::filesystem::path& save_dir = {});
+
+ private:
+  engine::Context* ctx_;
+  optim::ImageLoss loss_;
+  engine::Buffer image_, target_, grad_;
+};
+
+}  // namespace s4d::train

@@ -1,0 +1,79 @@
+#include "s4d/train/train_config.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace s4d::train {
+
+TrainConfig preset_config(const std::string& name) {
+  TrainConfig c;
+  c.preset = name;
+  if (name == "default") return c;  // graphdeco's 30k schedule
+  if (name == "fast") {
+    // A few minutes on lavapipe at 160x120: a shorter densification window, SH up to degree 1.
+    c.iterations = 3000;
+    c.sh_degree = 1;
+    c.sh_up_every = 500;
+    c.densify_from = 300;
+    c.densify_until = 2000;
+    c.opacity_reset_every = 1000;
+    c.budget = 200000;
+    c.test_every = 500;
+    c.checkpoint_every = 500;
+    return c;
+  }
+  if (name == "quality") {
+    c.iterations = 40000;
+    c.densify_until = 20000;
+    c.grad_threshold = 0.00015f;
+    c.budget = 3000000;
+    return c;
+  }
+  throw std::invalid_argument("--preset: unknown preset '" + name + "' (fast, default or quality)");
+}
+
+void set_iterations(TrainConfig& c, uint32_t iterations) {
+  if (iterations == 0) throw std::invalid_argument("--iters: must be at least 1");
+  const double f = double(iterations) / c.iterations;
+  auto scale = [f](uint32_t& v) { v = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(v * f))); };
+  for (uint32_t* v : {&c.densify_from, &c.densify_until, &c.opacity_reset_every, &c.sh_up_every, &c.test_every,
+                      &c.checkpoint_every})
+    scale(*v);
+  c.iterations = iterations;
+}
+
+#define S4D_CONFIG_FIELDS(X)                                                                                     \
+  X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(background) X(sh_degree) X(sh_up_every)              \
+  X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
+  X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
+  X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(test_every)               \
+  X(checkpoint_every)
+
+nlohmann::json to_json(const TrainConfig& c) {
+  nlohmann::json j;
+#define S4D_PUT(field) j[#field] = c.field;
+  S4D_CONFIG_FIELDS(S4D_PUT)
+#undef S4D_PUT
+  return j;
+}
+
+TrainConfig config_from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("training settings: expected a JSON object");
+  TrainConfig c;
+#define S4D_GET(field)                                                                                  \
+  if (j.contains(#field)) {                                                                             \
+    try {                                                                                               \
+      j.at(#field).get_to(c.field);                                                                     \
+    } catch (const nlohmann::json::exception& e) {                                                      \
+      throw std::runtime_error(std::string("training settings: field '" #field "': ") + e.what());     \
+    }                                                                                                   \
+  }
+  S4D_CONFIG_FIELDS(S4D_GET)
+#undef S4D_GET
+  return c;
+}
+
+}  // namespace s4d::train
