@@ -9,7 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslc spirv-tools
-  libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libopenexr-dev
+  libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libopenexr-dev libopencv-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -33,11 +33,21 @@ TEST_CASE("synth writes a tiny DyNeRF dataset") {
   CHECK(read_text(dir / "log.txt").find("synth") != std::string::npos);  // progress on stderr
 }
 
+TEST_CASE("synth --video writes one mp4 per camera instead of frame folders") {
+  const fs::path dir = fresh_dir("video");
+  const fs::path out = dir / "data";
+  REQUIRE(run("--out " + out.string() + " --cams 2 --frames 2 --size 32x24 --video", dir / "log.txt") == 0);
+  for (const char* f : {"cam00.mp4", "cam01.mp4", "poses_bounds.npy", "points3D.ply", "scene.json"})
+    CHECK_MESSAGE(fs::exists(out / f), f);
+  CHECK_FALSE(fs::exists(out / "cam00"));
+  CHECK(read_text(out / "scene.json").find("camNN.mp4") != std::string::npos);
+}
+
 TEST_CASE("synth refuses bad flags with one line and writes nothing") {
   const fs::path dir = fresh_dir("bad");
   const fs::path out = dir / "data";
   for (const std::string flags : {"--cams 1", "--frames 1", "--size 32", "--size 4x4", "--size 32x24x1",
-                                  "--cams 3x", "--seed -1", "--cams"}) {
+                                  "--cams 3x", "--seed -1", "--cams", "--size 33x24 --video"}) {
     CAPTURE(flags);
     CHECK(run("--out " + out.string() + " " + flags, dir / "log.txt") != 0);
     const std::string log = read_text(dir / "log.txt");

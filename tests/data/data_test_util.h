@@ -10,6 +10,7 @@
 #include "../io/io_test_util.h"
 #include "s4d/data/dataset.h"
 #include "s4d/data/npy.h"
+#include "s4d/data/video_writer.h"
 #include "s4d/io/image_io.h"
 
 namespace s4d::test {
@@ -44,6 +45,22 @@ inline io::ImageF pattern(int width, int height, int channels, int seed) {
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       for (int k = 0; k < channels; ++k) im.data.push_back(level(x, y, k, seed));
+    }
+  }
+  return im;
+}
+
+// A colour that varies slowly over the image, frame `seed` (value of channel k at (x, y)): lossy video
+// codecs keep such content within a few levels, where `level`'s fine pattern would be smeared.
+inline float smooth_level(int x, int y, int k, int seed) {
+  return 0.5f + 0.35f * static_cast<float>(std::sin(0.12 * x + 0.08 * y + 0.3 * k + 0.2 * seed));
+}
+
+inline io::ImageF smooth_pattern(int width, int height, int seed) {
+  io::ImageF im{width, height, 3, {}};
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      for (int k = 0; k < 3; ++k) im.data.push_back(smooth_level(x, y, k, seed));
     }
   }
   return im;
@@ -101,6 +118,19 @@ inline void write_dynerf(const std::filesystem::path& root, const std::vector<Ll
       const std::string name = std::string(f < 10 ? "000" : "00") + std::to_string(f) + ".png";
       io::write_png(dir / name, pattern(16, 12, 3, static_cast<int>(c) * 10 + f));
     }
+  }
+}
+
+// The standard scene with camera c as camNN.mp4 (mp4v) of `frames[c]` frames (default 4 for each)
+// showing smooth_pattern(16, 12, 10 c + f), instead of frame folders.
+inline void write_dynerf_videos(const std::filesystem::path& root, const std::vector<LlffCamera>& cams,
+                                std::vector<int> frames = {}) {
+  frames.resize(cams.size(), 4);
+  std::filesystem::create_directories(root);
+  write_poses_bounds(root / "poses_bounds.npy", cams);
+  for (size_t c = 0; c < cams.size(); ++c) {
+    data::VideoWriter video(root / ("cam0" + std::to_string(c) + ".mp4"), 16, 12);
+    for (int f = 0; f < frames[c]; ++f) video.write(smooth_pattern(16, 12, static_cast<int>(c) * 10 + f));
   }
 }
 

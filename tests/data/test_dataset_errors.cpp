@@ -40,7 +40,7 @@ TEST_CASE("dynerf bad inputs") {
   }
   SUBCASE("rows do not match camera folders") {
     test::write_poses_bounds(npy, {cams[0], cams[1]});
-    check_load_fails(root, npy.string() + ": shape has 2 rows but there are 3 camera folders (cam00 ... cam02)");
+    check_load_fails(root, npy.string() + ": shape has 2 rows but there are 3 cameras (cam00 ... cam02)");
   }
   SUBCASE("non-finite pose") {
     cams[1].centre[2] = std::nan("");
@@ -75,11 +75,6 @@ TEST_CASE("dynerf bad inputs") {
   SUBCASE("camera folder without frames") {
     for (int f = 0; f < 2; ++f) fs::remove(root / "cam01" / ("000" + std::to_string(f) + ".png"));
     check_load_fails(root, (root / "cam01").string() + ": no .png frames");
-  }
-  SUBCASE("video without extracted frames") {
-    test::write_raw(root / "cam03.mp4", "not really a video");
-    check_load_fails(root, (root / "cam03.mp4").string() + ": has no frame folder cam03/");
-    check_load_fails(root, "ffmpeg -i cam03.mp4 cam03/%04d.png");
   }
   SUBCASE("first frame is not a PNG") {
     test::write_raw(root / "cam01" / "0000.png", "garbage");
@@ -125,6 +120,68 @@ TEST_CASE("dynerf bad inputs") {
   }
 }
 
+TEST_CASE("dynerf video bad inputs") {
+  test::TempDir dir("errors_video");
+  const auto root = dir / "s";
+  auto cams = test::dynerf_cameras();
+  test::write_dynerf_videos(root, cams);
+  const auto video = root / "cam01.mp4";
+
+  SUBCASE("not a video") {
+    test::write_raw(video, "not really a video");
+    check_load_fails(root, video.string() + ": cannot open the video");
+  }
+  SUBCASE("truncated video") {
+    // FFmpeg's mp4 muxer writes the index (moov) last, so a cut-off file has none and cannot be opened.
+    const std::string bytes = test::read_raw(video);
+    test::write_raw(video, bytes.substr(0, bytes.size() / 2));
+    check_load_fails(root, video.string() + ": cannot open the video");
+  }
+  SUBCASE("cameras with different frame counts") {
+    test::write_dynerf_videos(root, cams, {4, 4, 3});
+    check_load_fails(root, (root / "cam02.mp4").string() + ": has 3 frames but cam00 has 4");
+  }
+  SUBCASE("hwf disagrees with the video") {
+    cams[1].height = 20;
+    test::write_poses_bounds(root / "poses_bounds.npy", cams);
+    check_load_fails(root, (root / "poses_bounds.npy").string() + ": row 1 (cam01): hwf says 16x20 (W x H) but " +
+                               video.string() + " is 16x12");
+  }
+  SUBCASE("video gone or replaced when its frames are loaded") {
+    const data::Dataset d = data::load_dynerf(root);
+    data::FrameCache cache(d, 1 << 20);
+    data::View past_end = d.views[4];  // cam01, frame 0
+    past_end.frame_in_file = 9;
+    CHECK_THROWS_WITH_AS(cache.get(past_end), test::error_at(video, "frame 9 cannot be decoded"), std::runtime_error);
+    test::write_raw(video, "garbage");
+    CHECK_THROWS_WITH_AS(cache.get(d.views[5]), test::error_at(video, "cannot open the video"), std::runtime_error);
+    std::filesystem::remove(video);
+    CHECK_THROWS_WITH_AS(cache.get(d.views[6]), test::error_at(video, "video does not exist"), std::runtime_error);
+  }
+  SUBCASE("video frames of the wrong size") {
+    const data::Dataset d = data::load_dynerf(root);
+    {
+      data::VideoWriter smaller(video, 10, 12);
+      for (int f = 0; f < 4; ++f) smaller.write(test::smooth_pattern(10, 12, f));
+    }
+    data::FrameCache cache(d, 1 << 20);
+    CHECK_THROWS_WITH_AS(cache.get(d.views[5]),
+                         test::error_at(video, "frame 1 is 10x12 after downscale 1, but view 'cam01/0001' expects 16x12"),
+                         std::runtime_error);
+  }
+}
+
+TEST_CASE("video writer refuses odd sizes and unwritable paths, naming the file") {
+  test::TempDir dir("errors_video_writer");
+  CHECK_THROWS_WITH_AS(data::VideoWriter(dir / "a.mp4", 15, 12),
+                       test::error_at(dir / "a.mp4", "video size must be even on both sides"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(data::VideoWriter(dir / "no" / "such" / "dir.mp4", 16, 12),
+                       test::error_at(dir / "no" / "such" / "dir.mp4", "cannot open an mp4v"), std::runtime_error);
+  data::VideoWriter video(dir / "b.mp4", 16, 12);
+  CHECK_THROWS_WITH_AS(video.write(test::smooth_pattern(16, 10, 0)),
+                       test::error_at(dir / "b.mp4", "frame is 16x10x3"), std::invalid_argument);
+}
+
 TEST_CASE("dnerf bad inputs") {
   test::TempDir dir("errors_dnerf");
   const auto root = dir / "s";
@@ -155,6 +212,21 @@ TEST_CASE("dnerf bad inputs") {
                         identity + "}]}");
     check_load_fails(root, (root / "transforms_train.json").string() + ": frames[0].file_path: image " +
                                (root / "train" / "r_009.png").string() + " does not exist");
+  }
+  SUBCASE("image of a later frame missing or of the wrong size: named when it is loaded") {
+    test::write_raw(root / "transforms_train.json",
+                    R"({"camera_angle_x": 1.0, "frames": [{"file_path": "./train/r_000", "time": 0, "transform_matrix": )" +
+                        identity + R"(}, {"file_path": "./train/r_001", "time": 1, "transform_matrix": )" + identity +
+                        "}]}");
+    const data::Dataset d = data::load_dnerf(root);
+    data::FrameCache cache(d, 1 << 20);
+    CHECK_THROWS_WITH_AS(cache.get(d.views[1]), test::error_at(root / "train" / "r_001.png", "cannot open"),
+                         std::runtime_error);
+    io::write_png(root / "train" / "r_001.png", test::pattern(6, 4, 4, 1));
+    CHECK_THROWS_WITH_AS(cache.get(d.views[1]),
+                         test::error_at(root / "train" / "r_001.png",
+                                        "image is 6x4 after downscale 1, but view 'train/r_001' expects 4x4"),
+                         std::runtime_error);
   }
   SUBCASE("bad background") {
     CHECK_THROWS_WITH_AS(data::load_dnerf(root, {.downscale = 1, .background = std::array<float, 3>{0, 2, 0}}),

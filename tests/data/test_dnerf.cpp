@@ -33,7 +33,8 @@ void write_dnerf(const std::filesystem::path& root) {
     {"file_path": "./train/r_000", "time": 0.0, "transform_matrix": )") + kFront + R"(},
     {"file_path": "./train/r_001", "time": 0.5, "transform_matrix": )" + kSide + R"(},
     {"file_path": "./train/r_002.png", "time": 1.0, "transform_matrix": )" + kFront + R"(},
-    {"file_path": "./train/r_003", "time": 0.25, "fl_x": 3, "w": 8, "h": 6, "transform_matrix": )" + kSide + R"(}]})");
+    {"file_path": "./train/r_003", "time": 0.25, "fl_x": 3, "fl_y": 3.5, "cx": 4.25, "cy": 2.75, "w": 8, "h": 6,
+     "transform_matrix": )" + kSide + R"(}]})");
   test::write_raw(root / "transforms_val.json", std::string(R"({"camera_angle_x": 1.3494818844471055, "frames": [
     {"file_path": "./val/r_000", "time": 0.75, "transform_matrix": )") + kFront + "}]}");
   test::write_raw(root / "transforms_test.json", std::string(R"({"camera_angle_x": 1.3494818844471055, "frames": [
@@ -65,12 +66,14 @@ TEST_CASE("dnerf: views, times, split and per-frame intrinsics") {
   CHECK(c.fx == doctest::Approx(10));
   CHECK(c.cx == 8);
   CHECK(test::project(c, {1, 0, 0})[0] == doctest::Approx(8 + 10.0 / 4));
-  // The per-frame fl_x, w and h win over the global angle and the first image's size.
+  // The per-frame intrinsics win over the global angle and the first image's size (copied, so exact).
   const io::CameraView& small = d.views[3].camera;
   CHECK(small.width == 8);
   CHECK(small.height == 6);
   CHECK(small.fx == 3);
-  CHECK(small.cx == 4);
+  CHECK(small.fy == 3.5);
+  CHECK(small.cx == 4.25);
+  CHECK(small.cy == 2.75);
   // Train centres: (0,0,4) twice and (4,0,0) twice; mean (2,0,2); distance 2 sqrt 2.
   CHECK(d.extent == doctest::Approx(1.1 * 2 * std::sqrt(2.0)));
 }
@@ -103,6 +106,8 @@ TEST_CASE("dnerf: downscale composites before filtering") {
   CHECK(d.views[0].camera.width == 8);
   CHECK(d.views[0].camera.fx == doctest::Approx(5));
   CHECK(d.views[3].camera.width == 4);
+  CHECK(d.views[3].camera.fy == 1.75);  // per-frame intrinsics are downscaled too (halving is exact)
+  CHECK(d.views[3].camera.cy == 1.375);
   data::FrameCache cache(d, 1 << 20);
   const io::ImageF& im = cache.get(d.views[0]);
   REQUIRE(im.width == 8);

@@ -1,18 +1,23 @@
 // DyNeRF / Neu3D layout:
 //   poses_bounds.npy   N x 17: per camera, LLFF's 3x5 [c2w rotation | centre | (H, W, focal)] row-major,
 //                      then near and far (unused: we do not use NDC rays)
-//   camNN/NNNN.png     frames of camera NN; cameras sorted by folder name match rows in order
+//   camNN/NNNN.png     frames of camera NN; cameras sorted by name match rows in order
+//   camNN.mp4          or camera NN as one video, used when there is no camNN/ folder (a folder wins:
+//                      its PNGs are lossless); the frame count is the one the container declares
 // The rotation columns are in LLFF axes order (down, right, backwards). OpenGL columns (right, up,
 // back) are (col1, -col0, col2), so OpenCV (right, down, forward) = (right, -up, -back) = (col1, col0,
 // -col2); world_to_cam is the rigid inverse. No recentring or rescaling, as in 4DGaussians.
 // cam00 is the held-out test camera (the Neu3D protocol); time = frame / (T - 1).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 #include "dataset_parts.h"
 #include "s4d/data/npy.h"
+#include "video_reader.h"
 
 namespace s4d::data {
 namespace {
@@ -23,12 +28,36 @@ using detail::fail;
 // Same tolerance as read_nerf_cameras: float32 or rounded decimals pass, real scale or shear does not.
 constexpr double kRigidTolerance = 1e-3;
 
-struct CameraFolder {
-  std::string name;  // "cam03"
-  std::vector<fs::path> frames;
+// One camera's frames: a folder of PNGs or a video.
+struct CameraSource {
+  std::string name;              // "cam03"
+  std::vector<fs::path> frames;  // camNN/NNNN.png in order; empty for a video
+  fs::path video;                // camNN.mp4 when there is no frame folder
+  size_t frame_count = 0;
+  fs::path first;                // the file the size comes from (first frame or the video)
+  int width = 0, height = 0;     // full-resolution frame size
 };
 
-std::vector<CameraFolder> find_cameras(const fs::path& root) {
+CameraSource folder_camera(const fs::path& root, const std::string& name) {
+  CameraSource camera{name, {}, {}, 0, {}, 0, 0};
+  for (const auto& entry : fs::directory_iterator(root / name)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".png") camera.frames.push_back(entry.path());
+  }
+  std::sort(camera.frames.begin(), camera.frames.end());
+  if (camera.frames.empty()) fail(root / name, "no .png frames");
+  camera.frame_count = camera.frames.size();
+  camera.first = camera.frames[0];
+  std::tie(camera.width, camera.height) = detail::png_size(camera.first);
+  return camera;
+}
+
+CameraSource video_camera(const fs::path& root, const std::string& name) {
+  const fs::path video = root / (name + ".mp4");
+  const detail::VideoInfo info = detail::probe_video(video);
+  return {name, {}, video, static_cast<size_t>(info.frames), video, info.width, info.height};
+}
+
+std::vector<CameraSource> find_cameras(const fs::path& root) {
   const std::regex cam_name("cam[0-9]+");
   std::vector<std::string> folders, videos;
   for (const auto& entry : fs::directory_iterator(root)) {
@@ -38,29 +67,22 @@ std::vector<CameraFolder> find_cameras(const fs::path& root) {
       videos.push_back(entry.path().stem().string());
     }
   }
-  std::sort(videos.begin(), videos.end());
+  std::vector<std::string> names = folders;
   for (const std::string& v : videos) {
-    if (std::find(folders.begin(), folders.end(), v) == folders.end()) {
-      fail(root / (v + ".mp4"), "has no frame folder " + v + "/; this build has no video decoder yet, so extract the "
-                                "frames first, e.g. mkdir " + v + " && ffmpeg -i " + v + ".mp4 " + v + "/%04d.png");
-    }
+    if (std::find(folders.begin(), folders.end(), v) == folders.end()) names.push_back(v);
   }
-  std::sort(folders.begin(), folders.end());
-  std::vector<CameraFolder> cameras;
-  for (const std::string& name : folders) {
-    CameraFolder camera{name, {}};
-    for (const auto& entry : fs::directory_iterator(root / name)) {
-      if (entry.is_regular_file() && entry.path().extension() == ".png") camera.frames.push_back(entry.path());
-    }
-    std::sort(camera.frames.begin(), camera.frames.end());
-    if (camera.frames.empty()) fail(root / name, "no .png frames");
-    cameras.push_back(std::move(camera));
+  std::sort(names.begin(), names.end());
+  std::vector<CameraSource> cameras;
+  for (const std::string& name : names) {
+    const bool folder = std::find(folders.begin(), folders.end(), name) != folders.end();
+    cameras.push_back(folder ? folder_camera(root, name) : video_camera(root, name));
   }
-  if (cameras.empty()) fail(root, "no camera folders (camNN/) next to poses_bounds.npy");
-  for (const CameraFolder& c : cameras) {
-    if (c.frames.size() != cameras[0].frames.size()) {
-      fail(root / c.name, "has " + std::to_string(c.frames.size()) + " frames but " + cameras[0].name + " has " +
-                              std::to_string(cameras[0].frames.size()) + "; every camera needs the same frame count");
+  if (cameras.empty()) fail(root, "no cameras (camNN/ frame folders or camNN.mp4 videos) next to poses_bounds.npy");
+  for (const CameraSource& c : cameras) {
+    if (c.frame_count != cameras[0].frame_count) {
+      fail(c.video.empty() ? root / c.name : c.video,
+           "has " + std::to_string(c.frame_count) + " frames but " + cameras[0].name + " has " +
+               std::to_string(cameras[0].frame_count) + "; every camera needs the same frame count");
     }
   }
   return cameras;
@@ -120,6 +142,13 @@ std::string num(double v) {
   return s.str();
 }
 
+// "0012": a video's frames get the names of frame-folder files as `style4d synth` writes them.
+std::string frame_stem(size_t frame) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%04zu", frame);
+  return buf;
+}
+
 }  // namespace
 
 Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
@@ -128,40 +157,43 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
   if (!fs::exists(npy)) fail(npy, "missing (a DyNeRF / Neu3D dataset needs it)");
   const NpyArray poses = read_npy(npy);
   if (poses.shape.size() != 2 || poses.shape[1] != 17) fail(npy, "shape must be (N, 17)");
-  const std::vector<CameraFolder> cameras = find_cameras(root);
+  const std::vector<CameraSource> cameras = find_cameras(root);
   if (poses.shape[0] != cameras.size()) {
     fail(npy, "shape has " + std::to_string(poses.shape[0]) + " rows but there are " + std::to_string(cameras.size()) +
-                  " camera folders (" + cameras.front().name + " ... " + cameras.back().name + ")");
+                  " cameras (" + cameras.front().name + " ... " + cameras.back().name + ")");
   }
 
   Dataset dataset;
   dataset.kind = "dynerf";
   dataset.root = root;
-  const size_t frame_count = cameras[0].frames.size();
+  const size_t frame_count = cameras[0].frame_count;
   for (size_t c = 0; c < cameras.size(); ++c) {
-    const std::string field = "row " + std::to_string(c) + " (" + cameras[c].name + ")";
+    const CameraSource& source = cameras[c];
+    const std::string field = "row " + std::to_string(c) + " (" + source.name + ")";
     io::CameraView camera = llff_camera(npy, &poses.values[c * 17], field);
     // hwf must describe the frames on disk; compare after downscaling, allowing for rounding.
-    const auto [w, h] = detail::png_size(cameras[c].frames[0]);
+    const int w = source.width, h = source.height;
     const double hwf_w = poses.values[c * 17 + 9], hwf_h = poses.values[c * 17 + 4];
     if (std::abs(detail::downscaled(w, factor) - hwf_w / factor) > 1 ||
         std::abs(detail::downscaled(h, factor) - hwf_h / factor) > 1) {
-      fail(npy, field + ": hwf says " + num(hwf_w) + "x" + num(hwf_h) + " (W x H) but " +
-                    cameras[c].frames[0].string() + " is " + std::to_string(w) + "x" + std::to_string(h));
+      fail(npy, field + ": hwf says " + num(hwf_w) + "x" + num(hwf_h) + " (W x H) but " + source.first.string() +
+                    " is " + std::to_string(w) + "x" + std::to_string(h));
     }
     camera.width = w;
     camera.height = h;
     detail::downscale_camera(camera, factor);
     for (size_t f = 0; f < frame_count; ++f) {
+      const bool video = source.frames.empty();
       View view;
-      view.name = cameras[c].name + "/" + cameras[c].frames[f].stem().string();
+      view.name = source.name + "/" + (video ? frame_stem(f) : source.frames[f].stem().string());
       view.camera = camera;
       view.camera.name = view.name;
-      view.camera.file_path = fs::relative(cameras[c].frames[f], root).string();
+      view.image = video ? source.video : source.frames[f];
+      view.frame_in_file = video ? static_cast<int>(f) : -1;
+      view.camera.file_path = fs::relative(view.image, root).string();
       view.time = frame_count > 1 ? static_cast<double>(f) / static_cast<double>(frame_count - 1) : 0.0;
       view.camera.time = view.time;
       view.camera_index = static_cast<int>(c);
-      view.image = cameras[c].frames[f];
       view.test = c == 0;
       dataset.views.push_back(std::move(view));
     }

@@ -1,6 +1,7 @@
 #include "s4d/data/frame_cache.h"
 
 #include "dataset_parts.h"
+#include "video_reader.h"
 
 namespace s4d::data {
 namespace {
@@ -47,10 +48,18 @@ size_t byte_size(const io::ImageF& image) { return image.data.size() * sizeof(fl
 }  // namespace
 
 FrameCache::FrameCache(const Dataset& dataset, size_t max_bytes)
-    : downscale_(dataset.downscale), background_(dataset.background), max_bytes_(max_bytes) {}
+    : downscale_(dataset.downscale),
+      background_(dataset.background),
+      max_bytes_(max_bytes),
+      videos_(std::make_unique<detail::VideoDecoders>()) {}
+
+FrameCache::~FrameCache() = default;
+FrameCache::FrameCache(FrameCache&&) noexcept = default;
+FrameCache& FrameCache::operator=(FrameCache&&) noexcept = default;
 
 const io::ImageF& FrameCache::get(const View& view) {
-  const std::string key = view.image.string();
+  const bool video = view.frame_in_file >= 0;
+  const std::string key = video ? view.image.string() + "#" + std::to_string(view.frame_in_file) : view.image.string();
   if (const auto it = index_.find(key); it != index_.end()) {
     entries_.splice(entries_.begin(), entries_, it->second);
     return entries_.front().image;
@@ -58,9 +67,11 @@ const io::ImageF& FrameCache::get(const View& view) {
 
   // Composite before filtering: the mean of composited pixels is the right colour, the composite of
   // mean colour and mean alpha is not.
-  io::ImageF image = box_downscale(to_rgb(io::read_png(view.image), background_), downscale_);
+  const io::ImageF decoded = video ? videos_->read(view.image, view.frame_in_file) : io::read_png(view.image);
+  io::ImageF image = box_downscale(to_rgb(decoded, background_), downscale_);
   if (image.width != view.camera.width || image.height != view.camera.height) {
-    detail::fail(view.image, "image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+    const std::string what = video ? "frame " + std::to_string(view.frame_in_file) : "image";
+    detail::fail(view.image, what + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                                  " after downscale " + std::to_string(downscale_) + ", but view '" + view.name +
                                  "' expects " + std::to_string(view.camera.width) + "x" +
                                  std::to_string(view.camera.height));

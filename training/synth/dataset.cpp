@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "s4d/data/npy.h"
+#include "s4d/data/video_writer.h"
 #include "s4d/io/image_io.h"
 #include "s4d/synth/camera_rig.h"
 #include "s4d/synth/point_cloud.h"
@@ -23,6 +25,9 @@ namespace fs = std::filesystem;
 // The fixed-width names (camNN, NNNN) keep lexicographic and numeric order the same, which
 // loaders that sort directory listings rely on.
 constexpr int kMaxCams = 99, kMaxFrames = 9999, kMinSide = 8, kMaxSide = 4096;
+
+// DyNeRF's capture rate; the loader ignores it (time comes from the frame index).
+constexpr double kVideoFps = 30;
 
 // Margin on the rendered depth range, so content at the edges of the range is not clipped.
 constexpr double kNearScale = 0.9, kFarScale = 1.1;
@@ -52,6 +57,9 @@ void check_options(const SynthOptions& o) {
   check_range("--size height", o.height, kMinSide, kMaxSide);
   check_range("samples per axis", o.samples_per_axis, 1, 16);
   check_range("point count", o.points, 1, 10'000'000);
+  if (o.video && (o.width % 2 != 0 || o.height % 2 != 0))
+    throw std::invalid_argument("--size must be even on both sides with --video (mp4v stores chroma at half "
+                                "resolution), got " + std::to_string(o.width) + "x" + std::to_string(o.height));
 }
 
 std::string camera_dir_name(int cam) {
@@ -94,14 +102,24 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   std::vector<DepthBounds> bounds;
   for (int c = 0; c < options.cams; ++c) {
     const fs::path cam_dir = partial / camera_dir_name(c);
-    fs::create_directories(cam_dir);
+    std::optional<data::VideoWriter> video;
+    if (options.video) {
+      video.emplace(fs::path(cam_dir) += ".mp4", options.width, options.height, kVideoFps);
+    } else {
+      fs::create_directories(cam_dir);
+    }
     double lo = 1e300, hi = -1e300;
     for (int f = 0; f < options.frames; ++f) {
       const double t = static_cast<double>(f) / (options.frames - 1);
       RenderedView view = render_view(scene, cameras[static_cast<size_t>(c)], t, settings);
       lo = std::min(lo, view.min_depth);
       hi = std::max(hi, view.max_depth);
-      io::write_png(cam_dir / frame_file_name(f), io::ImageF{view.width, view.height, 3, std::move(view.rgb)});
+      const io::ImageF image{view.width, view.height, 3, std::move(view.rgb)};
+      if (video) {
+        video->write(image);
+      } else {
+        io::write_png(cam_dir / frame_file_name(f), image);
+      }
       if (progress) progress(++done, total);
     }
     if (!(lo > 0 && lo <= hi)) throw std::runtime_error(camera_dir_name(c) + " sees no surface in front of it");

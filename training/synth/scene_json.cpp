@@ -51,7 +51,8 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
   const PinholeCamera& first = cameras.front();
   const nlohmann::ordered_json doc = {
       {"generator", "style4d synth"},
-      {"layout", "DyNeRF/Neu3D: camNN/NNNN.png, poses_bounds.npy, points3D.ply"},
+      {"layout", options.video ? "DyNeRF/Neu3D: camNN.mp4 (mp4v, 30 fps, lossy), poses_bounds.npy, points3D.ply"
+                               : "DyNeRF/Neu3D: camNN/NNNN.png, poses_bounds.npy, points3D.ply"},
       {"parameters", {{"cams", options.cams}, {"frames", options.frames}, {"width", options.width},
                       {"height", options.height}, {"seed", options.seed},
                       {"samples_per_pixel", options.samples_per_axis * options.samples_per_axis},

@@ -12,12 +12,13 @@
 namespace s4d::data {
 
 struct View {  // one training or test image
-  std::string name;       // "cam03/0012" (DyNeRF) or "train/r_000" (D-NeRF: split folder kept, so names are unique)
+  std::string name;       // "cam03/0012" (DyNeRF, frame folder or video) or "train/r_000" (D-NeRF: split folder kept, so names are unique)
   io::CameraView camera;  // pose (world_to_cam, OpenCV axes: x right, y down, z forward) and intrinsics of the
                           // downscaled image; pixel (i, j) is centred at (i + 0.5, j + 0.5), u = fx x / z + cx
   double time = 0;        // in [0, 1]
   int camera_index = -1;  // physical camera (DyNeRF), -1 when every view has its own (D-NeRF)
   std::filesystem::path image;  // file to load (full resolution; FrameCache downscales)
+  int frame_in_file = -1;       // -1: `image` is an image file; >= 0: `image` is a video and this its frame
   bool test = false;            // held out for evaluation
 };
 
@@ -39,7 +40,8 @@ struct LoadOptions {
   std::optional<std::array<float, 3>> background;
 };
 
-// DyNeRF / Neu3D: poses_bounds.npy plus camNN/NNNN.png frames. See dynerf.cpp for the conventions.
+// DyNeRF / Neu3D: poses_bounds.npy plus, per camera, camNN/NNNN.png frames or a camNN.mp4 video. See
+// dynerf.cpp for the conventions.
 Dataset load_dynerf(const std::filesystem::path& root, const LoadOptions& options = {});
 
 // D-NeRF: transforms_{train,val,test}.json (val optional, loaded as test views) with per-frame time.

@@ -1,6 +1,8 @@
 // `style4d synth`'s dataset writer: renders every camera and frame of the built-in scene and
 // writes it in the DyNeRF / Neu3D layout,
 //   DIR/camNN/NNNN.png   RGB 8-bit, camera NN (from 00), frame NNNN (from 0000), t = frame / (frames - 1)
+//   DIR/camNN.mp4        instead, with `video`: all frames of camera NN as MPEG-4 Part 2 (mp4v) at
+//                        30 fps; lossy (see s4d/data/video_writer.h)
 //   DIR/poses_bounds.npy float64 [cams, 17]: LLFF 3x5 (down, right, back | centre | H, W, focal), near, far
 //   DIR/points3D.ply     coloured surface points at t = 0 for Gaussian initialisation
 //   DIR/scene.json       the scene, the parameters, the intrinsics and the conventions
@@ -19,6 +21,7 @@ struct SynthOptions {
   uint64_t seed = 0;
   int samples_per_axis = 2;
   int points = 4000;
+  bool video = false;  // camNN.mp4 videos instead of camNN/ frame folders; needs even width and height
 };
 
 // Throws std::invalid_argument naming the bad value.
