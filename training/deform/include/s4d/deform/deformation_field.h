@@ -79,6 +79,8 @@ class DeformationField {
   engine::Buffer& mlp() { return mlp_; }
   const engine::Buffer& planes() const { return planes_; }
   const engine::Buffer& mlp() const { return mlp_; }
+  engine::Buffer& v_planes() { return v_planes_; }
+  engine::Buffer& v_mlp() { return v_mlp_; }
   const engine::Buffer& v_planes() const { return v_planes_; }
   const engine::Buffer& v_mlp() const { return v_mlp_; }
   uint32_t plane_floats() const { return gpu::deform_planes_total(shape_); }
