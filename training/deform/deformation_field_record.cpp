@@ -13,26 +13,31 @@ namespace {
 using primitives::ceil_div;
 using primitives::shader_pipeline;
 
-// Loop iterations one deform_bwd invocation runs, an upper bound: per layer the forward recompute,
-// the input cotangent and the weight reduction each visit every weight; per level and plane the
-// field visits each channel's taps and the other five planes. The compare-and-swap variant loops
-// at least once per atomic (shared per weight, global per weight and per plane tap).
-uint64_t backward_loop_bound(const gpu::DeformShape& s, bool cas) {
+// Loop iterations one invocation runs, an upper bound. Per Linear(in -> out) each pass (forward,
+// input cotangent, weight reduction) runs at most 2 (in + 1) out iterations, inner and outer loops
+// together, so the MLP costs at most 2 weights per pass: 1 pass forward, 3 backward. The field visits,
+// per level and plane, each channel's taps and the other five planes. The compare-and-swap variant
+// loops at least once per atomic (shared and global per weight, global per plane tap).
+// About 2x conservative: with C = 4, 2 levels and all heads, lavapipe's deform_bwd breaks between
+// W = 52 and W = 56 (bounds 123k and 140k), the compare-and-swap one between 44 and 48 (122k, 142k).
+uint64_t loop_bound(const gpu::DeformShape& s, bool backward, bool cas) {
   const uint64_t weights = gpu::deform_mlp_total(s);
   const uint64_t field = uint64_t{s.levels} * S4D_DEFORM_PLANES * s.channels * (S4D_DEFORM_PLANES + 4);
-  return 3 * weights + field + (cas ? 2 * weights + field : 0) + 1000;
+  if (!backward) return 2 * weights + field + 1000;
+  return 6 * weights + 2 * field + (cas ? 2 * weights + field : 0) + 1000;
 }
 
 // llvmpipe ends a shader invocation after 65535 loop iterations in total and says nothing (Mesa
-// 22.3, see README "lavapipe caveat"): refuse fields whose backward could get there.
-void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, bool cas, const std::string& name) {
+// 22.3, see README "lavapipe caveat"): refuse fields whose kernels could get there.
+void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, bool backward, bool cas,
+                    const std::string& name) {
   if (info.driver_name != "llvmpipe") return;
-  const uint64_t bound = backward_loop_bound(s, cas);
+  const uint64_t bound = loop_bound(s, backward, cas);
   if (bound > 65535)
-    throw std::runtime_error(name + ": an MLP of " + std::to_string(gpu::deform_mlp_total(s)) +
-                             " floats needs up to " + std::to_string(bound) +
-                             " loop iterations per Gaussian, more than lavapipe runs correctly (65535); use a smaller "
-                             "width or fewer heads, or a GPU");
+    throw std::runtime_error(name + ": an MLP of " + std::to_string(gpu::deform_mlp_total(s)) + " floats needs up to " +
+                             std::to_string(bound) + " loop iterations per Gaussian in " +
+                             (backward ? "deform_bwd" : "deform_fwd") +
+                             ", more than lavapipe runs correctly (65535); use a smaller width or fewer heads, or a GPU");
 }
 
 void require(const engine::Buffer* b, const char* what, size_t bytes, const std::string& name) {
@@ -85,6 +90,7 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
       require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+  check_llvmpipe(ctx_->info(), shape_, false, false, name_);
   if (g.count == 0) return;
   // Bindings of heads that are off (and of an absent mask) are never accessed; the means stand in.
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
@@ -106,7 +112,7 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       require(grads[h], (std::string("v_") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
-  check_llvmpipe(info, shape_, !float_atomics, name_);
+  check_llvmpipe(info, shape_, true, !float_atomics, name_);
   if (g.count == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
