@@ -10,6 +10,7 @@
 // Static (masked) and out-of-range invocations run the same loops with zero cotangents: the
 // subgroup and workgroup reductions need every invocation.
 // S4D_FLOAT_ATOMICS=1 adds with float atomics (buffer and shared); 0 with compare-and-swap loops.
+// Specialization constants S4D_DEFORM_SPEC_* size the private arrays (capacity only, never results).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -75,7 +76,8 @@ float shared_value(uint k) { return uintBitsToFloat(s_acc[k]); }
 #include "deform_field.glsl"
 
 float g_v[ACT_SIZE];  // cotangents, same segments as g_act (of the pre-activations)
-float g_samples[S4D_DEFORM_PLANES * S4D_DEFORM_MAX_CHANNELS];
+layout(constant_id = S4D_DEFORM_SPEC_CHANNELS) const uint CHANNELS_CAP = S4D_DEFORM_MAX_CHANNELS;
+float g_samples[S4D_DEFORM_PLANES * CHANNELS_CAP];
 
 // Weight and bias gradients of the Linear(in_dim -> out_dim) at mlp[offset] whose input is g_act[in_at ..]
 // (through ReLU if relu_in) and output cotangent g_v[out_at ..], summed over the workgroup.

@@ -4,6 +4,8 @@
 // canonical parameter and written to the deformed output. Gaussians flagged in the static mask (when
 // S4D_DEFORM_HAS_MASK) are copied unchanged. Outputs of heads that are off are not written.
 // MLP weights are read from the storage buffer at uniform addresses (the same for every invocation).
+// Specialization constants S4D_DEFORM_SPEC_FEAT / _WIDTH / _TRUNK size the private activation array
+// (deform_mlp.glsl); they change capacity only, never results.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_deform.h"

@@ -4,14 +4,20 @@
 // Every activation of the Gaussian lives in one private array g_act with fixed segments: the
 // features, the trunk's pre-activations (one W-segment per trunk layer), the current head's hidden
 // pre-activation and its output. Layers read a segment (optionally through ReLU) and write another,
-// so one linear_fwd serves every layer; deform_bwd keeps the cotangents in the same layout.
+// so one linear_fwd serves every layer; deform_bwd keeps the cotangents in the same layout. The
+// segment capacities are specialization constants (S4D_DEFORM_SPEC_*), set by the host to the
+// field's sizes; the defaults are the limits of s4d_deform.h.
 #ifndef DEFORM_MLP_GLSL
 #define DEFORM_MLP_GLSL
 
+layout(constant_id = S4D_DEFORM_SPEC_FEAT) const uint FEAT_CAP = S4D_DEFORM_MAX_FEAT;
+layout(constant_id = S4D_DEFORM_SPEC_WIDTH) const uint WIDTH_CAP = S4D_DEFORM_MAX_WIDTH;
+layout(constant_id = S4D_DEFORM_SPEC_TRUNK) const uint TRUNK_CAP = S4D_DEFORM_MAX_TRUNK_EXTRA + 1;
+
 #define ACT_FEAT 0u
-#define ACT_Z(e) (uint(S4D_DEFORM_MAX_FEAT) + (e) * uint(S4D_DEFORM_MAX_WIDTH))
-#define ACT_Y1 ACT_Z(uint(S4D_DEFORM_MAX_TRUNK_EXTRA) + 1u)
-#define ACT_Y2 (ACT_Y1 + uint(S4D_DEFORM_MAX_WIDTH))
+#define ACT_Z(e) (FEAT_CAP + (e) * WIDTH_CAP)
+#define ACT_Y1 (FEAT_CAP + TRUNK_CAP * WIDTH_CAP)
+#define ACT_Y2 (ACT_Y1 + WIDTH_CAP)
 #define ACT_SIZE (ACT_Y2 + 3u * uint(S4D_DEFORM_SH_COEFFS))
 
 float g_act[ACT_SIZE];

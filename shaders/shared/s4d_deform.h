@@ -54,7 +54,7 @@
 #define S4D_DEFORM_HEADS_DYNERF 31u  // dx, ds, dr, do, dshs (the DyNeRF config)
 #define S4D_DEFORM_SH_COEFFS 16      // the sh head deforms all 16 degree-3 coefficients
 
-// Limits: the kernels keep per-Gaussian activations in private arrays of these sizes.
+// Limits: the kernels keep per-Gaussian activations in private arrays of at most these sizes.
 // 4DGaussians uses C 16/32, 2 levels, W 64/128 and no extra trunk layer.
 #define S4D_DEFORM_MAX_LEVELS 4        // multires is a uvec4
 #define S4D_DEFORM_MAX_CHANNELS 32
@@ -62,6 +62,13 @@
 #define S4D_DEFORM_MAX_WIDTH 128
 #define S4D_DEFORM_MAX_TRUNK_EXTRA 3
 #define S4D_DEFORM_MIN_RESOLUTION 3    // bilinear needs 2 texels, the second difference 3
+
+// Specialization constants of deform_fwd and deform_bwd: the private arrays' capacities, set by the
+// host to the field's own sizes (smaller arrays compile faster and spill less); defaults are the limits.
+#define S4D_DEFORM_SPEC_FEAT 0       // >= C * levels
+#define S4D_DEFORM_SPEC_WIDTH 1      // >= W
+#define S4D_DEFORM_SPEC_TRUNK 2      // >= trunk_extra + 1
+#define S4D_DEFORM_SPEC_CHANNELS 3   // >= C
 
 #define S4D_DEFORM_WG 64               // deform_fwd / deform_bwd: one invocation per Gaussian
 #define S4D_DEFORM_REG_WG 256          // deform_reg: one invocation per plane element

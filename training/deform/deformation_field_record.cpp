@@ -40,6 +40,16 @@ void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, b
                              ", more than lavapipe runs correctly (65535); use a smaller width or fewer heads, or a GPU");
 }
 
+// deform_fwd / deform_bwd specialised to this field's sizes (their private arrays' capacities).
+const engine::Pipeline& sized_pipeline(engine::Context& ctx, shaders::Id id, const gpu::DeformShape& s) {
+  const shaders::Entry& e = shaders::get(id);
+  return ctx.pipeline(e.name, e.spirv(),
+                      {{S4D_DEFORM_SPEC_FEAT, gpu::deform_feat_dim(s)},
+                       {S4D_DEFORM_SPEC_WIDTH, s.width},
+                       {S4D_DEFORM_SPEC_TRUNK, s.trunk_extra + 1},
+                       {S4D_DEFORM_SPEC_CHANNELS, s.channels}});
+}
+
 void require(const engine::Buffer* b, const char* what, size_t bytes, const std::string& name) {
   if (b == nullptr) throw std::invalid_argument(name + ": buffer '" + what + "' is required");
   if (b->size() < bytes)
@@ -95,7 +105,7 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   // Bindings of heads that are off (and of an absent mask) are never accessed; the means stand in.
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   rec.begin_label(name_ + " deform_fwd");
-  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_fwd),
+  rec.dispatch(sized_pipeline(*ctx_, shaders::Id::deform_fwd, shape_),
                {planes_, mlp_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh), in(g.static_mask),
                 in(out.means), in(out.log_scales), in(out.quats), in(out.opacity_logits), in(out.sh)},
                params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
@@ -116,7 +126,7 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
   if (g.count == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
-  rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas),
+  rec.dispatch(sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas, shape_),
                {planes_, mlp_, *g.means, in(g.static_mask), *v.v_means, in(v.v_log_scales), in(v.v_quats),
                 in(v.v_opacity_logits), in(v.v_sh), v_planes_, v_mlp_},
                params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
