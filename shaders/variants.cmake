@@ -20,4 +20,8 @@ set(S4D_SHADER_VARIANTS
   "loss_grad|loss/loss_grad.comp"
   "adam_step|optim/adam_step.comp"
   "blend_ceiling|bench/blend_ceiling.comp"
+  "deform_fwd|deform/deform_fwd.comp"
+  "deform_bwd|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=1"
+  "deform_bwd_cas|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=0"
+  "deform_reg|deform/deform_reg.comp"
 )

@@ -11,6 +11,7 @@
 #include "s4d/engine/spirv_reflect.h"
 #include "s4d/shader_registry.h"
 #include "s4d_bench.h"
+#include "s4d_deform.h"
 #include "s4d_loss.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
@@ -34,6 +35,9 @@ static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PU
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
 static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(DeformShape) == 64);
+static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(DeformRegParams) == 80 && sizeof(DeformRegParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -67,6 +71,16 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(BlendCeilingParams, S4D_MEMBER(BlendCeilingParams, size), S4D_MEMBER(BlendCeilingParams, background),
                  S4D_MEMBER(BlendCeilingParams, list_length), S4D_MEMBER(BlendCeilingParams, _pad0),
                  S4D_MEMBER(BlendCeilingParams, _pad1), S4D_MEMBER(BlendCeilingParams, _pad2)),
+      S4D_STRUCT(DeformShape, S4D_MEMBER(DeformShape, resolution), S4D_MEMBER(DeformShape, multires),
+                 S4D_MEMBER(DeformShape, levels), S4D_MEMBER(DeformShape, channels), S4D_MEMBER(DeformShape, width),
+                 S4D_MEMBER(DeformShape, trunk_extra), S4D_MEMBER(DeformShape, heads), S4D_MEMBER(DeformShape, _pad0),
+                 S4D_MEMBER(DeformShape, _pad1), S4D_MEMBER(DeformShape, _pad2)),
+      S4D_STRUCT(DeformParams, S4D_MEMBER(DeformParams, shape), S4D_MEMBER(DeformParams, aabb_max),
+                 S4D_MEMBER(DeformParams, aabb_scale), S4D_MEMBER(DeformParams, n), S4D_MEMBER(DeformParams, sh_coeffs),
+                 S4D_MEMBER(DeformParams, flags), S4D_MEMBER(DeformParams, time)),
+      S4D_STRUCT(DeformRegParams, S4D_MEMBER(DeformRegParams, shape), S4D_MEMBER(DeformRegParams, elements),
+                 S4D_MEMBER(DeformRegParams, w_plane_tv), S4D_MEMBER(DeformRegParams, w_time_smoothness),
+                 S4D_MEMBER(DeformRegParams, w_l1_time)),
   };
 }
 

@@ -1,0 +1,209 @@
+// Shared layouts of the 4DGaussians deformation field F(x, y, z, t) (ALGORITHMS.md 3.1-3.2): a
+// multi-resolution HexPlane feeding a small MLP whose heads offset the canonical Gaussians' raw
+// parameters. The kernels (shaders/deform), the host class (training/deform) and the CPU twin
+// (training/ref/include/s4d/ref/hexplane_ref.h, deform_mlp_ref.h, deform_ref.h) all take the plane
+// and weight offsets from the functions below, so there is one definition of both layouts.
+//
+// Planes. Plane p pairs coordinates (u, v) = (S4D_DEFORM_PLANE_AXIS_U(p), S4D_DEFORM_PLANE_AXIS_V(p))
+// of (x, y, z, t) = (0, 1, 2, 3), in 4DGaussians' order 0 = xy, 1 = xz, 2 = xt, 3 = yz, 4 = yt, 5 = zt.
+// Width indexes u, height indexes v (PyTorch's [1, C, R_v, R_u]). Level l has spatial resolution
+// resolution.xyz * multires[l]; the time resolution resolution.w is not multiplied. Storage, one flat
+// float buffer: level-major, then plane 0..5, each plane [R_v, R_u, C] with the C channels innermost
+// (one contiguous read per texel; PyTorch's channel-first planes need a transpose on import).
+//
+// Lookup of a point (x, y, z) at time t (4DGaussians' mapping, kept bit-for-bit so its checkpoints
+// read correctly): u_k = (p_k - aabb_max_k) * (2 / (aabb_min_k - aabb_max_k)) - 1 for k = x, y, z (the
+// AABB maps max to -1 and min to +1: mirrored), and the time coordinate is t itself, unnormalised,
+// so t in [0, 1) uses only the upper half of the time axis. Texel coordinate (align_corners = True)
+// i = (u + 1) / 2 * (R - 1), clamped to [0, R - 1] (border padding); bilinear weights. Within a
+// level the 6 sampled C-vectors multiply element-wise; levels concatenate: feat[l * C + c].
+//
+// MLP, one flat float buffer; every Linear(in -> out) is its weight [out, in] row-major (PyTorch's
+// layout) followed by its bias [out]:
+//   trunk: Linear(F -> W), then trunk_extra x [ReLU, Linear(W -> W)]; no activation after it.
+//          F = C * levels. 4DGaussians' defor_depth D gives trunk_extra = max(D - 1, 0).
+//   heads, in the order pos, scales, rotations, opacity, sh, only those set in `heads`: each
+//          ReLU -> Linear(W -> W) -> ReLU -> Linear(W -> out) on the trunk output.
+// Head outputs add to the raw parameters: means += pos, log_scales += scales, quats (w, x, y, z) +=
+// rotations, opacity logit += opacity, sh[k * 3 + c] += sh head (16 coefficients x 3, coefficient-major).
+#ifndef S4D_DEFORM_H
+#define S4D_DEFORM_H
+#include "s4d_common.h"
+
+#ifdef __cplusplus
+#define S4D_DEFORM_FN inline constexpr
+#else
+#define S4D_DEFORM_FN
+#endif
+
+#define S4D_DEFORM_PLANES 6
+// Plane p's axes packed 4 bits per plane: u in bits 0-1, v in bits 2-3 (xy, xz, xt, yz, yt, zt).
+#define S4D_DEFORM_PLANE_AXES 0xED9C84u
+#define S4D_DEFORM_PLANE_AXIS_U(p) ((S4D_DEFORM_PLANE_AXES >> (4u * (p))) & 3u)
+#define S4D_DEFORM_PLANE_AXIS_V(p) ((S4D_DEFORM_PLANE_AXES >> (4u * (p) + 2u)) & 3u)
+#define S4D_DEFORM_TIME_AXIS 3u  // a plane whose v axis is time is a time plane (xt, yt, zt)
+
+// Heads (bits of DeformShape.heads) and their output sizes.
+#define S4D_DEFORM_HEADS 5
+#define S4D_DEFORM_HEAD_POS 1u
+#define S4D_DEFORM_HEAD_SCALES 2u
+#define S4D_DEFORM_HEAD_ROTATIONS 4u
+#define S4D_DEFORM_HEAD_OPACITY 8u
+#define S4D_DEFORM_HEAD_SH 16u
+#define S4D_DEFORM_HEADS_DNERF 7u    // dx, ds, dr (4DGaussians' no_do = no_dshs = True)
+#define S4D_DEFORM_HEADS_DYNERF 31u  // dx, ds, dr, do, dshs (the DyNeRF config)
+#define S4D_DEFORM_SH_COEFFS 16      // the sh head deforms all 16 degree-3 coefficients
+
+// Limits: the kernels keep per-Gaussian activations in private arrays of at most these sizes.
+// 4DGaussians uses C 16/32, 2 levels, W 64/128 and no extra trunk layer.
+#define S4D_DEFORM_MAX_LEVELS 4        // multires is a uvec4
+#define S4D_DEFORM_MAX_CHANNELS 32
+#define S4D_DEFORM_MAX_FEAT 128        // C * levels
+#define S4D_DEFORM_MAX_WIDTH 128
+#define S4D_DEFORM_MAX_TRUNK_EXTRA 3
+#define S4D_DEFORM_MIN_RESOLUTION 3    // bilinear needs 2 texels, the second difference 3
+
+// Specialization constants of deform_fwd and deform_bwd: the private arrays' capacities, set by the
+// host to the field's own sizes (smaller arrays compile faster and spill less); defaults are the limits.
+#define S4D_DEFORM_SPEC_FEAT 0       // >= C * levels
+#define S4D_DEFORM_SPEC_WIDTH 1      // >= W
+#define S4D_DEFORM_SPEC_TRUNK 2      // >= trunk_extra + 1
+#define S4D_DEFORM_SPEC_CHANNELS 3   // >= C
+
+#define S4D_DEFORM_WG 64               // deform_fwd / deform_bwd: one invocation per Gaussian
+#define S4D_DEFORM_REG_WG 256          // deform_reg: one invocation per plane element
+// deform_bwd reduces MLP weight gradients over its workgroup in shared memory, this many weights at
+// a time (8 KiB of the 32 KiB lavapipe guarantees), then adds each with one atomic.
+#define S4D_DEFORM_GRAD_CHUNK 2048
+
+// Bits of DeformParams.flags.
+#define S4D_DEFORM_HAS_MASK 1u  // the static-mask buffer is bound: Gaussians with mask != 0 are not deformed
+
+// deform_fwd bindings. Per-Gaussian arrays are flat floats (s4d_splat.h layouts).
+#define S4D_B_DFWD_PLANES 0           // [plane floats] f32
+#define S4D_B_DFWD_MLP 1              // [mlp floats] f32
+#define S4D_B_DFWD_MEANS 2            // [N, 3] canonical
+#define S4D_B_DFWD_LOG_SCALES 3       // [N, 3]
+#define S4D_B_DFWD_QUATS 4            // [N, 4] (w, x, y, z)
+#define S4D_B_DFWD_OPACITY_LOGITS 5   // [N]
+#define S4D_B_DFWD_SH 6               // [N, K, 3], K = sh_coeffs
+#define S4D_B_DFWD_MASK 7             // [N] u32, read only with S4D_DEFORM_HAS_MASK
+#define S4D_B_DFWD_OUT_MEANS 8        // deformed outputs, same layouts; written only for heads that are on
+#define S4D_B_DFWD_OUT_LOG_SCALES 9
+#define S4D_B_DFWD_OUT_QUATS 10
+#define S4D_B_DFWD_OUT_OPACITY_LOGITS 11
+#define S4D_B_DFWD_OUT_SH 12
+
+// deform_bwd bindings.
+#define S4D_B_DBWD_PLANES 0
+#define S4D_B_DBWD_MLP 1
+#define S4D_B_DBWD_MEANS 2            // [N, 3] canonical
+#define S4D_B_DBWD_MASK 3             // [N] u32, read only with S4D_DEFORM_HAS_MASK
+#define S4D_B_DBWD_V_MEANS 4          // [N, 3] in: dL/d deformed means; out: dL/d canonical means
+#define S4D_B_DBWD_V_LOG_SCALES 5     // [N, 3] dL/d deformed log-scales (read for the scales head)
+#define S4D_B_DBWD_V_QUATS 6          // [N, 4]
+#define S4D_B_DBWD_V_OPACITY_LOGITS 7 // [N]
+#define S4D_B_DBWD_V_SH 8             // [N, K, 3]
+#define S4D_B_DBWD_V_PLANES 9         // [plane floats] accumulated (+=) with atomics
+#define S4D_B_DBWD_V_MLP 10           // [mlp floats] accumulated (+=) with atomics
+
+// deform_reg bindings.
+#define S4D_B_DREG_PLANES 0
+#define S4D_B_DREG_V_PLANES 1         // [plane floats] accumulated (+=), one invocation per element: no atomics
+#define S4D_B_DREG_PARTIALS 2         // [workgroups] f32 weighted regulariser sum of each workgroup
+
+S4D_NAMESPACE_BEGIN
+
+// The field's shape: plane resolutions, channels and MLP sizes.
+struct DeformShape {
+  uvec4 resolution;  // base (R_x, R_y, R_z, R_t), each >= S4D_DEFORM_MIN_RESOLUTION
+  uvec4 multires;    // spatial multiplier of each level; entries past `levels` unused
+  uint levels;       // 1..S4D_DEFORM_MAX_LEVELS
+  uint channels;     // C per plane
+  uint width;        // W of the MLP
+  uint trunk_extra;  // extra [ReLU, Linear(W -> W)] trunk layers
+  uint heads;        // S4D_DEFORM_HEAD_* bits
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+};
+
+// Push constants of deform_fwd and deform_bwd.
+struct DeformParams {
+  DeformShape shape;
+  vec4 aabb_max;    // xyz: the AABB's max corner (4DGaussians' aabb[0]); w unused
+  vec4 aabb_scale;  // xyz: 2 / (aabb_min - aabb_max), computed in float on the host; w unused
+  uint n;           // Gaussians
+  uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
+  uint flags;       // S4D_DEFORM_HAS_MASK
+  float time;       // raw time, used unnormalised as the fourth grid coordinate
+};
+
+// Push constants of deform_reg. Weights as ALGORITHMS.md 3.2: plane_tv on the spatial planes'
+// smoothness, time_smoothness on the time planes', l1_time on mean |1 - P| of the time planes.
+struct DeformRegParams {
+  DeformShape shape;
+  uint elements;    // plane floats in total
+  float w_plane_tv;
+  float w_time_smoothness;
+  float w_l1_time;
+};
+
+// Resolution of axis (0 x, 1 y, 2 z, 3 t) at a level.
+S4D_DEFORM_FN uint deform_axis_res(DeformShape s, uint level, uint axis) {
+  uint m = level == 0u ? s.multires.x : level == 1u ? s.multires.y : level == 2u ? s.multires.z : s.multires.w;
+  return axis == 0u ? s.resolution.x * m : axis == 1u ? s.resolution.y * m : axis == 2u ? s.resolution.z * m
+                                                                                        : s.resolution.w;
+}
+
+S4D_DEFORM_FN uint deform_plane_floats(DeformShape s, uint level, uint plane) {
+  return deform_axis_res(s, level, S4D_DEFORM_PLANE_AXIS_U(plane)) *
+         deform_axis_res(s, level, S4D_DEFORM_PLANE_AXIS_V(plane)) * s.channels;
+}
+
+// First float of (level, plane) in the plane buffer; (s.levels, 0) gives the total.
+S4D_DEFORM_FN uint deform_plane_offset(DeformShape s, uint level, uint plane) {
+  uint offset = 0u;
+  for (uint k = 0u; k < level * uint(S4D_DEFORM_PLANES) + plane; ++k)
+    offset += deform_plane_floats(s, k / uint(S4D_DEFORM_PLANES), k % uint(S4D_DEFORM_PLANES));
+  return offset;
+}
+
+S4D_DEFORM_FN uint deform_planes_total(DeformShape s) { return deform_plane_offset(s, s.levels, 0u); }
+
+S4D_DEFORM_FN uint deform_feat_dim(DeformShape s) { return s.channels * s.levels; }
+
+// Output size of head h (0 pos, 1 scales, 2 rotations, 3 opacity, 4 sh).
+S4D_DEFORM_FN uint deform_head_out(uint h) {
+  return h == 0u ? 3u : h == 1u ? 3u : h == 2u ? 4u : h == 3u ? 1u : 3u * uint(S4D_DEFORM_SH_COEFFS);
+}
+
+S4D_DEFORM_FN bool deform_head_on(DeformShape s, uint h) { return ((s.heads >> h) & 1u) != 0u; }
+
+// Floats of one Linear(in -> out): weight then bias.
+S4D_DEFORM_FN uint deform_linear_floats(uint in_dim, uint out_dim) { return out_dim * in_dim + out_dim; }
+
+// First float of trunk layer e (0: Linear(F -> W); 1..trunk_extra: Linear(W -> W)).
+S4D_DEFORM_FN uint deform_trunk_offset(DeformShape s, uint e) {
+  return e == 0u ? 0u
+                 : deform_linear_floats(deform_feat_dim(s), s.width) + (e - 1u) * deform_linear_floats(s.width, s.width);
+}
+
+S4D_DEFORM_FN uint deform_head_floats(DeformShape s, uint h) {
+  return deform_linear_floats(s.width, s.width) + deform_linear_floats(s.width, deform_head_out(h));
+}
+
+// First float of head h's first layer (its second follows at + deform_linear_floats(W, W)); for a
+// head that is off, where it would start. h = S4D_DEFORM_HEADS gives the MLP's total.
+S4D_DEFORM_FN uint deform_head_offset(DeformShape s, uint h) {
+  uint offset = deform_trunk_offset(s, s.trunk_extra + 1u);
+  for (uint k = 0u; k < h; ++k)
+    if (deform_head_on(s, k)) offset += deform_head_floats(s, k);
+  return offset;
+}
+
+S4D_DEFORM_FN uint deform_mlp_total(DeformShape s) { return deform_head_offset(s, uint(S4D_DEFORM_HEADS)); }
+
+S4D_NAMESPACE_END
+
+#endif  // S4D_DEFORM_H

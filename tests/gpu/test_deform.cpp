@@ -1,0 +1,309 @@
+// The deformation field kernels (deform_fwd, deform_bwd, deform_bwd_cas, deform_reg) against the
+// double CPU twin on lavapipe: a small random field (8^3 x 6 base planes, 2 levels, C = 4, W = 16, one
+// extra trunk layer, all five heads) and 300 Gaussians, some outside the AABB (border clamp) and
+// some static. Each twin is fed the exact float values the GPU holds.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "s4d/deform/deformation_field.h"
+#include "s4d/engine/buffer_from.h"
+#include "s4d/ref/deform_ref.h"
+#include "s4d/ref/hexplane_reg_ref.h"
+#include "test_context.h"
+
+namespace {
+
+using namespace s4d;
+
+constexpr uint32_t kN = 300;  // five workgroups of 64, the last one partial
+constexpr float kTime = 0.37f;
+
+std::vector<float> uniform(size_t n, std::mt19937& rng, float lo, float hi) {
+  std::uniform_real_distribution<float> u(lo, hi);
+  std::vector<float> v(n);
+  for (float& x : v) x = u(rng);
+  return v;
+}
+
+std::vector<double> to_double(const std::vector<float>& v) { return {v.begin(), v.end()}; }
+
+deform::FieldConfig test_config() {
+  deform::FieldConfig c;
+  c.resolution = {8, 8, 8, 6};
+  c.multires = {1, 2};
+  c.channels = 4;
+  c.width = 16;
+  c.trunk_extra = 1;
+  c.heads = S4D_DEFORM_HEADS_DYNERF;
+  c.aabb_min = {-1.0f, -2.0f, 0.5f};
+  c.aabb_max = {1.5f, 1.0f, 2.5f};
+  return c;
+}
+
+// Host copies of the Gaussians and their device buffers.
+struct Scene {
+  ref::DeformGaussians<float> host;
+  engine::Buffer means, log_scales, quats, opacity, sh, mask;
+  deform::CanonicalGaussians canonical() const {
+    return {&means, &log_scales, &quats, &opacity, &sh, &mask, kN, S4D_DEFORM_SH_COEFFS};
+  }
+};
+
+Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_every) {
+  std::mt19937 rng(seed);
+  Scene s;
+  for (uint32_t i = 0; i < kN; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const float margin = i % 10 == 3 ? -0.3f : 0.02f;  // every tenth Gaussian outside the AABB
+      s.host.means.push_back(uniform(1, rng, c.aabb_min[k] + margin, c.aabb_max[k] - margin)[0]);
+    }
+  s.host.log_scales = uniform(3 * kN, rng, -3, -1);
+  s.host.quats = uniform(4 * kN, rng, -1, 1);
+  s.host.opacity_logits = uniform(kN, rng, -2, 2);
+  s.host.sh = uniform(kN * 3 * S4D_DEFORM_SH_COEFFS, rng, -0.5f, 0.5f);
+  for (uint32_t i = 0; i < kN; ++i) s.host.static_mask.push_back(static_every != 0 && i % static_every == 0 ? 1u : 0u);
+  engine::Context& ctx = test::context();
+  s.means = engine::buffer_from(ctx, "means", s.host.means);
+  s.log_scales = engine::buffer_from(ctx, "log_scales", s.host.log_scales);
+  s.quats = engine::buffer_from(ctx, "quats", s.host.quats);
+  s.opacity = engine::buffer_from(ctx, "opacity_logits", s.host.opacity_logits);
+  s.sh = engine::buffer_from(ctx, "sh", s.host.sh);
+  s.mask = engine::buffer_from(ctx, "static_mask", s.host.static_mask);
+  return s;
+}
+
+// A field on the GPU with planes around 1 (so the 6-fold products stay O(1)) and its double twin.
+struct Field {
+  deform::DeformationField gpu;
+  ref::DeformField<double> twin;
+};
+
+Field make_field(const deform::FieldConfig& c, unsigned seed, deform::DeformOptions options = {}) {
+  Field f{deform::DeformationField(test::context(), c, seed, "test field", options), {}};
+  std::mt19937 rng(seed);
+  f.gpu.upload_planes(uniform(f.gpu.plane_floats(), rng, 0.6f, 1.4f));
+  f.twin.shape = f.gpu.shape();
+  const std::array<float, 3> scale = deform::aabb_scale(c);
+  for (int k = 0; k < 3; ++k) f.twin.aabb_max[k] = c.aabb_max[k], f.twin.aabb_scale[k] = scale[k];
+  f.twin.planes = to_double(f.gpu.download_planes());
+  f.twin.mlp = to_double(f.gpu.download_mlp());
+  return f;
+}
+
+ref::DeformGaussians<double> to_double(const ref::DeformGaussians<float>& g) {
+  return {to_double(g.means), to_double(g.log_scales), to_double(g.quats), to_double(g.opacity_logits),
+          to_double(g.sh), g.static_mask};
+}
+
+// Largest |gpu - ref| relative to the largest |ref| (NaN or Inf fail it).
+double max_rel(const std::vector<float>& gpu, const std::vector<double>& ref) {
+  REQUIRE(gpu.size() == ref.size());
+  double worst = 0, scale = 1e-30;
+  for (size_t k = 0; k < gpu.size(); ++k) {
+    REQUIRE(std::isfinite(gpu[k]));
+    worst = std::max(worst, std::abs(gpu[k] - ref[k]));
+    scale = std::max(scale, std::abs(ref[k]));
+  }
+  return worst / scale;
+}
+
+struct Deformed {
+  engine::Buffer means, log_scales, quats, opacity, sh;
+  deform::DeformedGaussians view() { return {&means, &log_scales, &quats, &opacity, &sh}; }
+};
+
+Deformed run_forward(const Field& f, const Scene& s) {
+  engine::Context& ctx = test::context();
+  Deformed d{engine::Buffer(ctx, "out means", kN * 12), engine::Buffer(ctx, "out log_scales", kN * 12),
+             engine::Buffer(ctx, "out quats", kN * 16), engine::Buffer(ctx, "out opacity", kN * 4),
+             engine::Buffer(ctx, "out sh", kN * 3 * S4D_DEFORM_SH_COEFFS * 4)};
+  engine::Recorder rec(ctx, "deform forward");
+  f.gpu.record_forward(rec, s.canonical(), kTime, d.view());
+  ctx.run(std::move(rec));
+  return d;
+}
+
+// Random cotangents of the deformed parameters, on the host and the device.
+struct Cotangents {
+  ref::DeformGaussians<float> host;
+  engine::Buffer v_means, v_log_scales, v_quats, v_opacity, v_sh;
+  deform::DeformedGrads view() { return {&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}; }
+};
+
+Cotangents make_cotangents(unsigned seed) {
+  std::mt19937 rng(seed);
+  Cotangents v;
+  v.host.means = uniform(3 * kN, rng, -1, 1);
+  v.host.log_scales = uniform(3 * kN, rng, -1, 1);
+  v.host.quats = uniform(4 * kN, rng, -1, 1);
+  v.host.opacity_logits = uniform(kN, rng, -1, 1);
+  v.host.sh = uniform(kN * 3 * S4D_DEFORM_SH_COEFFS, rng, -1, 1);
+  engine::Context& ctx = test::context();
+  v.v_means = engine::buffer_from(ctx, "v_means", v.host.means);
+  v.v_log_scales = engine::buffer_from(ctx, "v_log_scales", v.host.log_scales);
+  v.v_quats = engine::buffer_from(ctx, "v_quats", v.host.quats);
+  v.v_opacity = engine::buffer_from(ctx, "v_opacity_logits", v.host.opacity_logits);
+  v.v_sh = engine::buffer_from(ctx, "v_sh", v.host.sh);
+  return v;
+}
+
+void run_backward(Field& f, const Scene& s, Cotangents& v) {
+  engine::Context& ctx = test::context();
+  engine::Recorder rec(ctx, "deform backward");
+  f.gpu.record_zero_grads(rec);
+  rec.barrier();
+  f.gpu.record_backward(rec, s.canonical(), kTime, v.view());
+  ctx.run(std::move(rec));
+}
+
+// The GPU backward against the twin: v_means (in place), v_planes, v_mlp.
+void check_backward(deform::DeformOptions options) {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 21, options);
+  Scene s = make_scene(c, 22, 7);
+  Cotangents v = make_cotangents(23);
+  run_backward(f, s, v);
+  const ref::DeformGrads<double> r = ref::deform_backward(f.twin, to_double(s.host), double(kTime), to_double(v.host));
+  engine::Context& ctx = test::context();
+  // Float accumulation over 300 Gaussians in atomic order against double. Measured worst on lavapipe
+  // (Mesa 22.3.6), relative to the largest entry: v_means 5.3e-7, v_planes 9.4e-7, v_mlp 2.6e-7
+  // (float atomics and CAS alike); 1e-5 leaves room for other summation orders.
+  CHECK(max_rel(ctx.download<float>(v.v_means, 3 * kN), r.v.means) < 1e-5);
+  CHECK(max_rel(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), r.v_planes) < 1e-5);
+  CHECK(max_rel(ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats()), r.v_mlp) < 1e-5);
+}
+
+}  // namespace
+
+TEST_CASE("deform_fwd matches the twin: every head's output, static Gaussians copied unchanged") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 1);
+  Scene s = make_scene(c, 2, 5);
+  Deformed d = run_forward(f, s);
+  const ref::DeformGaussians<double> r = ref::deform_forward(f.twin, to_double(s.host), double(kTime));
+  engine::Context& ctx = test::context();
+  const std::vector<float> means = ctx.download<float>(d.means, 3 * kN), sh = ctx.download<float>(d.sh, 48 * kN);
+  // Float features and a 4-layer float MLP against double. Measured worst on lavapipe (Mesa 22.3.6),
+  // relative to the largest output: means 1.1e-7, log_scales 1.5e-7, quats 2.5e-7, opacity 1.0e-7, sh 4.1e-7.
+  CHECK(max_rel(means, r.means) < 2e-6);
+  CHECK(max_rel(ctx.download<float>(d.log_scales, 3 * kN), r.log_scales) < 2e-6);
+  CHECK(max_rel(ctx.download<float>(d.quats, 4 * kN), r.quats) < 2e-6);
+  CHECK(max_rel(ctx.download<float>(d.opacity, kN), r.opacity_logits) < 2e-6);
+  CHECK(max_rel(sh, r.sh) < 2e-6);
+  for (uint32_t i = 0; i < kN; i += 5) {  // static: bit-for-bit copies
+    for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == s.host.means[3 * i + k]);
+    for (int k = 0; k < 48; ++k) REQUIRE(sh[48 * i + k] == s.host.sh[48 * i + k]);
+  }
+  // Non-static Gaussians do move.
+  CHECK(std::abs(means[3] - s.host.means[3]) > 1e-4);
+}
+
+TEST_CASE("deform_fwd is deterministic: a rerun gives identical bits") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 3);
+  Scene s = make_scene(c, 4, 0);
+  Deformed a = run_forward(f, s), b = run_forward(f, s);
+  engine::Context& ctx = test::context();
+  CHECK(ctx.download<float>(a.means, 3 * kN) == ctx.download<float>(b.means, 3 * kN));
+  CHECK(ctx.download<float>(a.quats, 4 * kN) == ctx.download<float>(b.quats, 4 * kN));
+  CHECK(ctx.download<float>(a.sh, 48 * kN) == ctx.download<float>(b.sh, 48 * kN));
+}
+
+TEST_CASE("deform_fwd with the D-NeRF heads writes only means, log_scales and quats") {
+  deform::FieldConfig c = test_config();
+  c.heads = S4D_DEFORM_HEADS_DNERF;
+  c.trunk_extra = 0;
+  Field f = make_field(c, 5);
+  Scene s = make_scene(c, 6, 0);
+  engine::Context& ctx = test::context();
+  engine::Buffer means(ctx, "out means", kN * 12), scales(ctx, "out log_scales", kN * 12), quats(ctx, "out quats", kN * 16);
+  engine::Recorder rec(ctx, "deform forward dnerf");
+  f.gpu.record_forward(rec, s.canonical(), kTime, {&means, &scales, &quats, nullptr, nullptr});
+  ctx.run(std::move(rec));
+  const ref::DeformGaussians<double> r = ref::deform_forward(f.twin, to_double(s.host), double(kTime));
+  CHECK(max_rel(ctx.download<float>(means, 3 * kN), r.means) < 2e-6);  // measured 2.2e-7 (quats 3.5e-7)
+  CHECK(max_rel(ctx.download<float>(quats, 4 * kN), r.quats) < 2e-6);
+  CHECK(ctx.download<float>(s.opacity, kN) == s.host.opacity_logits);  // the canonical input is untouched
+}
+
+TEST_CASE("deform_bwd matches the twin: canonical means, planes, MLP weights and biases") {
+  check_backward({});
+}
+
+TEST_CASE("deform_bwd_cas (compare-and-swap adds) matches the twin") {
+  check_backward({.force_cas_atomics = true});
+}
+
+TEST_CASE("static Gaussians give the field no gradient and keep their cotangents (deform_bwd)") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 31);
+  Scene s = make_scene(c, 32, 1);  // every Gaussian static
+  Cotangents v = make_cotangents(33);
+  run_backward(f, s, v);
+  engine::Context& ctx = test::context();
+  const std::vector<float> v_planes = ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats());
+  const std::vector<float> v_mlp = ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats());
+  CHECK(std::all_of(v_planes.begin(), v_planes.end(), [](float x) { return x == 0.0f; }));
+  CHECK(std::all_of(v_mlp.begin(), v_mlp.end(), [](float x) { return x == 0.0f; }));
+  CHECK(ctx.download<float>(v.v_means, 3 * kN) == v.host.means);
+}
+
+TEST_CASE("deform_reg matches the twin: regulariser value and accumulated plane gradient") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 41);
+  engine::Context& ctx = test::context();
+  std::mt19937 rng(42);
+  const std::vector<float> existing = uniform(f.gpu.plane_floats(), rng, -1, 1);
+  ctx.upload(f.gpu.v_planes(), std::span<const float>(existing));
+  const deform::RegulariserWeights w{.plane_tv = 2e-4f, .time_smoothness = 1e-3f, .l1_time_planes = 1e-4f};
+  engine::Recorder rec(ctx, "deform regularisers");
+  f.gpu.record_regularisers(rec, w);
+  ctx.run(std::move(rec));
+  std::vector<double> grad = to_double(existing);
+  const double value = ref::hexplane_regularisers(
+      f.twin.shape, f.twin.planes, {.plane_tv = w.plane_tv, .time_smoothness = w.time_smoothness, .l1_time = w.l1_time_planes},
+      &grad);
+  // Float workgroup sums of ~10^4 terms, summed in double: measured 3.6e-9 relative.
+  CHECK(f.gpu.regulariser_value() == doctest::Approx(value).epsilon(1e-6));
+  // Gradients of O(1e-4) added to O(1) values: measured 3.0e-8 relative to the largest entry.
+  CHECK(max_rel(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), grad) < 1e-6);
+}
+
+TEST_CASE("deformation field errors name the field and the buffer") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 51);
+  Scene s = make_scene(c, 52, 0);
+  engine::Context& ctx = test::context();
+  engine::Buffer small(ctx, "small", 16);
+  Deformed d = run_forward(f, s);
+  engine::Recorder rec(ctx, "errors");
+  deform::CanonicalGaussians g = s.canonical();
+  g.sh_coeffs = 9;
+  CHECK_THROWS_WITH_AS(f.gpu.record_forward(rec, g, kTime, d.view()), "test field: the sh head needs sh_coeffs = 16, got 9",
+                       std::invalid_argument);
+  deform::DeformedGaussians out = d.view();
+  out.quats = &small;
+  CHECK_THROWS_WITH_AS(f.gpu.record_forward(rec, s.canonical(), kTime, out),
+                       "test field: buffer 'deformed quats' (small) holds 16 bytes, needs 4800", std::invalid_argument);
+  CHECK_THROWS_AS(f.gpu.upload_mlp(std::vector<float>(3)), std::invalid_argument);
+}
+
+TEST_CASE("on lavapipe, deform_fwd and deform_bwd refuse MLPs past llvmpipe's loop limit") {
+  engine::Context& ctx = test::context();
+  if (ctx.info().driver_name != "llvmpipe") return;
+  deform::FieldConfig c = test_config();
+  c.width = 128;  // the DyNeRF width: ~100k MLP floats
+  deform::DeformationField f(ctx, c, 61, "wide field");
+  Scene s = make_scene(c, 62, 0);
+  Deformed d = run_forward(make_field(test_config(), 63), s);
+  engine::Recorder rec(ctx, "too wide");
+  CHECK_THROWS_AS(f.record_forward(rec, s.canonical(), kTime, d.view()), std::runtime_error);
+  Cotangents v = make_cotangents(64);
+  CHECK_THROWS_AS(f.record_backward(rec, s.canonical(), kTime, v.view()), std::runtime_error);
+}

@@ -1,0 +1,258 @@
+// CPU twin of the deformation field (hexplane_ref.h, deform_mlp_ref.h, deform_ref.h,
+// hexplane_reg_ref.h): layouts, the 4DGaussians coordinate mapping, every gradient against central
+// finite differences in double with random cotangents, and the initialisation (field_init.h).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "s4d/deform/field_config.h"
+#include "s4d/deform/field_init.h"
+#include "s4d/ref/deform_ref.h"
+#include "s4d/ref/hexplane_reg_ref.h"
+
+namespace {
+
+using namespace s4d;
+
+std::vector<double> uniform(size_t n, std::mt19937& rng, double lo, double hi) {
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<double> v(n);
+  for (double& x : v) x = u(rng);
+  return v;
+}
+
+deform::FieldConfig small_config() {
+  deform::FieldConfig c;
+  c.resolution = {5, 4, 6, 5};
+  c.multires = {1, 2};
+  c.channels = 3;
+  c.width = 6;
+  c.trunk_extra = 1;
+  c.heads = S4D_DEFORM_HEADS_DYNERF;
+  c.aabb_min = {-1.0f, -0.5f, 0.0f};
+  c.aabb_max = {1.0f, 1.5f, 2.0f};
+  return c;
+}
+
+// A field with planes around 1 (so the 6-fold products stay O(1)) and xavier-scale weights.
+ref::DeformField<double> random_field(const deform::FieldConfig& c, unsigned seed) {
+  std::mt19937 rng(seed);
+  ref::DeformField<double> f;
+  f.shape = deform::deform_shape(c);
+  for (int k = 0; k < 3; ++k) {
+    f.aabb_max[k] = c.aabb_max[k];
+    f.aabb_scale[k] = 2.0 / (c.aabb_min[k] - c.aabb_max[k]);
+  }
+  f.planes = uniform(gpu::deform_planes_total(f.shape), rng, 0.5, 1.5);
+  f.mlp = uniform(gpu::deform_mlp_total(f.shape), rng, -0.6, 0.6);
+  return f;
+}
+
+ref::DeformGaussians<double> random_gaussians(const deform::FieldConfig& c, size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  ref::DeformGaussians<double> g;
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) g.means.push_back(uniform(1, rng, c.aabb_min[k] + 0.05, c.aabb_max[k] - 0.05)[0]);
+  g.log_scales = uniform(3 * n, rng, -3, -1);
+  g.quats = uniform(4 * n, rng, -1, 1);
+  g.opacity_logits = uniform(n, rng, -2, 2);
+  g.sh = uniform(n * 3 * S4D_DEFORM_SH_COEFFS, rng, -0.5, 0.5);
+  g.static_mask.assign(n, 0);
+  g.static_mask[1] = 1;  // one static Gaussian: no field term, pure pass-through
+  return g;
+}
+
+// sum of v . deformed over every output array.
+double weighted(const ref::DeformGaussians<double>& out, const ref::DeformGaussians<double>& v) {
+  double sum = 0;
+  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    for (size_t k = 0; k < a.size(); ++k) sum += a[k] * b[k];
+  };
+  dot(out.means, v.means), dot(out.log_scales, v.log_scales), dot(out.quats, v.quats);
+  dot(out.opacity_logits, v.opacity_logits), dot(out.sh, v.sh);
+  return sum;
+}
+
+// Largest |central difference - analytic| over the entries of `x`, relative to the largest |analytic|.
+double fd_worst(std::vector<double>& x, const std::vector<double>& analytic, const std::function<double()>& loss) {
+  double worst = 0, scale = 1e-30;
+  for (size_t k = 0; k < x.size(); ++k) {
+    const double saved = x[k], h = 1e-6 * std::max(1.0, std::abs(saved));
+    x[k] = saved + h;
+    const double lp = loss();
+    x[k] = saved - h;
+    const double lm = loss();
+    x[k] = saved;
+    worst = std::max(worst, std::abs((lp - lm) / (2 * h) - analytic[k]));
+    scale = std::max(scale, std::abs(analytic[k]));
+  }
+  return worst / scale;
+}
+
+}  // namespace
+
+TEST_CASE("deformation layouts: plane axes in 4DGaussians' order, contiguous plane and MLP offsets") {
+  const uint32_t u[6] = {0, 0, 0, 1, 1, 2}, v[6] = {1, 2, 3, 2, 3, 3};  // xy, xz, xt, yz, yt, zt
+  for (uint32_t p = 0; p < 6; ++p) {
+    CHECK(S4D_DEFORM_PLANE_AXIS_U(p) == u[p]);
+    CHECK(S4D_DEFORM_PLANE_AXIS_V(p) == v[p]);
+  }
+  const gpu::DeformShape s = deform::deform_shape(small_config());
+  CHECK(gpu::deform_axis_res(s, 1, 0) == 10);
+  CHECK(gpu::deform_axis_res(s, 1, 3) == 5);  // time is not multiplied
+  uint32_t expected = 0;
+  for (uint32_t l = 0; l < s.levels; ++l)
+    for (uint32_t p = 0; p < 6; ++p) {
+      CHECK(gpu::deform_plane_offset(s, l, p) == expected);
+      expected += gpu::deform_axis_res(s, l, u[p]) * gpu::deform_axis_res(s, l, v[p]) * s.channels;
+    }
+  CHECK(gpu::deform_planes_total(s) == expected);
+  // MLP: trunk 6 -> 6 (+ bias), one extra 6 -> 6, then each head 6 -> 6 -> out.
+  CHECK(gpu::deform_trunk_offset(s, 1) == 42);
+  CHECK(gpu::deform_head_offset(s, 0) == 84);
+  CHECK(gpu::deform_head_offset(s, 1) == 84 + 42 + 21);
+  CHECK(gpu::deform_mlp_total(s) == 84 + 5 * 42 + 7 * (3 + 3 + 4 + 1 + 48));
+  gpu::DeformShape no_scales = s;
+  no_scales.heads = S4D_DEFORM_HEADS_DYNERF & ~S4D_DEFORM_HEAD_SCALES;
+  CHECK(gpu::deform_head_offset(no_scales, 2) == gpu::deform_head_offset(no_scales, 1));  // a head that is off takes no room
+}
+
+TEST_CASE("deformation config errors name the field") {
+  auto message = [](deform::FieldConfig c) {
+    try {
+      deform::deform_shape(c);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  deform::FieldConfig c = small_config();
+  c.resolution[3] = 2;
+  CHECK(message(c).find("resolution.t") != std::string::npos);
+  c = small_config();
+  c.width = 129;
+  CHECK(message(c).find("width") != std::string::npos);
+  c = small_config();
+  c.aabb_max[1] = c.aabb_min[1];
+  CHECK(message(c).find("aabb_max.y") != std::string::npos);
+  c = small_config();
+  c.multires = {1, 2, 3, 4, 5};
+  CHECK(message(c).find("multires") != std::string::npos);
+}
+
+TEST_CASE("hexplane lookup follows 4DGaussians: mirrored AABB, unnormalised time on align_corners texels") {
+  deform::FieldConfig c = small_config();
+  c.multires = {1};
+  c.channels = 1;
+  ref::DeformField<double> f = random_field(c, 1);
+  // Every plane 1, except xy = its x texel index and xt = its t texel index: feature = i_x * i_t.
+  std::fill(f.planes.begin(), f.planes.end(), 1.0);
+  const uint32_t rx = c.resolution[0], ry = c.resolution[1], rt = c.resolution[3];
+  for (uint32_t y = 0; y < ry; ++y)
+    for (uint32_t x = 0; x < rx; ++x) f.planes[gpu::deform_plane_offset(f.shape, 0, 0) + y * rx + x] = x;
+  for (uint32_t t = 0; t < rt; ++t)
+    for (uint32_t x = 0; x < rx; ++x) f.planes[gpu::deform_plane_offset(f.shape, 0, 2) + t * rx + x] = x == 0 ? t : 1.0;
+  // x = aabb_max maps to -1, texel 0 (the xt plane then reads column 0, its t index).
+  const double at_max[3] = {1.0, 0.5, 1.0}, at_min[3] = {-1.0, 0.5, 1.0};
+  CHECK(ref::hexplane_features(f, at_min, 0.0)[0] == doctest::Approx(rx - 1));     // x = min: texel R - 1, xt column reads 1
+  CHECK(ref::hexplane_features(f, at_max, 0.0)[0] == doctest::Approx(0.0));        // texel 0 of xy
+  for (uint32_t y = 0; y < ry; ++y) f.planes[gpu::deform_plane_offset(f.shape, 0, 0) + y * rx] = 1.0;  // feature = t index
+  CHECK(ref::hexplane_features(f, at_max, 0.0)[0] == doctest::Approx((rt - 1) / 2.0));  // t = 0: middle of the axis
+  CHECK(ref::hexplane_features(f, at_max, 1.0)[0] == doctest::Approx(rt - 1.0));        // t = 1: last texel
+  CHECK(ref::hexplane_features(f, at_max, 0.5)[0] == doctest::Approx(0.75 * (rt - 1)));
+  CHECK(ref::hexplane_features(f, at_max, 7.0)[0] == doctest::Approx(rt - 1.0));        // border clamp
+}
+
+TEST_CASE("deform twin backward matches central finite differences in double") {
+  const deform::FieldConfig c = small_config();
+  ref::DeformField<double> f = random_field(c, 2);
+  ref::DeformGaussians<double> g = random_gaussians(c, 6, 3);
+  std::mt19937 rng(4);
+  ref::DeformGaussians<double> v;
+  v.means = uniform(g.means.size(), rng, -1, 1);
+  v.log_scales = uniform(g.log_scales.size(), rng, -1, 1);
+  v.quats = uniform(g.quats.size(), rng, -1, 1);
+  v.opacity_logits = uniform(g.opacity_logits.size(), rng, -1, 1);
+  v.sh = uniform(g.sh.size(), rng, -1, 1);
+  const double time = 0.37;
+  const ref::DeformGrads<double> r = ref::deform_backward(f, g, time, v);
+  auto loss = [&] { return weighted(ref::deform_forward(f, g, time), v); };
+  // The loss is piecewise polynomial of low degree in every input, so central differences are
+  // limited by round-off (eps |L| / h with h = 1e-6) rather than truncation. Measured worst, relative
+  // to the largest gradient: means 2.7e-10, planes 4.6e-9, MLP 9.5e-10.
+  CHECK(fd_worst(g.means, r.v.means, loss) < 1e-8);
+  CHECK(fd_worst(f.planes, r.v_planes, loss) < 1e-8);
+  CHECK(fd_worst(f.mlp, r.v_mlp, loss) < 1e-8);
+  // The other raw parameters pass through: deformed = canonical + delta.
+  CHECK(r.v.log_scales == v.log_scales);
+  CHECK(r.v.quats == v.quats);
+  CHECK(r.v.opacity_logits == v.opacity_logits);
+  CHECK(r.v.sh == v.sh);
+}
+
+TEST_CASE("static Gaussians are not deformed and give the field no gradient") {
+  const deform::FieldConfig c = small_config();
+  const ref::DeformField<double> f = random_field(c, 5);
+  ref::DeformGaussians<double> g = random_gaussians(c, 4, 6);
+  g.static_mask.assign(4, 1);
+  const ref::DeformGaussians<double> out = ref::deform_forward(f, g, 0.5);
+  CHECK(out.means == g.means);
+  CHECK(out.sh == g.sh);
+  const ref::DeformGrads<double> r = ref::deform_backward(f, g, 0.5, g);  // any cotangent
+  CHECK(r.v.means == g.means);
+  CHECK(std::all_of(r.v_planes.begin(), r.v_planes.end(), [](double x) { return x == 0; }));
+  CHECK(std::all_of(r.v_mlp.begin(), r.v_mlp.end(), [](double x) { return x == 0; }));
+}
+
+TEST_CASE("hexplane regularisers match their definition and central finite differences in double") {
+  const deform::FieldConfig c = small_config();
+  ref::DeformField<double> f = random_field(c, 7);
+  const ref::RegWeights w{.plane_tv = 0.3, .time_smoothness = 0.7, .l1_time = 0.2};
+  std::vector<double> grad(f.planes.size(), 0.0);
+  ref::hexplane_regularisers(f.shape, f.planes, w, &grad);
+  auto loss = [&] { return ref::hexplane_regularisers<double>(f.shape, f.planes, w, nullptr); };
+  // Quadratic terms plus |1 - P| away from its kink (planes are U(0.5, 1.5), none within 1e-6 of 1):
+  // round-off only, measured 3.6e-9 relative.
+  CHECK(fd_worst(f.planes, grad, loss) < 1e-8);
+
+  // Constant planes of value 1: every term vanishes. A time plane linear along t: smooth = 0 too.
+  std::fill(f.planes.begin(), f.planes.end(), 1.0);
+  CHECK(loss() == 0.0);
+  const uint32_t xt = gpu::deform_plane_offset(f.shape, 0, 2), rx = c.resolution[0];
+  for (uint32_t t = 0; t < c.resolution[3]; ++t)
+    for (uint32_t k = 0; k < rx * c.channels; ++k) f.planes[xt + t * rx * c.channels + k] = 1.0 + 0.5 * t;
+  // Only the L1 term of that plane: mean of 0.5 t over t = 0..4 is 1, weighted by l1_time.
+  CHECK(loss() == doctest::Approx(0.2 * 1.0).epsilon(1e-12));
+  // A quadratic along y in the xy plane: second difference 2 a everywhere.
+  std::fill(f.planes.begin(), f.planes.end(), 1.0);
+  for (uint32_t y = 0; y < c.resolution[1]; ++y)
+    for (uint32_t k = 0; k < rx * c.channels; ++k) f.planes[y * rx * c.channels + k] = 0.25 * y * y;
+  CHECK(loss() == doctest::Approx(0.3 * 0.25).epsilon(1e-12));  // (2 * 0.25)^2 = 0.25, times plane_tv
+}
+
+TEST_CASE("initial field: spatial planes in [0.1, 0.5), time planes 1, xavier weights, PyTorch biases, seeded") {
+  const gpu::DeformShape s = deform::deform_shape(small_config());
+  const std::vector<float> planes = deform::initial_planes(s, 11), mlp = deform::initial_mlp(s, 11);
+  for (uint32_t l = 0; l < s.levels; ++l)
+    for (uint32_t p = 0; p < 6; ++p) {
+      const bool time_plane = S4D_DEFORM_PLANE_AXIS_V(p) == S4D_DEFORM_TIME_AXIS;
+      const uint32_t b = gpu::deform_plane_offset(s, l, p), e = b + gpu::deform_plane_floats(s, l, p);
+      for (uint32_t k = b; k < e; ++k) REQUIRE((time_plane ? planes[k] == 1.0f : planes[k] >= 0.1f && planes[k] < 0.5f));
+    }
+  auto check_linear = [&](uint32_t offset, uint32_t in, uint32_t out) {
+    const float xavier = std::sqrt(6.0f / float(in + out)), bias = 1 / std::sqrt(float(in));
+    for (uint32_t k = 0; k < out * in; ++k) REQUIRE(std::abs(mlp[offset + k]) <= xavier);
+    for (uint32_t k = 0; k < out; ++k) REQUIRE(std::abs(mlp[offset + out * in + k]) <= bias);
+  };
+  check_linear(0, 6, 6);
+  check_linear(gpu::deform_head_offset(s, 4) + 42, 6, 48);
+  CHECK(deform::initial_mlp(s, 11) == mlp);
+  CHECK(deform::initial_mlp(s, 12) != mlp);
+  CHECK(deform::initial_planes(s, 12) != planes);
+}

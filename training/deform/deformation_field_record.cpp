@@ -1,0 +1,149 @@
+// DeformationField: recording of deform_fwd, deform_bwd / deform_bwd_cas and deform_reg, with the
+// host-side checks that run before anything is recorded.
+#include <stdexcept>
+#include <string>
+
+#include "s4d/deform/deformation_field.h"
+#include "s4d/primitives/shader_pipeline.h"
+
+namespace s4d::deform {
+
+namespace {
+
+using primitives::ceil_div;
+using primitives::shader_pipeline;
+
+// Loop iterations one invocation runs, an upper bound. Per Linear(in -> out) each pass (forward,
+// input cotangent, weight reduction) runs at most 2 (in + 1) out iterations, inner and outer loops
+// together, so the MLP costs at most 2 weights per pass: 1 pass forward, 3 backward. The field visits,
+// per level and plane, each channel's taps and the other five planes. The compare-and-swap variant
+// loops at least once per atomic (shared and global per weight, global per plane tap).
+// About 2x conservative: with C = 4, 2 levels and all heads, lavapipe's deform_bwd breaks between
+// W = 52 and W = 56 (bounds 123k and 140k), the compare-and-swap one between 44 and 48 (122k, 142k).
+uint64_t loop_bound(const gpu::DeformShape& s, bool backward, bool cas) {
+  const uint64_t weights = gpu::deform_mlp_total(s);
+  const uint64_t field = uint64_t{s.levels} * S4D_DEFORM_PLANES * s.channels * (S4D_DEFORM_PLANES + 4);
+  if (!backward) return 2 * weights + field + 1000;
+  return 6 * weights + 2 * field + (cas ? 2 * weights + field : 0) + 1000;
+}
+
+// llvmpipe ends a shader invocation after 65535 loop iterations in total and says nothing (Mesa
+// 22.3, see README "lavapipe caveat"): refuse fields whose kernels could get there.
+void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, bool backward, bool cas,
+                    const std::string& name) {
+  if (info.driver_name != "llvmpipe") return;
+  const uint64_t bound = loop_bound(s, backward, cas);
+  if (bound > 65535)
+    throw std::runtime_error(name + ": an MLP of " + std::to_string(gpu::deform_mlp_total(s)) + " floats needs up to " +
+                             std::to_string(bound) + " loop iterations per Gaussian in " +
+                             (backward ? "deform_bwd" : "deform_fwd") +
+                             ", more than lavapipe runs correctly (65535); use a smaller width or fewer heads, or a GPU");
+}
+
+// deform_fwd / deform_bwd specialised to this field's sizes (their private arrays' capacities).
+const engine::Pipeline& sized_pipeline(engine::Context& ctx, shaders::Id id, const gpu::DeformShape& s) {
+  const shaders::Entry& e = shaders::get(id);
+  return ctx.pipeline(e.name, e.spirv(),
+                      {{S4D_DEFORM_SPEC_FEAT, gpu::deform_feat_dim(s)},
+                       {S4D_DEFORM_SPEC_WIDTH, s.width},
+                       {S4D_DEFORM_SPEC_TRUNK, s.trunk_extra + 1},
+                       {S4D_DEFORM_SPEC_CHANNELS, s.channels}});
+}
+
+void require(const engine::Buffer* b, const char* what, size_t bytes, const std::string& name) {
+  if (b == nullptr) throw std::invalid_argument(name + ": buffer '" + what + "' is required");
+  if (b->size() < bytes)
+    throw std::invalid_argument(name + ": buffer '" + what + "' (" + b->name() + ") holds " + std::to_string(b->size()) +
+                                " bytes, needs " + std::to_string(bytes));
+}
+
+// Floats per Gaussian of head h's parameter.
+size_t head_floats(uint32_t h, uint32_t sh_coeffs) { return h == 4 ? 3 * size_t{sh_coeffs} : gpu::deform_head_out(h); }
+
+const char* const kHeadNames[S4D_DEFORM_HEADS] = {"means", "log_scales", "quats", "opacity_logits", "sh"};
+
+}  // namespace
+
+void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
+  const size_t n = g.count;
+  if (gpu::deform_head_on(shape_, 4) && g.sh_coeffs != S4D_DEFORM_SH_COEFFS)
+    throw std::invalid_argument(name_ + ": the sh head needs sh_coeffs = 16, got " + std::to_string(g.sh_coeffs));
+  require(g.means, "means", n * 12, name_);
+  const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
+  for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
+    if (gpu::deform_head_on(shape_, h)) require(inputs[h], kHeadNames[h], n * head_floats(h, g.sh_coeffs) * 4, name_);
+  if (g.static_mask) require(g.static_mask, "static_mask", n * 4, name_);
+}
+
+gpu::DeformParams DeformationField::params(const CanonicalGaussians& g, float time) const {
+  const std::array<float, 3> scale = aabb_scale(config_);
+  gpu::DeformParams p{};
+  p.shape = shape_;
+  p.aabb_max = {config_.aabb_max[0], config_.aabb_max[1], config_.aabb_max[2], 0.0f};
+  p.aabb_scale = {scale[0], scale[1], scale[2], 0.0f};
+  p.n = g.count;
+  p.sh_coeffs = g.sh_coeffs;
+  p.flags = g.static_mask ? S4D_DEFORM_HAS_MASK : 0u;
+  p.time = time;
+  return p;
+}
+
+void DeformationField::record_zero_grads(engine::Recorder& rec) const {
+  rec.fill(v_planes_, 0);
+  rec.fill(v_mlp_, 0);
+}
+
+void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
+                                      const DeformedGaussians& out) const {
+  check_gaussians(g);
+  const engine::Buffer* outputs[S4D_DEFORM_HEADS] = {out.means, out.log_scales, out.quats, out.opacity_logits, out.sh};
+  for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
+    if (gpu::deform_head_on(shape_, h))
+      require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+  check_llvmpipe(ctx_->info(), shape_, false, false, name_);
+  if (g.count == 0) return;
+  // Bindings of heads that are off (and of an absent mask) are never accessed; the means stand in.
+  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  rec.begin_label(name_ + " deform_fwd");
+  rec.dispatch(sized_pipeline(*ctx_, shaders::Id::deform_fwd, shape_),
+               {planes_, mlp_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh), in(g.static_mask),
+                in(out.means), in(out.log_scales), in(out.quats), in(out.opacity_logits), in(out.sh)},
+               params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
+  rec.end_label();
+}
+
+void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
+                                       const DeformedGrads& v) const {
+  check_gaussians(g);
+  const engine::Buffer* grads[S4D_DEFORM_HEADS] = {v.v_means, v.v_log_scales, v.v_quats, v.v_opacity_logits, v.v_sh};
+  require(v.v_means, "v_means", size_t{g.count} * 12, name_);
+  for (uint32_t h = 1; h < S4D_DEFORM_HEADS; ++h)
+    if (gpu::deform_head_on(shape_, h))
+      require(grads[h], (std::string("v_") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+  const engine::DeviceInfo& info = ctx_->info();
+  const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
+  check_llvmpipe(info, shape_, true, !float_atomics, name_);
+  if (g.count == 0) return;
+  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
+  rec.dispatch(sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas, shape_),
+               {planes_, mlp_, *g.means, in(g.static_mask), *v.v_means, in(v.v_log_scales), in(v.v_quats),
+                in(v.v_opacity_logits), in(v.v_sh), v_planes_, v_mlp_},
+               params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
+  rec.end_label();
+}
+
+void DeformationField::record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const {
+  gpu::DeformRegParams p{};
+  p.shape = shape_;
+  p.elements = plane_floats();
+  p.w_plane_tv = w.plane_tv;
+  p.w_time_smoothness = w.time_smoothness;
+  p.w_l1_time = w.l1_time_planes;
+  rec.begin_label(name_ + " deform_reg");
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_reg), {planes_, v_planes_, reg_partials_}, p,
+               ceil_div(p.elements, S4D_DEFORM_REG_WG));
+  rec.end_label();
+}
+
+}  // namespace s4d::deform

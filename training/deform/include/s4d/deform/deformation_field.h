@@ -1,0 +1,117 @@
+// The 4DGaussians deformation field F(x, y, z, t) on the GPU (ALGORITHMS.md 3.1-3.2): owns the
+// HexPlane and MLP parameters and their gradients, and records the kernels of shaders/deform
+// (deform_fwd, deform_bwd or deform_bwd_cas, deform_reg). Layouts: shaders/shared/s4d_deform.h.
+// CPU twin: training/ref/include/s4d/ref/deform_ref.h and hexplane_reg_ref.h.
+//
+// Every record_* only records: the caller orders dependent work with Recorder::barrier() and
+// submits. Gradients accumulate (+=) over record_backward / record_regularisers calls until
+// record_zero_grads, so the views of a batch can share one optimizer step.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "s4d/deform/field_config.h"
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+#include "s4d/engine/recorder.h"
+#include "s4d_deform.h"
+
+namespace s4d::deform {
+
+// Canonical (undeformed) Gaussians, flat float layouts as in s4d_splat.h. `means` is always read;
+// the others only when their head is on (they may be null otherwise).
+struct CanonicalGaussians {
+  const engine::Buffer* means = nullptr;           // [N*3]
+  const engine::Buffer* log_scales = nullptr;      // [N*3]
+  const engine::Buffer* quats = nullptr;           // [N*4] (w, x, y, z)
+  const engine::Buffer* opacity_logits = nullptr;  // [N]
+  const engine::Buffer* sh = nullptr;              // [N*K*3], K = sh_coeffs
+  const engine::Buffer* static_mask = nullptr;     // [N] u32, optional: non-zero = not deformed, no field gradient
+  uint32_t count = 0;
+  uint32_t sh_coeffs = 0;  // K; must be S4D_DEFORM_SH_COEFFS when the sh head is on
+};
+
+// Deformed outputs, same layouts. Written only for heads that are on (others may be null: use the
+// canonical buffer there).
+struct DeformedGaussians {
+  engine::Buffer* means = nullptr;
+  engine::Buffer* log_scales = nullptr;
+  engine::Buffer* quats = nullptr;
+  engine::Buffer* opacity_logits = nullptr;
+  engine::Buffer* sh = nullptr;
+};
+
+// Cotangents of the deformed parameters. v_means is updated in place to dL/d canonical means; the
+// other canonical gradients equal the deformed ones (deformed = canonical + delta) and are only read,
+// for heads that are on (others may be null).
+struct DeformedGrads {
+  engine::Buffer* v_means = nullptr;
+  const engine::Buffer* v_log_scales = nullptr;
+  const engine::Buffer* v_quats = nullptr;
+  const engine::Buffer* v_opacity_logits = nullptr;
+  const engine::Buffer* v_sh = nullptr;
+};
+
+// ALGORITHMS.md 3.2 weights (D-NeRF: 1e-4, 1e-2, 1e-4; DyNeRF: 2e-4, 1e-3, 1e-4).
+struct RegulariserWeights {
+  float plane_tv = 0, time_smoothness = 0, l1_time_planes = 0;
+};
+
+struct DeformOptions {
+  bool force_cas_atomics = false;  // use deform_bwd_cas even where float atomics exist
+};
+
+class DeformationField {
+ public:
+  // Allocates and initialises the parameters (field_init.h, from `seed`) and zeroes the gradients.
+  // Throws std::invalid_argument naming the offending configuration field.
+  DeformationField(engine::Context& ctx, const FieldConfig& config, uint32_t seed, std::string name = "deform",
+                   DeformOptions options = {});
+
+  const FieldConfig& config() const { return config_; }
+  const gpu::DeformShape& shape() const { return shape_; }
+
+  // Parameters and gradients, one buffer each for the planes and the MLP (separate Adam groups:
+  // grid_lr vs deformation_lr). Offsets inside them: s4d_deform.h.
+  engine::Buffer& planes() { return planes_; }
+  engine::Buffer& mlp() { return mlp_; }
+  const engine::Buffer& planes() const { return planes_; }
+  const engine::Buffer& mlp() const { return mlp_; }
+  engine::Buffer& v_planes() { return v_planes_; }
+  engine::Buffer& v_mlp() { return v_mlp_; }
+  const engine::Buffer& v_planes() const { return v_planes_; }
+  const engine::Buffer& v_mlp() const { return v_mlp_; }
+  uint32_t plane_floats() const { return gpu::deform_planes_total(shape_); }
+  uint32_t mlp_floats() const { return gpu::deform_mlp_total(shape_); }
+
+  // Checkpoints: whole parameter arrays (waits for submitted work). Uploads check the size.
+  std::vector<float> download_planes() const;
+  std::vector<float> download_mlp() const;
+  void upload_planes(std::span<const float> values);
+  void upload_mlp(std::span<const float> values);
+
+  void record_zero_grads(engine::Recorder& rec) const;
+  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised).
+  void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
+  // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
+  void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
+  // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
+  void record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const;
+  // R of the last recorded record_regularisers, after its submission completed (waits, downloads).
+  double regulariser_value() const;
+
+ private:
+  gpu::DeformParams params(const CanonicalGaussians& g, float time) const;
+  void check_gaussians(const CanonicalGaussians& g) const;
+
+  engine::Context* ctx_;
+  FieldConfig config_;
+  gpu::DeformShape shape_;
+  std::string name_;
+  DeformOptions options_;
+  engine::Buffer planes_, mlp_, v_planes_, v_mlp_, reg_partials_;
+};
+
+}  // namespace s4d::deform
