@@ -19,5 +19,12 @@ set(S4D_SHADER_VARIANTS
   "ssim_vpass|loss/ssim_vpass.comp"
   "loss_grad|loss/loss_grad.comp"
   "adam_step|optim/adam_step.comp"
+  "densify_accumulate|densify/densify_accumulate.comp"
+  "densify_classify|densify/densify_classify.comp"
+  "densify_demote|densify/densify_demote.comp"
+  "densify_map|densify/densify_map.comp"
+  "densify_gather|densify/densify_gather.comp"
+  "densify_split|densify/densify_split.comp"
+  "densify_reset_opacity|densify/densify_reset_opacity.comp"
   "blend_ceiling|bench/blend_ceiling.comp"
 )
