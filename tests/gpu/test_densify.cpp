@@ -113,9 +113,8 @@ Compared compare(const model::HostState& gpu, const ref::DensifyState& twin, con
       if (a == S::kMeans && child) ++c.children;
     }
   }
-  for (const auto& st : g.stat)
-    for (float x : st)
-      if (x != 0 && ++mismatches <= 5) FAIL_CHECK("statistics are not zero after densify");
+  for (int k = 0; k < S::kStats; ++k)
+    if (g.stat[k] != twin.stat[k] && ++mismatches <= 5) FAIL_CHECK("statistic " << k << " differs from the twin's");
   CHECK(mismatches == 0);
   return c;
 }
@@ -154,6 +153,24 @@ TEST_CASE("densify_classify, densify_map, densify_gather and densify_split match
   // means of magnitude up to about 2.2 (one ulp there is 2.4e-7). Measured worst 1.2e-7 on lavapipe
   // (Mesa 22.3.6, LLVM 15); the bound allows 4 ulps for drivers with looser transcendentals.
   CHECK(cmp.worst_child_mean <= 1e-6);
+}
+
+TEST_CASE("densify keeps the survivors' statistics when asked to (4DGaussians' separate prune)") {
+  const ref::DensifyState in = random_state(1500, 8);
+  densify::DensifyRules r = rules();
+  r.grow = false;
+  r.reset_statistics = false;
+  model::TrainableGaussians g(test::context(), to_host(in, 1), "cloud");
+  densify::Densifier d(test::context());
+  const densify::DensifyResult res = d.densify(g, r);
+  ref::DensifyCounts c;
+  std::vector<uint32_t> slots;
+  const ref::DensifyState twin = ref::densify(in, densify::classify_params(r, 1500), r.budget, r.seed, &c, &slots, true);
+  check_counts(res, c);
+  CHECK(res.pruned > 0);
+  CHECK(res.cloned + res.split == 0);
+  compare(g.download(), twin, slots);
+  CHECK(std::count_if(twin.stat[S::kGradCount].begin(), twin.stat[S::kGradCount].end(), [](float x) { return x > 0; }) > 500);
 }
 
 TEST_CASE("densify_demote keeps the result within the budget by demoting the lowest gradients, like the twin") {
@@ -197,6 +214,27 @@ TEST_CASE("densify handles an empty cloud and a result where everything is prune
   CHECK(g.download().cloud.opacity_logits.empty());
   // The emptied cloud can be densified again.
   CHECK(d.densify(g, rules()).after == 0);
+  densify::DensifyRules bad = rules();
+  bad.grad_threshold = -1;
+  CHECK_THROWS_AS(d.densify(g, bad), std::invalid_argument);
+  bad = rules();
+  bad.dense_scale = std::nanf("");
+  CHECK_THROWS_AS(d.densify(g, bad), std::invalid_argument);
+}
+
+TEST_CASE("densify_split draws the same children for the same seed and different ones for another") {
+  const ref::DensifyState in = random_state(800, 6);
+  densify::Densifier d(test::context());
+  std::vector<float> means[3];
+  for (int run = 0; run < 3; ++run) {
+    model::TrainableGaussians g(test::context(), to_host(in, 1), "cloud");
+    densify::DensifyRules r = rules();
+    r.seed = run == 2 ? 43 : 42;
+    REQUIRE(d.densify(g, r).split > 0);
+    means[run] = g.download().cloud.means;
+  }
+  CHECK(means[0] == means[1]);
+  CHECK(means[0] != means[2]);
 }
 
 TEST_CASE("densify keeps the Adam moments of surviving Gaussians and zeroes those of new entries") {

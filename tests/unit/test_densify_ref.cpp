@@ -277,3 +277,17 @@ TEST_CASE("statistics twin: per-view norms versus the batch's norm of the summed
   CHECK(s.stat[S::kMaxRadius][1] == 2);
   for (float x : scratch) CHECK(x == 0);
 }
+
+TEST_CASE("densify twin can keep the survivors' statistics, new entries starting at zero") {
+  DensifyState s = cloud(3);
+  s.param[S::kOpacity][0] = -8;  // pruned
+  set_grad(s, 2, 0.001f);        // cloned
+  DensifyCounts c;
+  const DensifyState out = s4d::ref::densify(s, params({}, 3), UINT32_MAX, 0, &c, nullptr, true);
+  REQUIRE(out.size() == 3);  // 1, 2, 2's copy
+  for (int k = 0; k < S::kStats; ++k) {
+    CHECK(out.stat[k][0] == s.stat[k][1]);
+    CHECK(out.stat[k][1] == s.stat[k][2]);
+    CHECK(out.stat[k][2] == 0.0f);
+  }
+}

@@ -25,6 +25,7 @@ namespace s4d::densify {
 namespace {
 
 using model::Attr;
+using model::Stat;
 
 uint32_t groups(uint64_t threads) { return primitives::ceil_div(threads, S4D_DENSIFY_WG); }
 
@@ -185,10 +186,15 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
     rec.begin_label("densify compact");
     const gpu::SlotParams mp{.n = n, .width = 0, .zero_new = 0, .value = 0};
     rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_map), {flags_, counts_, slots, tally_}, mp, groups(n));
-    for (engine::Buffer& s : next.stat) rec.fill(s, 0);
+    if (rules.reset_statistics)
+      for (engine::Buffer& s : next.stat) rec.fill(s, 0);
     if (m > 0) {
       rec.barrier();
       const engine::Pipeline& gather = primitives::shader_pipeline(ctx, shaders::Id::densify_gather);
+      if (!rules.reset_statistics)
+        for (uint32_t k = 0; k < model::kStatCount; ++k)
+          rec.dispatch(gather, {slots, g.stat(Stat(k)), next.stat[k]}, gpu::SlotParams{.n = m, .width = 1, .zero_new = 1, .value = 0},
+                       groups(m));
       for (uint32_t a = 0; a < model::kAttrCount; ++a) {
         const uint32_t w = g.width(Attr(a));
         if (uint64_t{m} * w >= (uint64_t{1} << 32))

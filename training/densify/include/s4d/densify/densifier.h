@@ -26,6 +26,9 @@ struct DensifyRules {
   uint32_t budget = UINT32_MAX;    // at most this many Gaussians after the call (growth is demoted to fit;
                                    // Gaussians that survive pruning are never removed for it)
   uint32_t seed = 0;               // split samples
+  // true (graphdeco): every statistic of the result is zero. false: surviving originals keep their
+  // statistics and new entries start at zero (4DGaussians' separate prune call, grow = false).
+  bool reset_statistics = true;
 };
 
 // Counts of one densify() call: after = before + cloned + split - pruned. `split` counts sources
@@ -58,7 +61,7 @@ class Densifier {
   void record_accumulate_batch_end(engine::Recorder& rec, model::TrainableGaussians& g, const engine::Buffer& scratch) const;
 
   // Clone, split, prune under `rules`, compacting every array with a prefix scan; runs and waits.
-  // Statistics of the result are zero. Adam moments of clones and split children are zero, kept
+  // Statistics of the result are zero (unless rules.reset_statistics is false). Adam moments of clones and split children are zero, kept
   // Gaussians keep theirs (graphdeco semantics). Output order is stable: each source's outputs in
   // source order (original or child 0, then copy or child 1).
   DensifyResult densify(model::TrainableGaussians& g, const DensifyRules& rules);

@@ -125,8 +125,9 @@ inline std::array<float, 3> densify_split_normals(uint32_t seed, uint32_t index,
 // Clone, split and prune (graphdeco densify_and_prune) with the growth budget; returns the new state
 // (statistics zero, moments of new entries zero) and fills `counts` and, when given, `slots` with
 // densify_map's slot words (source index | kind << S4D_DENSIFY_SLOT_SHIFT) per output.
+// With keep_statistics, surviving originals keep their statistics (new entries start at zero).
 inline DensifyState densify(const DensifyState& s, const gpu::ClassifyParams& p, uint32_t budget, uint32_t seed,
-                            DensifyCounts* counts, std::vector<uint32_t>* slots = nullptr) {
+                            DensifyCounts* counts, std::vector<uint32_t>* slots = nullptr, bool keep_statistics = false) {
   const size_t n = s.size();
   if (p.n != n) throw std::invalid_argument("densify twin: params.n does not match the state");
   std::vector<uint32_t> flags(n), saved(n);
@@ -179,6 +180,8 @@ inline DensifyState densify(const DensifyState& s, const gpu::ClassifyParams& p,
           out.v[a][j * w + e] = kind == S4D_DENSIFY_SLOT_ORIGINAL ? s.v[a][i * w + e] : 0.0f;
         }
       }
+      if (keep_statistics && kind == S4D_DENSIFY_SLOT_ORIGINAL)
+        for (int st = 0; st < DensifyState::kStats; ++st) out.stat[st][j] = s.stat[st][i];
       if (kind != S4D_DENSIFY_SLOT_CHILD0 && kind != S4D_DENSIFY_SLOT_CHILD1) continue;
       const std::array<float, 3> nrm = densify_split_normals(seed, static_cast<uint32_t>(i), kind - S4D_DENSIFY_SLOT_CHILD0);
       const float* ls = &s.param[DensifyState::kLogScales][3 * i];
