@@ -12,6 +12,7 @@
 #include "s4d/shader_registry.h"
 #include "s4d_bench.h"
 #include "s4d_deform.h"
+#include "s4d_densify.h"
 #include "s4d_loss.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
@@ -38,6 +39,8 @@ static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= 
 static_assert(sizeof(DeformShape) == 64);
 static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformRegParams) == 80 && sizeof(DeformRegParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && sizeof(DemoteParams) == 16);
+static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -81,6 +84,18 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(DeformRegParams, S4D_MEMBER(DeformRegParams, shape), S4D_MEMBER(DeformRegParams, elements),
                  S4D_MEMBER(DeformRegParams, w_plane_tv), S4D_MEMBER(DeformRegParams, w_time_smoothness),
                  S4D_MEMBER(DeformRegParams, w_l1_time)),
+      S4D_STRUCT(AccumulateParams, S4D_MEMBER(AccumulateParams, n), S4D_MEMBER(AccumulateParams, mode),
+                 S4D_MEMBER(AccumulateParams, half_width), S4D_MEMBER(AccumulateParams, half_height)),
+      S4D_STRUCT(ClassifyParams, S4D_MEMBER(ClassifyParams, n), S4D_MEMBER(ClassifyParams, rules),
+                 S4D_MEMBER(ClassifyParams, grad_threshold), S4D_MEMBER(ClassifyParams, log_dense_scale),
+                 S4D_MEMBER(ClassifyParams, logit_min_opacity), S4D_MEMBER(ClassifyParams, max_screen_radius),
+                 S4D_MEMBER(ClassifyParams, log_max_world_scale), S4D_MEMBER(ClassifyParams, log_split_shrink)),
+      S4D_STRUCT(DemoteParams, S4D_MEMBER(DemoteParams, n), S4D_MEMBER(DemoteParams, excess),
+                 S4D_MEMBER(DemoteParams, _pad0), S4D_MEMBER(DemoteParams, _pad1)),
+      S4D_STRUCT(SlotParams, S4D_MEMBER(SlotParams, n), S4D_MEMBER(SlotParams, width), S4D_MEMBER(SlotParams, zero_new),
+                 S4D_MEMBER(SlotParams, value)),
+      S4D_STRUCT(SplitParams, S4D_MEMBER(SplitParams, n), S4D_MEMBER(SplitParams, seed),
+                 S4D_MEMBER(SplitParams, log_split_shrink), S4D_MEMBER(SplitParams, _pad0)),
   };
 }
 
