@@ -1,0 +1,17 @@
+// Reading style and content pictures of any common format (PNG, JPEG, ...) as RGB, and resizing.
+#pragma once
+#include <filesystem>
+
+#include "s4d/io/image_io.h"
+
+namespace s4d::stylize {
+
+// RGB [H, W, 3] in [0, 1] (gray is replicated, alpha dropped, 16-bit scaled by 1/65535). Throws
+// std::runtime_error naming the file when it is missing or not a readable image.
+io::ImageF read_image_rgb(const std::filesystem::path& path);
+
+// Area-averaging when shrinking, bilinear when enlarging. Throws std::invalid_argument for an empty
+// image or a non-positive size.
+io::ImageF resize_image(const io::ImageF& image, int width, int height);
+
+}  // namespace s4d::stylize
