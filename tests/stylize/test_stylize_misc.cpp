@@ -1,0 +1,46 @@
+// The registry's names and errors, the built-in style generator, and image reading errors.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "s4d/stylize/builtin_style.h"
+#include "s4d/stylize/image_file.h"
+#include "s4d/stylize/registry.h"
+
+using namespace s4d;
+
+TEST_CASE("registry makes the patch stylizer and explains the others") {
+  CHECK(stylize::stylizer_names().front() == "patch");
+  CHECK(stylize::make_stylizer("patch")->name() == "patch");
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("mccnet"), doctest::Contains("needs --weights FILE"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch"), std::invalid_argument);
+}
+
+TEST_CASE("built-in style is deterministic, painted and seed-dependent") {
+  const io::ImageF a = stylize::builtin_style(64, 3), b = stylize::builtin_style(64, 3), c = stylize::builtin_style(64, 4);
+  CHECK(a.width == 64);
+  CHECK(a.height == 64);
+  CHECK(a.data == b.data);
+  CHECK(a.data != c.data);
+  CHECK_THROWS_AS(stylize::builtin_style(16), std::invalid_argument);
+}
+
+TEST_CASE("the committed built-in style is the generator's output") {
+  const io::ImageF committed = io::read_png(S4D_BUILTIN_STYLE_PNG);
+  const io::ImageF generated = stylize::builtin_style();
+  REQUIRE(committed.width == generated.width);
+  REQUIRE(committed.height == generated.height);
+  double worst = 0;
+  for (size_t i = 0; i < generated.data.size(); ++i)
+    worst = std::max(worst, static_cast<double>(std::abs(committed.data[i] - generated.data[i])));
+  CHECK(worst <= 0.5 / 255 + 1e-6);  // 8-bit rounding only
+}
+
+TEST_CASE("reading an image names the file on failure") {
+  const auto dir = std::filesystem::temp_directory_path() / "s4d_stylize_read";
+  std::filesystem::create_directories(dir);
+  CHECK_THROWS_WITH_AS(stylize::read_image_rgb(dir / "missing.png"), doctest::Contains("missing.png"), std::runtime_error);
+  std::ofstream(dir / "junk.jpg") << "not an image";
+  CHECK_THROWS_WITH_AS(stylize::read_image_rgb(dir / "junk.jpg"), doctest::Contains("junk.jpg"), std::runtime_error);
+}
