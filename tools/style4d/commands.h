@@ -8,7 +8,9 @@ namespace s4d::cli {
 
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_demo(const std::vector<std::string>& args);
+int cmd_make_style(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
+int cmd_stylize_frames(const std::vector<std::string>& args);
 int cmd_synth(const std::vector<std::string>& args);
 int cmd_train(const std::vector<std::string>& args);
 

@@ -23,6 +23,8 @@ const std::vector<Command>& commands() {
       {"train", "train Gaussians on a dataset (stage 1: static Gaussians), with checkpoints and --resume",
        s4d::cli::cmd_train},
       {"render", "render a 3DGS PLY from NeRF-style cameras to PNG and EXR", s4d::cli::cmd_render},
+      {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
+      {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
       {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
   };
   return list;
@@ -34,7 +36,7 @@ void print_help() {
                "commands:\n";
   for (const auto& c : commands()) {
     const std::string name = c.name;
-    std::cout << "  " << name << std::string(12 - name.size(), ' ') << c.summary << "\n";
+    std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ') << c.summary << "\n";
   }
   std::cout << "\nenvironment:\n"
                "  S4D_DEVICE=<index|name>   choose the Vulkan device (default: discrete > integrated > CPU)\n"
