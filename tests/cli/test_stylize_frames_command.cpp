@@ -1,6 +1,6 @@
 // `style4d stylize-frames` end to end on 3 tiny frames (a folder of PNGs and an mp4), and its error
 // cases: a missing style file, an empty input folder, an unknown or weightless stylizer, a bad
-// strength. Each failure is one line naming what is wrong, and writes nothing. Also `make-style`.
+// strength, the input as output. Each failure is one line naming what is wrong, and writes nothing. Also `make-style`.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -110,4 +110,7 @@ TEST_CASE("stylize-frames refuses bad inputs with one line and writes nothing") 
     CHECK(one_error_line(dir / "log.txt", "--strength"));
   }
   CHECK_FALSE(fs::exists(dir / "out"));
+
+  CHECK(run("stylize-frames", "--in " + in.string() + style + " --out " + in.string(), dir / "log.txt") != 0);
+  CHECK(one_error_line(dir / "log.txt", "is the input"));
 }

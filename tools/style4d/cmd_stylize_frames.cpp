@@ -2,6 +2,7 @@
 // [--seed N]: restyles one camera's frames in time order with a frame stylizer (s4d_stylize).
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
@@ -37,6 +38,8 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
   const std::string in = args.require("in"), style_path = args.require("style"), out = args.require("out");
+  if (std::filesystem::exists(out) && std::filesystem::equivalent(in, out))
+    throw std::invalid_argument("--out " + out + " is the input; it would overwrite the frames");
   stylize::StylizeSettings settings;
   const std::string strength_text = args.get_or("strength", "1");
   try {

@@ -77,14 +77,15 @@ FrameSequence read_frame_sequence(const fs::path& path) {
 
 void write_frame_sequence(const fs::path& path, const std::vector<io::ImageF>& frames,
                           const std::vector<std::string>& names) {
+  if (frames.empty() || names.size() != frames.size())
+    throw std::invalid_argument(path.string() + ": needs at least one frame and one name per frame");
   if (is_video_path(path)) {
-    if (frames.empty()) return;
     data::VideoWriter writer(path, frames[0].width, frames[0].height);
     for (const io::ImageF& f : frames) writer.write(f);
     return;
   }
   fs::create_directories(path);
-  for (size_t i = 0; i < frames.size(); ++i) io::write_png(path / names.at(i), frames[i]);
+  for (size_t i = 0; i < frames.size(); ++i) io::write_png(path / names[i], frames[i]);
 }
 
 }  // namespace s4d::cli

@@ -21,7 +21,8 @@ bool is_video_path(const std::filesystem::path& path);
 FrameSequence read_frame_sequence(const std::filesystem::path& path);
 
 // A video path gets an mp4v video at 30 fps (see s4d/data/video_writer.h); any other path is a
-// folder (created if needed) that receives one PNG per frame under `names`.
+// folder (created if needed) that receives one PNG per frame under `names`. Throws
+// std::invalid_argument for no frames or a name count that differs from the frame count.
 void write_frame_sequence(const std::filesystem::path& path, const std::vector<io::ImageF>& frames,
                           const std::vector<std::string>& names);
 

@@ -22,7 +22,6 @@ class PatchBank {
   PatchBank(const cv::Mat& style, int patch_size, int max_patches, int pca_dims);
 
   int patch_size() const { return n_; }
-  int size() const { return patches_.rows; }
   const float* patch(int index) const { return patches_.ptr<float>(index); }
 
   // The index of the nearest style patch of each n x n patch of `image` (continuous CV_32FC3) with

@@ -51,8 +51,6 @@ class PatchStylizer final : public Stylizer {
                                   const StylizeSettings& settings,
                                   const FrameProgressFn& progress = {}) const override;
 
-  const PatchStylizerOptions& options() const { return options_; }
-
  private:
   PatchStylizerOptions options_;
 };
