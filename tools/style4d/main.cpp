@@ -23,6 +23,8 @@ const std::vector<Command>& commands() {
       {"train", "train Gaussians on a dataset (stage 1: static Gaussians), with checkpoints and --resume",
        s4d::cli::cmd_train},
       {"render", "render a 3DGS PLY from NeRF-style cameras to PNG and EXR", s4d::cli::cmd_render},
+      {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",
+       s4d::cli::cmd_bench},
       {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
   };
   return list;
