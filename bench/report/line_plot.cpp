@@ -10,7 +10,7 @@ namespace s4d::bench {
 
 namespace {
 
-constexpr int kW = 800, kH = 450, kLeft = 90, kRight = 170, kTop = 40, kBottom = 60;
+constexpr int kW = 800, kH = 450, kLeft = 90, kRight = 170, kTop = 55, kBottom = 60;
 
 std::string tick_text(double v) {
   std::ostringstream s;
@@ -57,9 +57,9 @@ io::ImageF line_plot(const std::string& title, const std::string& x_label, const
   }
   cv::line(img, {x0, y0}, {x1, y0}, black, 1);
   cv::line(img, {x0, y0}, {x0, y1}, black, 1);
-  cv::putText(img, title, {x0, 25}, font, 0.6, black, 1, cv::LINE_AA);
+  cv::putText(img, title, {x0, 22}, font, 0.6, black, 1, cv::LINE_AA);
   cv::putText(img, x_label, {(x0 + x1) / 2 - 40, kH - 15}, font, 0.5, black, 1, cv::LINE_AA);
-  cv::putText(img, y_label, {8, y1 - 10}, font, 0.45, black, 1, cv::LINE_AA);
+  cv::putText(img, y_label, {8, y1 - 14}, font, 0.45, black, 1, cv::LINE_AA);
   for (size_t k = 0; k < series.size(); ++k) {
     const cv::Scalar colour = kColours[k % std::size(kColours)];
     const auto& v = series[k].values;
