@@ -37,6 +37,7 @@ Args::Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& 
       value = argv[++i];
     }
     values_[name] = value;
+    all_values_[name].push_back(value);
   }
 }
 
@@ -48,6 +49,11 @@ std::optional<std::string> Args::get(const std::string& name) const {
 
 std::string Args::get_or(const std::string& name, const std::string& fallback) const {
   return get(name).value_or(fallback);
+}
+
+std::vector<std::string> Args::get_all(const std::string& name) const {
+  auto it = all_values_.find(name);
+  return it == all_values_.end() ? std::vector<std::string>{} : it->second;
 }
 
 std::string Args::require(const std::string& name) const {

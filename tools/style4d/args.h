@@ -29,6 +29,8 @@ class Args {
   bool flag(const std::string& name) const { return flags_.count(name) > 0; }
   std::optional<std::string> get(const std::string& name) const;
   std::string get_or(const std::string& name, const std::string& fallback) const;
+  // Every value given for `name`, in command-line order (get() returns the last).
+  std::vector<std::string> get_all(const std::string& name) const;
   // Throws std::invalid_argument "missing required option --name".
   std::string require(const std::string& name) const;
   const std::vector<std::string>& positionals() const { return positionals_; }
@@ -37,6 +39,7 @@ class Args {
   bool help_ = false;
   std::set<std::string> flags_;
   std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> all_values_;
   std::vector<std::string> positionals_;
 };
 

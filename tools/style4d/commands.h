@@ -6,6 +6,7 @@
 
 namespace s4d::cli {
 
+int cmd_bench(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_demo(const std::vector<std::string>& args);
 int cmd_make_style(const std::vector<std::string>& args);

@@ -25,6 +25,8 @@ const std::vector<Command>& commands() {
       {"render", "render a 3DGS PLY from NeRF-style cameras to PNG and EXR", s4d::cli::cmd_render},
       {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
       {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
+      {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",
+       s4d::cli::cmd_bench},
       {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
   };
   return list;

@@ -1,0 +1,36 @@
+// Writes the frames-mode report's files.
+#include <map>
+
+#include "s4d/bench/contact_sheet.h"
+#include "s4d/bench/frames_report.h"
+#include "s4d/bench/line_plot.h"
+#include "s4d/bench/metric_catalog.h"
+#include "s4d/util/atomic_file.h"
+
+namespace s4d::bench {
+
+void write_frames_report(const std::filesystem::path& out, const std::vector<MethodResult>& methods, const ReportContext& c) {
+  std::filesystem::create_directories(out / "plots");
+  const nlohmann::json report = report_json(methods, c);
+  util::write_file_atomic(out / "report.json", report.dump(2) + "\n");
+  util::write_file_atomic(out / "report.md", report_markdown(report));
+  util::write_file_atomic(out / "report.csv", report_csv(report));
+
+  std::map<std::string, std::vector<Series>> curves;  // metric key -> one series per method
+  for (const auto& m : methods)
+    for (const auto& [key, values] : m.per_frame)
+      if (!values.empty()) curves[key].push_back({m.name, values});
+  for (const auto& [key, series] : curves) {
+    const MetricEntry& e = metric_entry(key);
+    const std::string x = key == "warp_loss" ? "frame pair (t, t+1)" : "frame";
+    io::write_png(out / "plots" / (key + ".png"),
+                  line_plot(e.label + " per " + x + " (" + (e.higher_is_better ? "higher" : "lower") + " is better)", x, key, series));
+  }
+
+  if (methods.empty() || methods[0].samples.empty()) return;
+  std::vector<SheetRow> rows = {{"original", methods[0].original_samples}};
+  for (const auto& m : methods) rows.push_back({m.name, m.samples});
+  io::write_png(out / "contact_sheet.png", contact_sheet(rows, methods[0].sample_index));
+}
+
+}  // namespace s4d::bench
