@@ -70,18 +70,6 @@ pid_t spawn_style4d(const std::vector<std::string>& args, const fs::path& log) {
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
-double max_param_diff(const io::GaussianCloud& a, const io::GaussianCloud& b) {
-  double worst = 0;
-  for (auto [x, y] : {std::pair{&a.means, &b.means}, {&a.log_scales, &b.log_scales}, {&a.opacity_logits, &b.opacity_logits},
-                      {&a.sh, &b.sh}, {&a.quats, &b.quats}}) {
-    REQUIRE(x->size() == y->size());
-    for (size_t i = 0; i < x->size(); ++i) worst = std::max(worst, double(std::abs((*x)[i] - (*y)[i])));
-  }
-  return worst;
-}
-
-}  // namespace
-
 TEST_CASE("train writes the run contract and learns the scene") {
   const fs::path dir = test::fresh_dir("train_ok");
   const fs::path run = dir / "run";
@@ -98,7 +86,7 @@ TEST_CASE("train writes the run contract and learns the scene") {
   const std::vector<double> losses = loss_column(run / "loss.csv");
   REQUIRE(losses.size() == 24);  // a row every 10 iterations
   CHECK(losses.back() < 0.7 * losses.front());
-  CHECK(j["test_psnr"].get<double>() > 15.0);  // measured 2x.x dB after 240 iterations at 48x36
+  CHECK(j["test_psnr"].get<double>() > 15.0);  // measured 23.2 dB after 240 iterations at 48x36
   // Progress went to stderr with the iteration, loss and Gaussian count.
   const std::string log = test::read_text(dir / "log");
   CHECK(log.find("static") != std::string::npos);
@@ -108,39 +96,61 @@ TEST_CASE("train writes the run contract and learns the scene") {
   CHECK(read_json(run / "train.json")["num_gaussians"] == j["num_gaussians"]);
 }
 
-TEST_CASE("SIGINT writes a checkpoint, and --resume ends where an uninterrupted run ends") {
-  const fs::path dir = test::fresh_dir("train_resume");
-  const fs::path whole = dir / "whole", parted = dir / "parted";
-  REQUIRE(test::run_style4d("train", "--data " + tiny_dataset().string() + " --out " + whole.string() + kTrainArgs,
-                            dir / "whole.log") == 0);
+// llvmpipe runs compute workgroups on LP_NUM_THREADS threads; with one, the order of the float
+// atomics in the backward pass is fixed, so two runs are bit-identical and a resumed run must be too.
+// (With more threads, two uninterrupted runs already differ in the last bits, which compound.)
+struct SingleThreadedLavapipe {
+  SingleThreadedLavapipe() { setenv("LP_NUM_THREADS", "1", 1); }
+  ~SingleThreadedLavapipe() { unsetenv("LP_NUM_THREADS"); }
+};
 
-  const pid_t pid = spawn_style4d({"train", "--data", tiny_dataset().string(), "--out", parted.string(), "--preset", "fast",
-                                   "--iters", "240", "--max-time", "0", "--checkpoint-every", "40"},
-                                  dir / "parted.log");
+const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "120", "--max-time", "0", "--checkpoint-every", "30"};
+
+// Trains into `run`, stops it with `signal` once its first checkpoint exists, then resumes it.
+// Returns false when the run finished before the signal arrived (nothing was interrupted).
+bool interrupt_and_resume(const fs::path& run, int signal, const fs::path& dir) {
+  std::vector<std::string> args = {"train", "--data", tiny_dataset().string(), "--out", run.string()};
+  args.insert(args.end(), kResumeArgs.begin(), kResumeArgs.end());
+  const pid_t pid = spawn_style4d(args, dir / "parted.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (!fs::exists(parted / "checkpoint" / "state.s4dckpt") && std::chrono::steady_clock::now() < deadline)
+  while (!fs::exists(run / "checkpoint" / "state.s4dckpt") && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  REQUIRE(fs::exists(parted / "checkpoint" / "state.s4dckpt"));
-  kill(pid, SIGINT);
+  REQUIRE(fs::exists(run / "checkpoint" / "state.s4dckpt"));
+  kill(pid, signal);
   int status = 0;
   REQUIRE(waitpid(pid, &status, 0) == pid);
-  const nlohmann::json partial = read_json(parted / "train.json");
   INFO(test::read_text(dir / "parted.log"));
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    MESSAGE("the run finished before SIGINT arrived; only the resume path of a finished run was exercised");
-  } else {
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return false;
+  if (signal == SIGINT) {
     CHECK(WEXITSTATUS(status) == 130);
+    const nlohmann::json partial = read_json(run / "train.json");
     CHECK(partial["complete"] == false);
-    CHECK(partial["iteration"].get<int>() < 240);
+    CHECK(partial["iteration"].get<int>() < 120);
     CHECK(test::read_text(dir / "parted.log").find("--resume") != std::string::npos);
-    REQUIRE(test::run_style4d("train", "--resume " + parted.string(), dir / "resumed.log") == 0);
+  } else {
+    CHECK(WIFSIGNALED(status));
+    CHECK_NOTHROW(train::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));  // the last one is intact
   }
-  const io::GaussianCloud a = io::read_ply_gaussians(whole / "geometry" / "gaussians.ply");
-  const io::GaussianCloud b = io::read_ply_gaussians(parted / "geometry" / "gaussians.ply");
-  REQUIRE(a.size() == b.size());
-  CHECK(max_param_diff(a, b) <= 1e-3);  // float atomics reorder gradient sums; measured worst x
-  CHECK(read_json(parted / "train.json")["test_psnr"].get<double>() ==
-        doctest::Approx(read_json(whole / "train.json")["test_psnr"].get<double>()).epsilon(1e-3));
+  REQUIRE(test::run_style4d("train", "--resume " + run.string(), dir / "resumed.log") == 0);
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("SIGINT or kill -9, then --resume, ends exactly where an uninterrupted run ends") {
+  const SingleThreadedLavapipe one_thread;
+  const fs::path dir = test::fresh_dir("train_resume");
+  const fs::path whole = dir / "whole";
+  std::string args = "--data " + tiny_dataset().string() + " --out " + whole.string();
+  for (const std::string& a : kResumeArgs) args += " " + a;
+  REQUIRE(test::run_style4d("train", args, dir / "whole.log") == 0);
+  for (int signal : {SIGINT, SIGKILL}) {
+    CAPTURE(signal);
+    const fs::path run = dir / (signal == SIGINT ? "sigint" : "sigkill");
+    if (!interrupt_and_resume(run, signal, dir)) MESSAGE("the run finished before the signal; only completion was checked");
+    CHECK(test::read_text(run / "geometry" / "gaussians.ply") == test::read_text(whole / "geometry" / "gaussians.ply"));
+    CHECK(read_json(run / "train.json")["test_psnr"] == read_json(whole / "train.json")["test_psnr"]);
+  }
 }
 
 TEST_CASE("a diverging run rolls back, says so, and never writes a non-finite checkpoint") {

@@ -66,9 +66,10 @@ TEST_CASE("tiny dataset: files, poses_bounds.npy shape, hwf, and the LLFF rotati
     CHECK(far > length(centre - scene.centre) + 2);  // the wall is 2.5 behind the centre
     CHECK(far < 30);
   }
-  // Cameras spread along x, left to right.
-  CHECK(pb.values[3] < pb.values[17 + 3]);
-  CHECK(pb.values[17 + 3] < pb.values[34 + 3]);
+  // cam00 is the middle of the arc (Neu3D's centre test camera); the others follow left to right.
+  CHECK(pb.values[3] == doctest::Approx(scene.centre.x));
+  CHECK(pb.values[17 + 3] < pb.values[3]);
+  CHECK(pb.values[3] < pb.values[34 + 3]);
 
   std::ifstream ply(dir / "points3D.ply");
   std::string magic, format;

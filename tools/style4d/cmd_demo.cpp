@@ -103,9 +103,9 @@ int cmd_demo(const std::vector<std::string>& argv) {
      << "## Stages\n\n| stage | what | status |\n|---|---|---|\n";
   for (const Stage& s : kStages) md << "| " << s.name << " | " << s.what << " | " << (s.built ? "built" : "**not built yet**") << " |\n";
   md << "\n## Built-in scene\n\n" << scene.cams << " cameras x " << scene.frames << " frames at " << scene.width << "x"
-     << scene.height << " in `data/` (DyNeRF layout, " << synth_s << " s). First and last frame of the middle camera:\n\n"
-     << "![first](data/" << s4d::synth::camera_dir_name(scene.cams / 2) << "/" << s4d::synth::frame_file_name(0) << ") "
-     << "![last](data/" << s4d::synth::camera_dir_name(scene.cams / 2) << "/"
+     << scene.height << " in `data/` (DyNeRF layout, " << synth_s << " s). First and last frame of cam00, the middle (test) camera:\n\n"
+     << "![first](data/" << s4d::synth::camera_dir_name(0) << "/" << s4d::synth::frame_file_name(0) << ") "
+     << "![last](data/" << s4d::synth::camera_dir_name(0) << "/"
      << s4d::synth::frame_file_name(scene.frames - 1) << ")\n";
   md << "\n## Engine check (GPU vs CPU twin)\n\n| primitive | n | GPU ms (p50) | keys/s | matches twin |\n|---|---|---|---|---|\n";
   for (const auto* t : {&sort, &scan})

@@ -94,7 +94,10 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
 
   const Scene scene;
   const ArcRig rig;
-  const std::vector<PinholeCamera> cameras = arc_cameras(rig, scene.centre, options.cams, options.width, options.height);
+  // Neu3D holds out its centre camera as cam00: the middle camera of the arc comes first, the
+  // others follow from left to right, so the test view is interpolated, not extrapolated.
+  std::vector<PinholeCamera> cameras = arc_cameras(rig, scene.centre, options.cams, options.width, options.height);
+  std::rotate(cameras.begin(), cameras.begin() + options.cams / 2, cameras.begin() + options.cams / 2 + 1);
   const RenderSettings settings{options.samples_per_axis, options.seed, 0};
 
   const uint64_t total = static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames);

@@ -302,15 +302,17 @@ TrainResult StaticTrainer::run(const std::atomic<bool>& stop) {
       m.rollback("the loss became non-finite at iteration " + std::to_string(m.iteration));
       continue;
     }
-    m.densify_if_due();
     if (m.iteration % 10 == 0)
       log << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ',' << m.gaussians->size() << ','
           << m.elapsed(start) << '\n';
     if (m.iteration % config_.test_every == 0 && m.iteration < config_.iterations)
       test_psnr = m.evaluator.evaluate(m.rast, m.gaussians->params(m.active_degree()), spread(m.test_views, kPeriodicTestViews),
                                        m.frames, m.dataset.background).psnr;
+    m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.iteration % config_.checkpoint_every == 0 && m.iteration < config_.iterations) m.checkpoint(m.elapsed(start));
-    progress.update(m.iteration, {{"loss", value.loss}, {"test_psnr", test_psnr}, {"gaussians", m.gaussians->size()}});
+    std::vector<std::pair<std::string, double>> shown = {{"loss", value.loss}, {"gaussians", m.gaussians->size()}};
+    if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
+    progress.update(m.iteration, shown);
   }
   result.test = m.evaluator.evaluate(m.rast, m.gaussians->params(m.active_degree()), m.test_views, m.frames,
                                      m.dataset.background, m.run.eval_dir());

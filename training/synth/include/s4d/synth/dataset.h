@@ -1,6 +1,7 @@
 // `style4d synth`'s dataset writer: renders every camera and frame of the built-in scene and
 // writes it in the DyNeRF / Neu3D layout,
-//   DIR/camNN/NNNN.png   RGB 8-bit, camera NN (from 00), frame NNNN (from 0000), t = frame / (frames - 1)
+//   DIR/camNN/NNNN.png   RGB 8-bit, camera NN (from 00), frame NNNN (from 0000), t = frame / (frames - 1);
+//                        cam00 is the arc's middle camera (Neu3D's held-out centre view), then left to right
 //   DIR/camNN.mp4        instead, with `video`: all frames of camera NN as MPEG-4 Part 2 (mp4v) at
 //                        30 fps; lossy (see s4d/data/video_writer.h)
 //   DIR/poses_bounds.npy float64 [cams, 17]: LLFF 3x5 (down, right, back | centre | H, W, focal), near, far
