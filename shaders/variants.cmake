@@ -19,6 +19,7 @@ set(S4D_SHADER_VARIANTS
   "ssim_vpass|loss/ssim_vpass.comp"
   "loss_grad|loss/loss_grad.comp"
   "adam_step|optim/adam_step.comp"
+  "grad_add|optim/grad_add.comp"
   "densify_accumulate|densify/densify_accumulate.comp"
   "densify_classify|densify/densify_classify.comp"
   "densify_demote|densify/densify_demote.comp"

@@ -11,6 +11,10 @@
 #define S4D_B_ADAM_M 3       // [n] float first moment
 #define S4D_B_ADAM_V 4       // [n] float second moment
 
+#define S4D_ADD_WG 256
+#define S4D_B_ADD_DST 0  // [n] float, += src
+#define S4D_B_ADD_SRC 1  // [n] float
+
 S4D_NAMESPACE_BEGIN
 
 // One parameter group's hyperparameters for the current step.
@@ -34,6 +38,14 @@ struct AdamParams {
   uint tail_group;  // group of each row's elements from `head` on
   uint row;         // row length (1 with head 1: one group for all)
   uint head;
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+};
+
+// Push constants of grad_add (the gradients of a batch's views summed into one).
+struct AddParams {
+  uint n;
   uint _pad0;
   uint _pad1;
   uint _pad2;

@@ -9,6 +9,7 @@
 #include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
+#include "s4d/optim/grad_add.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/primitives/shader_pipeline.h"
 #include "s4d/ref/adam_ref.h"
@@ -117,6 +118,20 @@ TEST_CASE("GPU Adam splits rows between two groups like the twin (SH DC and rest
   CHECK(std::abs(out[0] - p[0]) > 10 * std::abs(out[head] - p[head]));
   engine::Recorder bad(test::context(), "bad rows");
   CHECK_THROWS_AS(adam.record_rows(bad, 0, 1, row, row + 1, bp, bp, m, v, static_cast<uint32_t>(n)), std::invalid_argument);
+}
+
+TEST_CASE("grad_add sums a batch's gradients exactly like the twin (a float add per element)") {
+  const uint32_t n = 1000;
+  const std::vector<float> a = random_values(n, 51, -1, 1), b = random_values(n, 52, -1, 1);
+  engine::Buffer da = engine::buffer_from(test::context(), "dst", a), db = engine::buffer_from(test::context(), "src", b);
+  engine::Recorder rec(test::context(), "grad_add");
+  optim::record_grad_add(rec, da, db, n - 1);  // the last element stays: n is honoured
+  test::context().run(std::move(rec));
+  const std::vector<float> out = test::context().download<float>(da, n);
+  for (uint32_t i = 0; i + 1 < n; ++i) CHECK(out[i] == a[i] + b[i]);  // one IEEE float add: exact
+  CHECK(out[n - 1] == a[n - 1]);
+  engine::Recorder bad(test::context(), "bad grad_add");
+  CHECK_THROWS_AS(optim::record_grad_add(bad, da, db, n + 1), std::invalid_argument);
 }
 
 namespace {

@@ -35,6 +35,7 @@ static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
 static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
+static_assert(sizeof(AddParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformShape) == 64);
 static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -71,6 +72,8 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(AdamParams, S4D_MEMBER(AdamParams, n), S4D_MEMBER(AdamParams, group),
                  S4D_MEMBER(AdamParams, tail_group), S4D_MEMBER(AdamParams, row), S4D_MEMBER(AdamParams, head),
                  S4D_MEMBER(AdamParams, _pad0), S4D_MEMBER(AdamParams, _pad1), S4D_MEMBER(AdamParams, _pad2)),
+      S4D_STRUCT(AddParams, S4D_MEMBER(AddParams, n), S4D_MEMBER(AddParams, _pad0), S4D_MEMBER(AddParams, _pad1),
+                 S4D_MEMBER(AddParams, _pad2)),
       S4D_STRUCT(BlendCeilingParams, S4D_MEMBER(BlendCeilingParams, size), S4D_MEMBER(BlendCeilingParams, background),
                  S4D_MEMBER(BlendCeilingParams, list_length), S4D_MEMBER(BlendCeilingParams, _pad0),
                  S4D_MEMBER(BlendCeilingParams, _pad1), S4D_MEMBER(BlendCeilingParams, _pad2)),
