@@ -86,7 +86,7 @@ TEST_CASE("cloud_from_points follows graphdeco's initialisation") {
 
 TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, truncation and other files") {
   const fs::path dir = fresh_dir("s4d_checkpoint_test");
-  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, small_state(50, 1)};
+  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, small_state(50, 1), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
   write_checkpoint(dir / "a.s4dckpt", cp);
   const train::Checkpoint back = train::read_checkpoint(dir / "a.s4dckpt");
   CHECK(back.meta == cp.meta);
@@ -95,12 +95,17 @@ TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, trunc
   CHECK(back.state.m[model::kSh] == cp.state.m[model::kSh]);
   CHECK(back.state.v[model::kQuats] == cp.state.v[model::kQuats]);
   CHECK(back.state.stats[model::kMaxRadius] == cp.state.stats[model::kMaxRadius]);
+  CHECK(back.extra == cp.extra);
 
   train::Checkpoint bad = cp;
   bad.state.m[model::kOpacity][7] = NAN;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "a.s4dckpt", bad), doctest::Contains("opacity_logits.adam_m"),
                        std::invalid_argument);
   CHECK(train::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
+
+  train::Checkpoint bad_extra = cp;
+  bad_extra.extra[0].second[1] = INFINITY;
+  CHECK_THROWS_WITH_AS(write_checkpoint(dir / "b.s4dckpt", bad_extra), doctest::Contains("field.planes"), std::invalid_argument);
 
   const auto size = fs::file_size(dir / "a.s4dckpt");
   fs::copy_file(dir / "a.s4dckpt", dir / "cut.s4dckpt");

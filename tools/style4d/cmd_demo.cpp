@@ -19,7 +19,7 @@
 #include "primitives_bench.h"
 #include "s4d/engine/context.h"
 #include "s4d/synth/dataset.h"
-#include "s4d/train/static_trainer.h"
+#include "s4d/train/trainer.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
 
@@ -84,11 +84,13 @@ int cmd_demo(const std::vector<std::string>& argv) {
 
   // Stage 1 on every frame, resumed when an earlier demo run was interrupted.
   const std::filesystem::path run = out / "run";
-  std::unique_ptr<train::StaticTrainer> trainer;
+  std::unique_ptr<train::Trainer> trainer;
   if (std::filesystem::exists(run / "run.json")) {
-    trainer = train::StaticTrainer::resume(ctx, run);
+    trainer = train::Trainer::resume(ctx, run);
   } else {
-    trainer = std::make_unique<train::StaticTrainer>(ctx, data, train::preset_config("fast"), run);
+    train::TrainConfig config = train::preset_config("fast");
+    config.fine_iterations = 0;  // the demo's 4DGS stage waits for its measured preset (issue 5)
+    trainer = std::make_unique<train::Trainer>(ctx, data, config, run);
   }
   const std::atomic<bool> never_stop{false};
   const train::TrainResult trained = trainer->run(never_stop);

@@ -1,5 +1,6 @@
-// style4d train --data DIR --out RUN [--preset P] [--iters N] | --resume RUN: stage 1 (static
-// Gaussians). SIGINT or SIGTERM writes a checkpoint and exits with 130; --resume continues it.
+// style4d train --data DIR --out RUN [--preset P] [--iters N] | --resume RUN: stages 1 and 2
+// (static Gaussians, then 4DGS). SIGINT or SIGTERM writes a checkpoint and exits with 130;
+// --resume continues it.
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -10,7 +11,7 @@
 #include "args.h"
 #include "commands.h"
 #include "s4d/engine/context.h"
-#include "s4d/train/static_trainer.h"
+#include "s4d/train/trainer.h"
 
 namespace s4d::cli {
 
@@ -35,6 +36,11 @@ std::array<float, 3> parse_colour(const std::string& option, const std::string& 
 train::TrainConfig config_from_args(const Args& args) {
   train::TrainConfig c = train::preset_config(args.get_or("preset", "default"));
   if (auto v = args.get("iters")) train::set_iterations(c, parse_number<uint32_t>("iters", *v));
+  if (auto v = args.get("fine-iters")) train::set_fine_iterations(c, parse_number<uint32_t>("fine-iters", *v));
+  const std::string stage = args.get_or("stage", "all");
+  if (stage == "static") c.fine_iterations = 0;
+  else if (stage != "all") throw std::invalid_argument("--stage: expected static or all, got '" + stage + "'");
+  if (auto v = args.get("batch")) c.fine_batch = std::max(1u, parse_number<uint32_t>("batch", *v));
   if (auto v = args.get("downscale")) c.downscale = parse_number<int>("downscale", *v);
   if (c.downscale < 1) throw std::invalid_argument("--downscale: must be at least 1");
   if (auto v = args.get("max-time")) {
@@ -65,7 +71,9 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"data", "dataset directory (DyNeRF/Neu3D or D-NeRF layout, e.g. from style4d synth)", true, "DIR"},
       {"out", "run directory to create (must not exist, or be empty)", true, "RUN"},
       {"resume", "continue the run in RUN from its last checkpoint (other options are taken from the run)", true, "RUN"},
-      {"stage", "static: stage 1 only (the 4DGS deformation stage is not built yet)", true, "static"},
+      {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
+      {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
+      {"batch", "views per 4DGS step (default: the preset's)", true, "B"},
       {"preset", "fast | default | quality (default: default)", true, "P"},
       {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
       {"downscale", "integer image downscale factor (default 1)", true, "K"},
@@ -80,7 +88,8 @@ int cmd_train(const std::vector<std::string>& argv) {
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("train", "--data DIR --out RUN [options] | --resume RUN",
-                       "Trains Gaussians on a dataset. Writes RUN/geometry/gaussians.ply (standard 3DGS PLY),\n"
+                       "Trains static Gaussians, then the 4DGS deformation field. Writes RUN/geometry/gaussians.ply\n"
+                       "(canonical Gaussians, standard 3DGS PLY; the field is in the checkpoint),\n"
                        "RUN/train.json (test_psnr, test_ssim, seconds, num_gaussians, settings, per test view),\n"
                        "RUN/checkpoint/state.s4dckpt, RUN/loss.csv and RUN/eval/*.png (test-view renders).\n"
                        "Ctrl-C writes a checkpoint and exits; --resume RUN continues where it stopped.",
@@ -88,23 +97,21 @@ int cmd_train(const std::vector<std::string>& argv) {
     return 0;
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
-  if (args.get_or("stage", "static") != "static")
-    throw std::invalid_argument("--stage: only 'static' exists so far; the 4DGS deformation stage is not built yet");
 
   engine::Context ctx;
-  std::unique_ptr<train::StaticTrainer> trainer;
+  std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
-    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale"})
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch"})
       if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
-    trainer = train::StaticTrainer::resume(ctx, *run);
+    trainer = train::Trainer::resume(ctx, *run);
   } else {
-    trainer = std::make_unique<train::StaticTrainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
+    trainer = std::make_unique<train::Trainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
   }
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
   const train::TrainResult r = trainer->run(g_stop);
   if (!r.complete) return 130;
-  std::cout << "static stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
+  std::cout << r.stage << " stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
             << " Gaussians, " << r.seconds << " s\n";
   return 0;
 }

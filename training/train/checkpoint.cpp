@@ -61,6 +61,14 @@ void write_checkpoint(const std::filesystem::path& path, const Checkpoint& check
     header["arrays"].push_back({{"name", a.name}, {"floats", a.values->size()}});
     body.append(reinterpret_cast<const char*>(a.values->data()), a.values->size() * sizeof(float));
   }
+  for (const auto& [name, values] : checkpoint.extra) {
+    for (size_t i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values[i]))
+        throw std::invalid_argument("checkpoint " + path.string() + ": array '" + name + "' holds a non-finite value at " +
+                                    std::to_string(i) + "; refusing to write it");
+    header["arrays"].push_back({{"name", name}, {"floats", values.size()}});
+    body.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
+  }
   const std::string json = header.dump();
   const uint64_t len = json.size();
   std::string file(kMagic, sizeof kMagic);
@@ -92,17 +100,20 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
     count = header.at("count").get<size_t>();
     const nlohmann::json& listed = header.at("arrays");
     auto arrays = arrays_of(cp.state);
-    if (listed.size() != arrays.size()) fail(path, "lists " + std::to_string(listed.size()) + " arrays, expected " + std::to_string(arrays.size()));
-    for (size_t k = 0; k < arrays.size(); ++k) {
+    if (listed.size() < arrays.size())
+      fail(path, "lists " + std::to_string(listed.size()) + " arrays, expected at least " + std::to_string(arrays.size()));
+    for (size_t k = 0; k < listed.size(); ++k) {
       const std::string name = listed[k].at("name").get<std::string>();
       const size_t floats = listed[k].at("floats").get<size_t>();
-      if (name != arrays[k].name) fail(path, "array " + std::to_string(k) + " is '" + name + "', expected '" + arrays[k].name + "'");
+      if (k < arrays.size() && name != arrays[k].name)
+        fail(path, "array " + std::to_string(k) + " is '" + name + "', expected '" + arrays[k].name + "'");
       if (floats > (file.size() - offset) / sizeof(float)) fail(path, "truncated in array '" + name + "'");
-      arrays[k].values->resize(floats);
-      std::memcpy(arrays[k].values->data(), file.data() + offset, floats * sizeof(float));
+      std::vector<float>* values = k < arrays.size() ? arrays[k].values : &cp.extra.emplace_back(name, std::vector<float>{}).second;
+      values->resize(floats);
+      std::memcpy(values->data(), file.data() + offset, floats * sizeof(float));
       offset += floats * sizeof(float);
       for (size_t i = 0; i < floats; ++i)
-        if (!std::isfinite((*arrays[k].values)[i])) fail(path, "array '" + name + "' holds a non-finite value at " + std::to_string(i));
+        if (!std::isfinite((*values)[i])) fail(path, "array '" + name + "' holds a non-finite value at " + std::to_string(i));
     }
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("malformed header: ") + e.what());

@@ -20,7 +20,7 @@ double psnr_of(const std::vector<float>& image, const std::vector<float>& target
 
 Evaluator::Evaluator(engine::Context& ctx) : ctx_(&ctx), loss_(ctx, "evaluation ssim") {}
 
-Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const splat::GaussianParams& params,
+Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_at,
                                const std::vector<const data::View*>& views, data::FrameCache& frames,
                                const std::array<float, 3>& background, const std::filesystem::path& save_dir) {
   Evaluation out;
@@ -28,7 +28,7 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const splat::GaussianPar
   for (const data::View* view : views) {
     const io::ImageF& target = frames.get(*view);
     const splat::Camera cam = splat::to_splat_camera(view->camera);
-    rast.forward(params, cam, background);
+    rast.forward(params_at(*view), cam, background);
     const size_t n = size_t{cam.width} * cam.height * 3;
     std::vector<float> image = ctx_->download<float>(rast.rgb(), n);
     for (float& v : image) v = std::clamp(v, 0.0f, 1.0f);

@@ -25,6 +25,15 @@ TrainConfig preset_config(const std::string& name) {
     c.budget = 15000;
     c.test_every = 300;
     c.checkpoint_every = 300;
+    // Fine stage sized for lavapipe: llvmpipe ends any shader invocation after 65535 loop
+    // iterations, which caps the MLP width near 32 (README, deformation field).
+    c.fine_iterations = 1500;
+    c.fine_batch = 2;
+    c.fine_densify_until = 1000;
+    c.field_resolution = {32, 32, 32, 16};
+    c.field_channels = 8;
+    c.field_width = 32;
+    c.field_heads = 7;
     return c;
   }
   if (name == "quality") {
@@ -47,12 +56,23 @@ void set_iterations(TrainConfig& c, uint32_t iterations) {
   c.iterations = iterations;
 }
 
+void set_fine_iterations(TrainConfig& c, uint32_t iterations) {
+  if (c.fine_iterations > 0) {
+    const double f = double(iterations) / c.fine_iterations;
+    c.fine_densify_until = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(c.fine_densify_until * f)));
+  }
+  c.fine_iterations = iterations;
+}
+
 #define S4D_CONFIG_FIELDS(X)                                                                                     \
   X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(background) X(sh_degree) X(sh_up_every)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
   X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(test_every)               \
-  X(checkpoint_every)
+  X(checkpoint_every) X(fine_iterations) X(fine_batch) X(fine_ssim_weight) X(fine_densify_until)      \
+  X(field_resolution) X(field_multires) X(field_channels) X(field_width) X(field_trunk_extra) X(field_heads)       \
+  X(deform_lr) X(deform_lr_final) X(grid_lr) X(grid_lr_final) X(plane_tv_weight) X(time_smoothness_weight)       \
+  X(l1_time_planes_weight)
 
 nlohmann::json to_json(const TrainConfig& c) {
   nlohmann::json j;

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +20,8 @@ namespace s4d::train {
 struct Checkpoint {
   nlohmann::json meta;  // iteration, stage, rng state, lr scale... (owned by the trainer)
   model::HostState state;
+  // Further named arrays after the Gaussians' (the deformation field and its Adam moments).
+  std::vector<std::pair<std::string, std::vector<float>>> extra;
 };
 
 // Throws std::invalid_argument naming the array and index of the first non-finite value (a

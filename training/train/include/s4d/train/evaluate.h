@@ -3,6 +3,7 @@
 // the map (the training loss's own kernels), both averaged over the views.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,9 +30,12 @@ double psnr_of(const std::vector<float>& image, const std::vector<float>& target
 class Evaluator {
  public:
   explicit Evaluator(engine::Context& ctx);
-  // Renders every view with `params`; when `save_dir` is set, writes each render there as
+  // The Gaussians to render a view with (a dynamic model deforms them to the view's time first).
+  using ParamsAt = std::function<splat::GaussianParams(const data::View&)>;
+
+  // Renders every view; when `save_dir` is set, writes each render there as
   // <view name with '/' as '_'>.png.
-  Evaluation evaluate(splat::Rasterizer& rast, const splat::GaussianParams& params, const std::vector<const data::View*>& views,
+  Evaluation evaluate(splat::Rasterizer& rast, const ParamsAt& params_at, const std::vector<const data::View*>& views,
                       data::FrameCache& frames, const std::array<float, 3>& background,
                       const std::filesystem::path& save_dir = {});
 

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -34,6 +35,19 @@ struct TrainConfig {
   float grad_threshold = 0.0002f, percent_dense = 0.01f, min_opacity = 0.005f;
   float max_screen_radius = 20.0f;  // pixels; applies after the first opacity reset
   uint32_t budget = 1000000;        // at most this many Gaussians
+  // Stage 2, the 4DGS fine stage (ALGORITHMS.md 3; DyNeRF settings). 0 iterations: static only.
+  // Its iteration counter, learning-rate schedules and densification window restart at 1; every
+  // log-linear schedule spans its stage (4DGaussians spans 20000 steps in both stages).
+  uint32_t fine_iterations = 14000;
+  uint32_t fine_batch = 4;           // views per step; their gradients are summed
+  float fine_ssim_weight = 0.0f;     // 4DGaussians trains the fine stage on L1 only
+  uint32_t fine_densify_until = 10000;
+  std::array<uint32_t, 4> field_resolution{64, 64, 64, 150};  // x, y, z, t; t is not multiplied
+  std::vector<uint32_t> field_multires{1, 2};
+  uint32_t field_channels = 16, field_width = 128, field_trunk_extra = 0;
+  uint32_t field_heads = 31;  // S4D_DEFORM_HEAD_* bits: dx ds dr do dsh (7: dx ds dr)
+  double deform_lr = 1.6e-4, deform_lr_final = 1.6e-5, grid_lr = 1.6e-3, grid_lr_final = 1.6e-4;  // x extent
+  float plane_tv_weight = 2e-4f, time_smoothness_weight = 1e-3f, l1_time_planes_weight = 1e-4f;
   // Runs.
   uint32_t test_every = 1000;
   uint32_t checkpoint_every = 1000;
@@ -44,6 +58,8 @@ TrainConfig preset_config(const std::string& name);
 // Sets the run length and rescales every schedule of the preset (densification window, opacity
 // resets, SH growth, tests, checkpoints) by the same factor, so --iters keeps the preset's shape.
 void set_iterations(TrainConfig& config, uint32_t iterations);
+// The same for the fine stage (its densification window).
+void set_fine_iterations(TrainConfig& config, uint32_t iterations);
 
 nlohmann::json to_json(const TrainConfig& config);
 // Missing keys keep their defaults; a key of the wrong type is an error naming it.

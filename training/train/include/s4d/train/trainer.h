@@ -1,0 +1,60 @@
+// Training stages 1 and 2 (ARCHITECTURE.md): static Gaussians (3DGS on every selected frame as if
+// the scene did not move; ALGORITHMS.md 2), then the 4DGS fine stage (canonical Gaussians and a
+// HexPlane deformation field trained together, a batch of views per step; ALGORITHMS.md 3).
+// Densification and opacity resets on the GPU; checkpoints, resume, interruption and non-finite
+// recovery in both stages.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "s4d/data/dataset.h"
+#include "s4d/engine/context.h"
+#include "s4d/train/evaluate.h"
+#include "s4d/train/run_dir.h"
+#include "s4d/train/train_config.h"
+
+namespace s4d::train {
+
+struct TrainResult {
+  bool complete = false;  // false: interrupted; the checkpoint holds the state to resume from
+  std::string stage;      // "static" or "fine": where the run stopped
+  uint32_t iteration = 0; // within that stage
+  uint32_t num_gaussians = 0;
+  double seconds = 0;  // training time over all sessions of the run
+  uint32_t rollbacks = 0;
+  Evaluation test;  // the last evaluation (all test views when complete); train.json also keeps the static stage's
+};
+
+class Trainer {
+ public:
+  // A new run into `run_dir`, which must not exist or be empty (a run is never overwritten).
+  // Writes RUN/run.json at once.
+  Trainer(engine::Context& ctx, const std::filesystem::path& data_dir, const TrainConfig& config,
+          const std::filesystem::path& run_dir);
+  // Continues the run in `run_dir` from its checkpoint (or from the start when it has none yet).
+  static std::unique_ptr<Trainer> resume(engine::Context& ctx, const std::filesystem::path& run_dir);
+  ~Trainer();
+
+  // Trains both stages to their configured iteration counts, or until `stop` becomes true (then
+  // writes a checkpoint and returns with complete = false). Progress goes to stderr.
+  TrainResult run(const std::atomic<bool>& stop);
+
+  const TrainConfig& config() const { return config_; }
+  const data::Dataset& dataset() const { return dataset_; }
+
+ private:
+  struct Impl;
+  Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& run_json);
+
+  TrainConfig config_;
+  data::Dataset dataset_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace s4d::train
