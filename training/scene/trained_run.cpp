@@ -59,7 +59,9 @@ TrainedRun open_trained_run(engine::Context& ctx, const fs::path& run_dir, const
     throw std::runtime_error(run.run_json().string() + ": field 'data' names " + data_path.string() +
                              ", which does not exist");
 
-  const std::string stage = j.value("stage", "static");
+  if (j.contains("stage") && !j.at("stage").is_string())
+    throw std::runtime_error(run.run_json().string() + ": field 'stage' is not a string");
+  const std::string stage = j.value("stage", "static");  // runs written before stages were named
   if (stage != "static")
     throw std::runtime_error(run.run_json().string() + ": stage '" + stage + "' is not one this build renders (static)");
   TrainedRun out;
