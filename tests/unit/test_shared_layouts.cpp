@@ -13,6 +13,7 @@
 #include "s4d_bench.h"
 #include "s4d_deform.h"
 #include "s4d_densify.h"
+#include "s4d_flow.h"
 #include "s4d_loss.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
@@ -42,6 +43,8 @@ static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUS
 static_assert(sizeof(DeformRegParams) == 80 && sizeof(DeformRegParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && sizeof(DemoteParams) == 16);
 static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
+static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(FlowDisplaceParams) == 16);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -99,6 +102,11 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(SlotParams, value)),
       S4D_STRUCT(SplitParams, S4D_MEMBER(SplitParams, n), S4D_MEMBER(SplitParams, seed),
                  S4D_MEMBER(SplitParams, log_split_shrink), S4D_MEMBER(SplitParams, _pad0)),
+      S4D_STRUCT(FlowProjectParams, S4D_MEMBER(FlowProjectParams, cam), S4D_MEMBER(FlowProjectParams, n),
+                 S4D_MEMBER(FlowProjectParams, _pad0), S4D_MEMBER(FlowProjectParams, _pad1),
+                 S4D_MEMBER(FlowProjectParams, _pad2)),
+      S4D_STRUCT(FlowDisplaceParams, S4D_MEMBER(FlowDisplaceParams, n), S4D_MEMBER(FlowDisplaceParams, _pad0),
+                 S4D_MEMBER(FlowDisplaceParams, _pad1), S4D_MEMBER(FlowDisplaceParams, _pad2)),
   };
 }
 

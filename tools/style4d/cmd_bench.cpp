@@ -1,7 +1,7 @@
 // style4d bench --frames A [--name N] [--frames A2 --name N2 ...] --original B --style-image S --out DIR:
 // Style4D-Bench in frames mode. The weight-free metrics are computed; every learned metric is
 // reported as {"unavailable": ...} naming the weights it needs. --run RUN --style NAME (scoring a
-// trained run through the render protocols) is not built yet.
+// trained run's style through the render protocols) waits for styles (style4d stylize).
 #include <iostream>
 #include <stdexcept>
 
@@ -29,7 +29,7 @@ const std::vector<OptionSpec> kSpecs = {
     {"raft-inputs", "the ONNX graph's two input names (default image1,image2)", true, "A,B"},
     {"flow-dir", "exact flow: fw_NNNN.exr and bw_NNNN.exr (channels u, v in pixels) per pair", true, "DIR"},
     {"python", "Python with pyiqa for the learned metrics (the bridge is not built yet)", true, "EXE"},
-    {"run", "a trained run (needs the render protocols: not built yet)", true, "RUN"},
+    {"run", "a trained run (needs its styles: style4d stylize, not built yet)", true, "RUN"},
     {"style", "style name inside --run", true, "NAME"},
 };
 
@@ -83,8 +83,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
     return 0;
   }
   if (args.get("run") || args.get("style"))
-    throw std::invalid_argument("--run/--style: scoring a trained run needs the render protocols (style4d render --run), "
-                                "which are not built yet; render the frames and use --frames A --original B --style-image S");
+    throw std::invalid_argument("--run/--style: scoring a trained run's style needs styles (style4d stylize), which are not "
+                                "built yet; render frames with style4d render --run RUN --path spiral --flow --out A and score "
+                                "them with --frames A --original B --style-image S [--flow exact --flow-dir A/flow]");
   if (args.get("python"))
     throw std::invalid_argument("--python: the pyiqa bridge is not built yet; the learned metrics are reported as unavailable");
   const std::vector<std::string> frames = args.get_all("frames"), names = args.get_all("name");

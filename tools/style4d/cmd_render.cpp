@@ -1,6 +1,7 @@
-// style4d render --ply FILE --cameras transforms.json --out DIR: renders a standard 3DGS PLY from
-// NeRF-style cameras into DIR/<name>.png (RGB over the background) and DIR/<name>.exr (R, G, B, A,
-// Z), plus DIR/render.json. Every input is read and checked before anything is written.
+// style4d render: option parsing, the mode switch (--run or --ply), and the --ply mode, which renders
+// a standard 3DGS PLY from NeRF-style cameras into DIR/<name>.png (RGB over the background) and
+// DIR/<name>.exr (R, G, B, A, Z), plus DIR/render.json. Every input is read and checked before
+// anything is written. The --run mode is in render_run.cpp.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "args.h"
 #include "commands.h"
 #include "device_json.h"
+#include "render_modes.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/io/nerf_cameras.h"
@@ -25,15 +27,6 @@
 namespace s4d::cli {
 namespace {
 
-std::array<float, 3> parse_background(const std::string& text) {
-  std::array<float, 3> bg{};
-  std::istringstream in(text);
-  char comma = 0;
-  if (!(in >> bg[0] >> comma >> bg[1] >> comma >> bg[2]) || !in.eof())
-    throw std::invalid_argument("--background: expected R,G,B (for example 0,0,0 or 1,1,1), got '" + text + "'");
-  return bg;
-}
-
 // Expected depth: the alpha-weighted depth sum divided by the accumulated alpha; 0 where nothing
 // was blended.
 std::vector<float> expected_depth(const std::vector<float>& depth_sum, const std::vector<float>& alpha) {
@@ -45,30 +38,58 @@ std::vector<float> expected_depth(const std::vector<float>& depth_sum, const std
 
 }  // namespace
 
+std::array<float, 3> parse_background(const std::string& text) {
+  std::array<float, 3> bg{};
+  std::istringstream in(text);
+  char comma = 0;
+  if (!(in >> bg[0] >> comma >> bg[1] >> comma >> bg[2]) || !in.eof())
+    throw std::invalid_argument("--background: expected R,G,B (for example 0,0,0 or 1,1,1), got '" + text + "'");
+  return bg;
+}
+
 int cmd_render(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
+      {"run", "a training run directory (style4d train): render one of its protocols", true, "RUN"},
+      {"path", "--run: test (each test camera over the test times), spiral (around the scene over t in [0,1]) "
+               "or train:CAM (training camera CAM, e.g. train:cam01, over its times)", true, "PATH"},
+      {"style", "--run: render this trained style instead of the original scene", true, "NAME"},
+      {"format", "--run: png (default), exr (R, G, B, A, Z) or mp4 (one video per sequence)", true, "FORMAT"},
+      {"frames", "--run --path spiral: number of frames (default 120)", true, "N"},
+      {"flow", "--run: also write the renderer's exact optical flow, flow/fw_NNNN.exr and bw_NNNN.exr", false, ""},
       {"ply", "standard 3DGS PLY (binary little endian)", true, "FILE"},
-      {"cameras", "NeRF-style transforms.json (OpenGL camera-to-world)", true, "FILE"},
+      {"cameras", "--ply: NeRF-style transforms.json (OpenGL camera-to-world)", true, "FILE"},
+      {"sh-degree", "--ply: render with at most this SH degree (default: all the PLY stores)", true, "D"},
+      {"size", "--ply: image size for cameras without w/h (default: required in the JSON)", true, "WxH"},
       {"out", "output directory (created)", true, "DIR"},
-      {"background", "background colour R,G,B in [0,1] (default 0,0,0)", true, "R,G,B"},
-      {"sh-degree", "render with at most this SH degree (default: all the PLY stores)", true, "D"},
-      {"size", "image size for cameras without w/h (default: required in the JSON)", true, "WxH"},
-      {"run", "a training run directory (renders its protocols; needs `style4d train`)", true, "RUN"},
+      {"background", "background colour R,G,B in [0,1] (default: --run the run's, --ply 0,0,0)", true, "R,G,B"},
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("render", "--ply FILE --cameras transforms.json --out DIR",
-                       "Renders a standard 3D Gaussian Splatting PLY from NeRF-style cameras: per frame\n"
-                       "DIR/<name>.png (RGB over the background) and DIR/<name>.exr (R, G, B, A = accumulated\n"
-                       "alpha, Z = expected depth, the alpha-normalised camera-space z), where <name> is the last\n"
-                       "component of the frame's file_path. Writes DIR/render.json with per-frame statistics.",
-                       specs);
+    std::cout << usage(
+        "render", "--run RUN --path test|spiral|train:CAM --out DIR [--style NAME] [--format png|exr|mp4] [--frames N] [--flow]\n"
+                  "       style4d render --ply FILE --cameras transforms.json --out DIR",
+        "--run: renders a trained run along a protocol. test: one sequence per test camera, fixed, at\n"
+        "every test-view time, in DIR/<camera>/; spiral: around the scene (a spiral in front of a\n"
+        "forward-facing rig, a helix around a surrounding one, both looking at the point nearest to all\n"
+        "training cameras' axes) while time runs over [0, 1]; train:CAM: training camera CAM over its\n"
+        "times. Frames are NNNN.png, NNNN.exr or video.mp4; --flow adds flow/fw_NNNN.exr (frame k to\n"
+        "k+1) and flow/bw_NNNN.exr (k+1 to k), channels u and v in pixels, exact from the Gaussians'\n"
+        "motion. DIR/frames.json lists every frame's time and camera; DIR/render.json the summary.\n\n"
+        "--ply: renders a standard 3D Gaussian Splatting PLY from NeRF-style cameras: per frame\n"
+        "DIR/<name>.png (RGB over the background) and DIR/<name>.exr (R, G, B, A = accumulated\n"
+        "alpha, Z = expected depth, the alpha-normalised camera-space z), where <name> is the last\n"
+        "component of the frame's file_path. Writes DIR/render.json with per-frame statistics.",
+        specs);
     return 0;
   }
-  if (args.get("run"))
-    throw std::invalid_argument(
-        "--run needs a trained run directory, and training (`style4d train`) is not part of this build yet; "
-        "render a PLY with --ply FILE --cameras transforms.json");
+  if (args.get("run") && args.get("ply")) throw std::invalid_argument("--run and --ply are two modes; give one");
+  if (args.get("run")) return render_run(args);
+  for (const char* o : {"path", "style", "format", "frames", "flow"})
+    if (args.get(o) || args.flag(o)) throw std::invalid_argument(std::string("--") + o + " needs --run RUN");
+  return render_ply(args);
+}
+
+int render_ply(const Args& args) {
   const std::filesystem::path ply_path = args.require("ply"), cameras_path = args.require("cameras");
   const std::filesystem::path out = args.require("out");
   const std::array<float, 3> background = parse_background(args.get_or("background", "0,0,0"));

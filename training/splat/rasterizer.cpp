@@ -12,6 +12,7 @@
 #include "s4d/primitives/iota.h"
 #include "s4d/primitives/scan.h"
 #include "s4d/primitives/shader_pipeline.h"
+#include "gpu_camera.h"
 #include "s4d_splat.h"
 
 namespace s4d::splat {
@@ -61,13 +62,8 @@ void check_camera(const Camera& cam) {
 }
 
 gpu::ProjectParams project_params(const GaussianParams& g, const Camera& cam) {
-  const auto& V = cam.world_to_cam;
   gpu::ProjectParams p{};
-  p.cam.view_row0 = {V[0], V[1], V[2], V[3]};
-  p.cam.view_row1 = {V[4], V[5], V[6], V[7]};
-  p.cam.view_row2 = {V[8], V[9], V[10], V[11]};
-  p.cam.intrinsics = {cam.fx, cam.fy, cam.cx, cam.cy};
-  p.cam.size = {cam.width, cam.height, ceil_div(cam.width, S4D_TILE_SIZE), ceil_div(cam.height, S4D_TILE_SIZE)};
+  p.cam = gpu_camera(cam);
   p.n = g.count;
   p.sh_degree = g.sh_degree;
   p.sh_coeffs = g.sh_coeffs;

@@ -476,8 +476,11 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here
   fs::create_directories(run_dir / "checkpoint");
   fs::create_directories(run_dir / "geometry");
-  util::write_file_atomic(impl_->run.run_json(), nlohmann::json{{"data", fs::absolute(data_dir).string()},
-                                                                {"settings", to_json(config_)}}.dump(2) + "\n");
+  // "stage" names what the run's geometry is, for readers of a run (render, viewer).
+  util::write_file_atomic(impl_->run.run_json(),
+                          nlohmann::json{{"data", fs::absolute(data_dir).string()},
+                                         {"stage", config_.fine_iterations > 0 ? "4dgs" : "static"},
+                                         {"settings", to_json(config_)}}.dump(2) + "\n");
   impl_->gaussians = std::make_unique<model::TrainableGaussians>(ctx, initial, "gaussians");
   impl_->last_good = impl_->snapshot(0);
 }

@@ -1,0 +1,26 @@
+// The static stage's scene: one Gaussian cloud, the same at every time.
+#pragma once
+#include <string>
+
+#include "s4d/engine/context.h"
+#include "s4d/io/ply_gaussians.h"
+#include "s4d/scene/scene_source.h"
+#include "s4d/splat/scene_upload.h"
+
+namespace s4d::scene {
+
+class StaticScene final : public SceneSource {
+ public:
+  // Uploads `cloud`; renders with every SH degree it stores.
+  StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name = "static scene");
+
+  splat::GaussianParams at(double time, const splat::Camera& camera) override;
+  uint32_t size() const override { return gaussians_.size(); }
+  std::string describe() const override;
+
+ private:
+  splat::DeviceGaussians gaussians_;
+  int sh_degree_;
+};
+
+}  // namespace s4d::scene

@@ -1,0 +1,14 @@
+#include "s4d/scene/static_scene.h"
+
+namespace s4d::scene {
+
+StaticScene::StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name)
+    : gaussians_(ctx, cloud, name), sh_degree_(cloud.sh_degree) {}
+
+splat::GaussianParams StaticScene::at(double, const splat::Camera&) { return gaussians_.params(); }
+
+std::string StaticScene::describe() const {
+  return "static: " + std::to_string(gaussians_.size()) + " Gaussians (SH degree " + std::to_string(sh_degree_) + ")";
+}
+
+}  // namespace s4d::scene
