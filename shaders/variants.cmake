@@ -31,4 +31,5 @@ set(S4D_SHADER_VARIANTS
   "deform_bwd|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "deform_bwd_cas|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=0"
   "deform_reg|deform/deform_reg.comp"
+  "present_pack|viewer/present_pack.comp"
 )

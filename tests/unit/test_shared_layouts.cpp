@@ -17,6 +17,7 @@
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
+#include "s4d_viewer.h"
 
 using s4d::engine::CppStructLayout;
 using s4d::engine::StructMember;
@@ -41,6 +42,7 @@ static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUS
 static_assert(sizeof(DeformRegParams) == 80 && sizeof(DeformRegParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && sizeof(DemoteParams) == 16);
 static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
+static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -96,6 +98,8 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(SlotParams, value)),
       S4D_STRUCT(SplitParams, S4D_MEMBER(SplitParams, n), S4D_MEMBER(SplitParams, seed),
                  S4D_MEMBER(SplitParams, log_split_shrink), S4D_MEMBER(SplitParams, _pad0)),
+      S4D_STRUCT(PackParams, S4D_MEMBER(PackParams, pixels), S4D_MEMBER(PackParams, swap_rb),
+                 S4D_MEMBER(PackParams, _pad0), S4D_MEMBER(PackParams, _pad1)),
   };
 }
 
