@@ -39,6 +39,7 @@ TEST_CASE("a headless capture matches the offline renderer's image of the same c
     const fs::path shot = dir / ("capture_" + std::to_string(cam) + ".png");
     const std::string args = run.string() + " --screenshot " + shot.string() + " --camera " + std::to_string(cam);
     REQUIRE_MESSAGE(run_style4d("view", args, dir / "view.log") == 0, read_text(dir / "view.log"));
+    CHECK_MESSAGE(read_text(dir / "view.log").find("validation error") == std::string::npos, read_text(dir / "view.log"));
 
     s4d::io::CameraView view = scene.cameras[cam];
     view.file_path = "./cam";
