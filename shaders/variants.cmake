@@ -34,4 +34,5 @@ set(S4D_SHADER_VARIANTS
   "deform_reg|deform/deform_reg.comp"
   "flow_project|flow/flow_project.comp"
   "flow_displace|flow/flow_displace.comp"
+  "present_pack|viewer/present_pack.comp"
 )

@@ -10,6 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslc spirv-tools
   libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libopenexr-dev libopencv-dev
+  libglfw3-dev libimgui-dev xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

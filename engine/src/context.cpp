@@ -31,6 +31,17 @@ bool instance_has_layer(const char* name) {
   return false;
 }
 
+bool device_has_extension(VkPhysicalDevice device, const std::string& name) {
+  uint32_t count = 0;
+  S4D_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr));
+  std::vector<VkExtensionProperties> exts(count);
+  S4D_VK_CHECK(vkEnumerateDeviceExtensionProperties(device, nullptr, &count, exts.data()));
+  exts.resize(count);
+  for (const auto& e : exts)
+    if (name == e.extensionName) return true;
+  return false;
+}
+
 bool instance_has_extension(const char* name) {
   uint32_t count = 0;
   S4D_VK_CHECK(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
@@ -42,7 +53,7 @@ bool instance_has_extension(const char* name) {
   return false;
 }
 
-VkInstance create_plain_instance(bool validation, bool debug_utils) {
+VkInstance create_plain_instance(bool validation, bool debug_utils, const std::vector<std::string>& extra_exts = {}) {
   VkApplicationInfo app{.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
                         .pApplicationName = "style4d",
                         .applicationVersion = VK_MAKE_API_VERSION(0, 0, 1, 0),
@@ -52,6 +63,7 @@ VkInstance create_plain_instance(bool validation, bool debug_utils) {
   std::vector<const char*> layers, exts;
   if (validation) layers.push_back(kValidationLayer);
   if (debug_utils) exts.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const std::string& e : extra_exts) exts.push_back(e.c_str());
   VkInstanceCreateInfo ci{.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
                           .pApplicationInfo = &app,
                           .enabledLayerCount = static_cast<uint32_t>(layers.size()),
@@ -101,7 +113,9 @@ std::vector<DeviceInfo> list_devices() {
 }
 
 Context::Context(const ContextOptions& options)
-    : validation_(options.validation), device_spec_(options.device), map_device_memory_(options.map_device_memory),
+    : validation_(options.validation), device_spec_(options.device), instance_extensions_(options.instance_extensions),
+      device_extensions_(options.device_extensions), can_present_(options.can_present),
+      map_device_memory_(options.map_device_memory),
       max_groups_x_(options.max_groups_x) {
   try {
     create_instance();
@@ -124,8 +138,12 @@ void Context::create_instance() {
   if (validation_ && !instance_has_layer(kValidationLayer))
     throw std::runtime_error(std::string("S4D_VALIDATION=1 but ") + kValidationLayer +
                              " is not installed (apt-get install vulkan-validationlayers)");
+  for (const std::string& e : instance_extensions_)
+    if (!instance_has_extension(e.c_str()))
+      throw std::runtime_error("the Vulkan instance lacks the extension " + e +
+                               " (needed to show a window; is the driver's window-system support installed?)");
   const bool debug_utils = instance_has_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-  instance_ = create_plain_instance(validation_, debug_utils);
+  instance_ = create_plain_instance(validation_, debug_utils, instance_extensions_);
   if (debug_utils) {
     set_object_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
@@ -150,6 +168,7 @@ void Context::create_instance() {
 void Context::create_device() {
   std::vector<VkPhysicalDevice> handles;
   std::vector<DeviceInfo> infos = enumerate(instance_, &handles);
+  require_presentation(infos, handles);
   info_ = choose_device(infos, device_spec_);
   physical_ = handles[info_.index];
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_props_);
@@ -157,6 +176,7 @@ void Context::create_device() {
                     (info_.type == VK_PHYSICAL_DEVICE_TYPE_CPU || info_.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU);
 
   std::vector<const char*> exts = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  for (const std::string& e : device_extensions_) exts.push_back(e.c_str());
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{
       .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
       .shaderBufferFloat32AtomicAdd = info_.float_atomic_add_buffer,
@@ -205,6 +225,37 @@ void Context::create_device() {
   set_name(VK_OBJECT_TYPE_SEMAPHORE, reinterpret_cast<uint64_t>(timeline_), "s4d submission timeline");
 }
 
+void Context::require_presentation(std::vector<DeviceInfo>& infos, const std::vector<VkPhysicalDevice>& handles) const {
+  for (DeviceInfo& info : infos) {
+    if (!info.suitable) continue;
+    const VkPhysicalDevice device = handles[info.index];
+    for (const std::string& e : device_extensions_)
+      if (!device_has_extension(device, e)) {
+        info.unsuitable_reason += (info.suitable ? "lacks " : ", ") + e;
+        info.suitable = false;
+      }
+    if (!info.suitable || !can_present_) continue;
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
+    // Keep the family query_device_info chose (graphics + compute preferred) when it can present.
+    if (can_present_(instance_, device, info.compute_queue_family)) continue;
+    bool found = false;
+    for (uint32_t q = 0; q < count && !found; ++q)
+      if ((families[q].queueFlags & VK_QUEUE_COMPUTE_BIT) && can_present_(instance_, device, q)) {
+        info.compute_queue_family = q;
+        info.timestamp_valid_bits = families[q].timestampValidBits;
+        info.timestamps = info.timestamp_valid_bits > 0 && info.timestamp_period_ns > 0;
+        found = true;
+      }
+    if (!found) {
+      info.suitable = false;
+      info.unsuitable_reason = "cannot present to the window from a compute queue";
+    }
+  }
+}
+
 Context::~Context() {
   if (device_) {
     // A destructor cannot report failure; if the device is lost, teardown proceeds regardless.
@@ -224,18 +275,25 @@ Context::~Context() {
   if (instance_) vkDestroyInstance(instance_, nullptr);
 }
 
-uint64_t Context::submit(Recorder&& recorder) {
+uint64_t Context::submit(Recorder&& recorder, const SubmitSync& sync) {
   VkCommandBuffer cmd = recorder.finish();
   const uint64_t value = submitted_ + 1;
+  // The timeline first; a binary semaphore's value entry is ignored.
+  const VkSemaphore signals[2] = {timeline_, sync.signal};
+  const uint64_t signal_values[2] = {value, 0};
+  const uint32_t signal_count = sync.signal ? 2 : 1;
   VkTimelineSemaphoreSubmitInfo tsi{.sType = VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO,
-                                    .signalSemaphoreValueCount = 1,
-                                    .pSignalSemaphoreValues = &value};
+                                    .signalSemaphoreValueCount = signal_count,
+                                    .pSignalSemaphoreValues = signal_values};
   VkSubmitInfo si{.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
                   .pNext = &tsi,
+                  .waitSemaphoreCount = sync.wait ? 1u : 0u,
+                  .pWaitSemaphores = &sync.wait,
+                  .pWaitDstStageMask = &sync.wait_stage,
                   .commandBufferCount = 1,
                   .pCommandBuffers = &cmd,
-                  .signalSemaphoreCount = 1,
-                  .pSignalSemaphores = &timeline_};
+                  .signalSemaphoreCount = signal_count,
+                  .pSignalSemaphores = signals};
   VkResult r = vkQueueSubmit(queue_, 1, &si, VK_NULL_HANDLE);
   if (r < 0) vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);  // never submitted: free it now
   if (r == VK_ERROR_DEVICE_LOST) device_lost("vkQueueSubmit");

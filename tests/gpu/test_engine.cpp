@@ -2,6 +2,7 @@
 // dispatch past the group limit, limit errors that name the buffer, timestamps, deferred frees.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
 #include <stdexcept>
@@ -162,4 +163,29 @@ TEST_CASE("staging buffers cannot be bound to a shader") {
   Recorder rec(ctx, "bind staging");
   CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {staging}, gpu::IotaParams{}, 1),
                        doctest::Contains("staging buffer"), std::invalid_argument);
+}
+
+TEST_CASE("presentation options: a missing extension or no presenting queue is refused, saying why") {
+  engine::ContextOptions missing_instance = engine::ContextOptions::from_env();
+  missing_instance.instance_extensions = {"VK_S4D_no_such_instance_extension"};
+  CHECK_THROWS_WITH(engine::Context{missing_instance},
+                    doctest::Contains("lacks the extension VK_S4D_no_such_instance_extension"));
+
+  engine::ContextOptions missing_device = engine::ContextOptions::from_env();
+  missing_device.device_extensions = {"VK_S4D_no_such_device_extension"};
+  CHECK_THROWS_WITH(engine::Context{missing_device}, doctest::Contains("lacks VK_S4D_no_such_device_extension"));
+
+  engine::ContextOptions cannot_present = engine::ContextOptions::from_env();
+  cannot_present.can_present = [](VkInstance, VkPhysicalDevice, uint32_t) { return false; };
+  CHECK_THROWS_WITH(engine::Context{cannot_present}, doctest::Contains("cannot present to the window"));
+
+  // Where a family can present, the context comes up on it.
+  engine::ContextOptions presents = engine::ContextOptions::from_env();
+  std::vector<uint32_t> accepted;
+  presents.can_present = [&](VkInstance, VkPhysicalDevice, uint32_t family) {
+    accepted.push_back(family);
+    return true;
+  };
+  engine::Context ctx(presents);
+  CHECK(std::find(accepted.begin(), accepted.end(), ctx.queue_family()) != accepted.end());
 }

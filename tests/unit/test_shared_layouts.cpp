@@ -18,6 +18,7 @@
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
+#include "s4d_viewer.h"
 
 using s4d::engine::CppStructLayout;
 using s4d::engine::StructMember;
@@ -45,6 +46,7 @@ static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && 
 static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
 static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(FlowDisplaceParams) == 16);
+static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -107,6 +109,8 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(FlowProjectParams, _pad2)),
       S4D_STRUCT(FlowDisplaceParams, S4D_MEMBER(FlowDisplaceParams, n), S4D_MEMBER(FlowDisplaceParams, _pad0),
                  S4D_MEMBER(FlowDisplaceParams, _pad1), S4D_MEMBER(FlowDisplaceParams, _pad2)),
+      S4D_STRUCT(PackParams, S4D_MEMBER(PackParams, pixels), S4D_MEMBER(PackParams, swap_rb),
+                 S4D_MEMBER(PackParams, _pad0), S4D_MEMBER(PackParams, _pad1)),
   };
 }
 

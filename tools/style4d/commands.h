@@ -14,5 +14,6 @@ int cmd_render(const std::vector<std::string>& args);
 int cmd_stylize_frames(const std::vector<std::string>& args);
 int cmd_synth(const std::vector<std::string>& args);
 int cmd_train(const std::vector<std::string>& args);
+int cmd_view(const std::vector<std::string>& args);
 
 }  // namespace s4d::cli

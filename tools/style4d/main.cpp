@@ -22,6 +22,7 @@ const std::vector<Command>& commands() {
       {"devices", "list Vulkan devices and the features the engine uses", s4d::cli::cmd_devices},
       {"train", "train Gaussians on a dataset (stage 1: static Gaussians), with checkpoints and --resume",
        s4d::cli::cmd_train},
+      {"view", "the real-time viewer of a trained run (or --screenshot: one frame, no window)", s4d::cli::cmd_view},
       {"render", "render a 3DGS PLY from NeRF-style cameras to PNG and EXR", s4d::cli::cmd_render},
       {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
       {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},

@@ -31,6 +31,14 @@ struct ContextOptions {
   // Caps the 1-D workgroup count before dispatches split into a 2-D grid (0: the device limit).
   // Lets tests reach the split path with small dispatches.
   uint32_t max_groups_x = 0;
+  // Presentation, for the viewer; the engine itself knows no windowing library. Extra instance
+  // extensions (VK_KHR_surface and the window system's, as the windowing library names them) and
+  // device extensions (VK_KHR_swapchain); a missing one is an error naming it. When `can_present`
+  // is set, the context's queue is a compute queue family for which it returns true, and devices
+  // without one are unsuitable ("cannot present to the window").
+  std::vector<std::string> instance_extensions;
+  std::vector<std::string> device_extensions;
+  std::function<bool(VkInstance, VkPhysicalDevice, uint32_t queue_family)> can_present;
   // Reads S4D_VALIDATION (1/0) and S4D_DEVICE.
   static ContextOptions from_env();
 };
@@ -39,6 +47,14 @@ struct SpecConstant {
   uint32_t id;
   uint32_t value;
   bool operator<(const SpecConstant& o) const { return id < o.id || (id == o.id && value < o.value); }
+};
+
+// Binary semaphores a submission waits on and signals besides the context's timeline (swapchain
+// image acquisition and presentation).
+struct SubmitSync {
+  VkSemaphore wait = VK_NULL_HANDLE;
+  VkPipelineStageFlags wait_stage = 0;  // stages that wait for `wait`
+  VkSemaphore signal = VK_NULL_HANDLE;
 };
 
 class Context {
@@ -58,7 +74,7 @@ class Context {
   VkCommandPool command_pool() const { return command_pool_; }
 
   // Submits the recorded commands; returns the timeline value that marks their completion.
-  uint64_t submit(Recorder&& recorder);
+  uint64_t submit(Recorder&& recorder, const SubmitSync& sync = {});
   // Blocks until the submission with this timeline value has completed, then frees what it retired.
   void wait(uint64_t value);
   // submit + wait.
@@ -109,6 +125,10 @@ class Context {
   // The last dispatch labels recorded, reported when the device is lost.
   void note_op(const std::string& name);
 
+  // Throws VulkanError(VK_ERROR_DEVICE_LOST) naming the device, `where` and the last recorded
+  // operations. For callers that meet device loss outside submit/wait (presentation).
+  [[noreturn]] void device_lost(const char* where);
+
   // Recorders still recording: objects retired meanwhile may be used by their coming submission.
   void recorder_opened() { ++open_recorders_; }
   void recorder_closed() { --open_recorders_; }
@@ -118,7 +138,7 @@ class Context {
   void create_instance();
   void create_device();
   void collect_retired();
-  [[noreturn]] void device_lost(const char* where);
+  void require_presentation(std::vector<DeviceInfo>& infos, const std::vector<VkPhysicalDevice>& handles) const;
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_debug_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                          VkDebugUtilsMessageTypeFlagsEXT types,
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
@@ -126,6 +146,8 @@ class Context {
 
   bool validation_ = false;
   std::string device_spec_;
+  std::vector<std::string> instance_extensions_, device_extensions_;
+  std::function<bool(VkInstance, VkPhysicalDevice, uint32_t)> can_present_;
   bool map_device_memory_ = true;
   uint32_t max_groups_x_ = 0;
   VkInstance instance_ = VK_NULL_HANDLE;

@@ -1,0 +1,116 @@
+// The viewer's CPU parts: camera control (snap round trip, orbit, pan, zoom, fly), playback and
+// camera paths written in the format `style4d render` reads.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "s4d/io/nerf_cameras.h"
+#include "s4d/viewer/camera_control.h"
+#include "s4d/viewer/camera_path.h"
+#include "s4d/viewer/playback.h"
+
+using s4d::viewer::CameraControl;
+using s4d::viewer::Vec3;
+
+namespace {
+
+// A camera at (0, -4, 1) looking along +y (world z up): OpenCV axes right = +x, down = -z, forward = +y.
+s4d::io::CameraView test_camera() {
+  s4d::io::CameraView v;
+  v.name = "cam";
+  v.world_to_cam = {1, 0, 0, 0, 0, 0, -1, 1, 0, 1, 0, 4, 0, 0, 0, 1};
+  v.fx = 50, v.fy = 60, v.cx = 32, v.cy = 24, v.width = 64, v.height = 48;
+  return v;
+}
+
+double distance(const Vec3& a, const Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+}  // namespace
+
+TEST_CASE("snapping to a camera reproduces its pose and field of view") {
+  CameraControl c({0, 0, 1}, 1.0);
+  c.snap(test_camera(), 4.0);
+  CHECK(distance(c.position(), {0, -4, 1}) < 1e-12);
+  CHECK(distance(c.pivot(), {0, 0, 1}) < 1e-12);
+  const s4d::io::CameraView v = c.view(128, 96, "x", 0.5);
+  for (int k = 0; k < 16; ++k) CHECK(v.world_to_cam[k] == doctest::Approx(test_camera().world_to_cam[k]));
+  CHECK(v.fy == doctest::Approx(120));  // same vertical field of view at twice the height
+  CHECK(v.fx == doctest::Approx(100));
+  CHECK(v.cx == doctest::Approx(64));
+  CHECK(*v.time == 0.5);
+}
+
+TEST_CASE("orbit keeps the distance to the pivot and the pivot in view; zoom and pan move as told") {
+  CameraControl c({0, 0, 1}, 1.0);
+  c.snap(test_camera(), 4.0);
+  c.orbit(0.7, 0.3);
+  CHECK(distance(c.position(), c.pivot()) == doctest::Approx(4.0));
+  const Vec3& f = c.axes()[2];
+  const Vec3 to_pivot{(c.pivot()[0] - c.position()[0]) / 4, (c.pivot()[1] - c.position()[1]) / 4,
+                      (c.pivot()[2] - c.position()[2]) / 4};
+  CHECK(distance(f, to_pivot) < 1e-9);
+  CameraControl level({0, 0, 1}, 1.0);
+  level.snap(test_camera(), 4.0);
+  level.orbit(0, std::acos(-1.0) / 2);  // straight along the up axis: refused, the view stays level
+  CHECK(distance(level.axes()[2], {0, 1, 0}) < 1e-12);
+  c.zoom(1);
+  CHECK(distance(c.position(), c.pivot()) == doctest::Approx(3.6));
+  const Vec3 before = c.pivot();
+  c.pan(10, 0, 48);  // drag right: the camera moves left (against its right axis)
+  const Vec3& right = c.axes()[0];
+  const double moved = (c.pivot()[0] - before[0]) * right[0] + (c.pivot()[1] - before[1]) * right[1] +
+                       (c.pivot()[2] - before[2]) * right[2];
+  CHECK(moved == doctest::Approx(-10 * 3.6 / 60.0));
+}
+
+TEST_CASE("fly moves camera and pivot along the view axes at the given speed") {
+  CameraControl c({0, 0, 1}, 2.0);
+  c.snap(test_camera(), 4.0);
+  c.fly(1, 0, 1, 0.5);  // forward (+y) and up (+z) for half a second at 2 units/s
+  CHECK(distance(c.position(), {0, -3, 2}) < 1e-12);
+  CHECK(distance(c.pivot(), {0, 1, 2}) < 1e-12);
+}
+
+TEST_CASE("the rig's up direction and the median depth come from the data") {
+  const Vec3 up = s4d::viewer::estimate_up({test_camera()});
+  CHECK(distance(up, {0, 0, 1}) < 1e-12);
+  const std::vector<float> means = {0, 0, 1, 0, 1, 1, 0, 5, 1, 0, -10, 1};  // depths 4, 5, 9, behind
+  CHECK(s4d::viewer::median_depth(test_camera(), means, 1.0) == doctest::Approx(5));
+  CHECK(s4d::viewer::median_depth(test_camera(), {0, -10, 1}, 1.5) == 1.5);
+}
+
+TEST_CASE("playback advances, loops or stops at the end") {
+  s4d::viewer::Playback p{.time = 0.5, .playing = true, .speed = 2, .loop = true};
+  p.advance(0.5, 4.0);  // 0.5 s at 2x of a 4 s clip: +0.25
+  CHECK(p.time == doctest::Approx(0.75));
+  p.advance(1.0, 4.0);
+  CHECK(p.time == doctest::Approx(0.25));
+  p.loop = false;
+  p.advance(10.0, 4.0);
+  CHECK(p.time == 1.0);
+  CHECK(!p.playing);
+  p.advance(1.0, 4.0);  // paused: no change
+  CHECK(p.time == 1.0);
+}
+
+TEST_CASE("a recorded camera path reads back as NeRF cameras") {
+  CameraControl c({0, 0, 1}, 1.0);
+  c.snap(test_camera(), 4.0);
+  s4d::viewer::CameraPath path;
+  path.add(c, 64, 48, 0.0);
+  c.orbit(0.2, 0);
+  path.add(c, 64, 48, 0.5);
+  const auto file = std::filesystem::temp_directory_path() / "s4d_viewer_path.json";
+  path.write(file);
+  CHECK(path.empty());
+  const auto views = s4d::io::read_nerf_cameras(file);
+  REQUIRE(views.size() == 2);
+  CHECK(views[0].name == "path_0000");
+  CHECK(views[1].name == "path_0001");
+  CHECK(*views[1].time == doctest::Approx(0.5));
+  for (int k = 0; k < 16; ++k) CHECK(views[0].world_to_cam[k] == doctest::Approx(test_camera().world_to_cam[k]));
+  CHECK_THROWS_AS(path.write(file), std::logic_error);
+}

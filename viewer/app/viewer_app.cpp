@@ -1,0 +1,205 @@
+#include "viewer_app.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+
+#include "imgui_layer.h"
+#include "input.h"
+#include "panel.h"
+#include "s4d/engine/check.h"
+#include "s4d/engine/context.h"
+#include "s4d/engine/recorder.h"
+#include "s4d/viewer/camera_control.h"
+#include "s4d/viewer/camera_path.h"
+#include "s4d/viewer/frame_renderer.h"
+#include "s4d/viewer/playback.h"
+#include "s4d/viewer/scene_source.h"
+#include "swapchain.h"
+#include "window.h"
+
+namespace s4d::viewer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kOrbitRadiansPerPixel = 0.005;
+constexpr double kFlySpeedPerDepth = 0.5;  // fly speed: half the pivot depth per second
+
+std::pair<int, int> window_size(const ViewerOptions& o, const io::CameraView& cam) {
+  if (o.width > 0 && o.height > 0) return {o.width, o.height};
+  const double w = std::clamp(static_cast<double>(cam.width), 640.0, 1280.0);
+  return {static_cast<int>(w), static_cast<int>(w * cam.height / cam.width)};
+}
+
+// out_dir/<stem>_NNN.<ext> with the first free NNN.
+fs::path next_free(const fs::path& dir, const char* stem, const char* ext) {
+  for (int i = 0;; ++i) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "%s_%03d.%s", stem, i, ext);
+    if (!fs::exists(dir / name)) return dir / name;
+  }
+}
+
+// Copies the packed pixels into the swapchain image: UNDEFINED -> TRANSFER_DST, then the copy.
+// The panel's render pass takes it on from TRANSFER_DST_OPTIMAL.
+void record_copy(engine::Recorder& rec, const engine::Buffer& pixels, VkImage image, VkExtent2D extent) {
+  rec.barrier();  // present_pack's writes -> the copy's reads
+  VkImageMemoryBarrier to_dst{.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                              .srcAccessMask = 0,
+                              .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+                              .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                              .newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                              .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                              .image = image,
+                              .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1}};
+  // The source stage is the one the submission waits for the acquire semaphore in.
+  vkCmdPipelineBarrier(rec.handle(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &to_dst);
+  VkBufferImageCopy region{.bufferOffset = 0,
+                           .bufferRowLength = 0,
+                           .bufferImageHeight = 0,
+                           .imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1},
+                           .imageOffset = {0, 0, 0},
+                           .imageExtent = {extent.width, extent.height, 1}};
+  vkCmdCopyBufferToImage(rec.handle(), pixels.handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+}
+
+}  // namespace
+
+ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options) {
+  if (options.camera >= scene.cameras.size())
+    throw std::invalid_argument("--camera " + std::to_string(options.camera) + ": the run's dataset has cameras 0.." +
+                                std::to_string(scene.cameras.size() - 1));
+  const auto [win_w, win_h] = window_size(options, scene.cameras[options.camera]);
+  Window window("style4d view " + scene.root.filename().string(), win_w, win_h);
+
+  engine::ContextOptions context_options = engine::ContextOptions::from_env();
+  context_options.instance_extensions = window.instance_extensions();
+  context_options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  context_options.can_present = &Window::can_present;
+  engine::Context ctx(context_options);
+
+  Swapchain swapchain(ctx, window.create_surface(ctx.instance()));
+  const auto [fb_w, fb_h] = window.framebuffer_size();
+  swapchain.recreate(static_cast<uint32_t>(fb_w), static_cast<uint32_t>(fb_h));
+  Input input(window.handle());
+  ImGuiLayer imgui(ctx, window.handle(), swapchain);
+
+  const std::unique_ptr<SceneSource> source = make_scene_source(ctx, scene);
+  size_t style = find_style(*source, options.style);
+  FrameRenderer renderer(ctx, *source, scene.background);
+  std::vector<std::string> camera_names;
+  for (const io::CameraView& c : scene.cameras) camera_names.push_back(c.name);
+
+  auto pivot_depth = [&](size_t i) { return median_depth(scene.cameras[i], scene.cloud.means, 1.0); };
+  CameraControl control(estimate_up(scene.cameras), kFlySpeedPerDepth * pivot_depth(options.camera));
+  control.snap(scene.cameras[options.camera], pivot_depth(options.camera));
+  Playback playback{.time = options.time, .playing = options.play};
+  CameraPath path;
+  bool recording = !options.record.empty();
+  const fs::path out_dir = options.out_dir;
+
+  PanelInfo info{.device = ctx.info().name,
+                 .gaussians = source->gaussian_count(),
+                 .dynamic = source->dynamic(),
+                 .cameras = &camera_names,
+                 .styles = &source->styles()};
+  ViewerSummary summary{.device = ctx.info().name};
+  double total_ms = 0;
+  uint64_t last_submit = 0;
+  bool recreate = false;
+  auto last = std::chrono::steady_clock::now();
+
+  while (!window.should_close()) {
+    glfwPollEvents();
+    const auto [w, h] = window.framebuffer_size();
+    if (w == 0 || h == 0) {  // minimised: render nothing, keep the clock from jumping
+      glfwWaitEvents();
+      last = std::chrono::steady_clock::now();
+      continue;
+    }
+    if (recreate || swapchain.extent().width != static_cast<uint32_t>(w) ||
+        swapchain.extent().height != static_cast<uint32_t>(h)) {
+      swapchain.recreate(static_cast<uint32_t>(w), static_cast<uint32_t>(h));
+      imgui.on_swapchain_recreated(swapchain);
+      recreate = false;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last).count();
+    last = now;
+
+    // Input and panel.
+    const ImGuiIO& io = ImGui::GetIO();
+    const InputFrame in = input.poll(io.WantCaptureMouse, io.WantCaptureKeyboard);
+    if (in.quit) break;
+    control.orbit(-in.drag_dx * kOrbitRadiansPerPixel, -in.drag_dy * kOrbitRadiansPerPixel);
+    control.pan(in.pan_dx, in.pan_dy, swapchain.extent().height);
+    control.zoom(in.scroll);
+    control.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
+    if (in.toggle_play) playback.playing = !playback.playing;
+    playback.advance(seconds, scene.clip_seconds);
+    imgui.new_frame();
+    info.width = swapchain.extent().width, info.height = swapchain.extent().height;
+    info.recording = recording, info.recorded = path.size();
+    const PanelActions act = draw_panel(info, playback, style);
+    const int snap = act.snap_camera >= 0 ? act.snap_camera : in.snap_camera;
+    if (snap >= 0 && static_cast<size_t>(snap) < scene.cameras.size()) {
+      control.snap(scene.cameras[static_cast<size_t>(snap)], pivot_depth(static_cast<size_t>(snap)));
+      info.message = "camera " + std::to_string(snap) + ": " + camera_names[static_cast<size_t>(snap)];
+    }
+
+    // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
+    if (last_submit) ctx.wait(last_submit);
+    const std::optional<uint32_t> image = swapchain.acquire();
+    if (!image) {
+      imgui.skip_frame();
+      recreate = true;
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    engine::Recorder rec(ctx, "viewer frame");
+    renderer.render(control.camera(info.width, info.height), playback.time, style, swapchain.pixel_order(), rec);
+    record_copy(rec, renderer.pixels(), swapchain.image(*image), swapchain.extent());
+    imgui.record(rec.handle(), *image, swapchain.extent());
+    last_submit = ctx.submit(std::move(rec), {.wait = swapchain.acquired(),
+                                              .wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                              .signal = swapchain.rendered(*image)});
+    if (!swapchain.present(*image)) recreate = true;
+    info.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    info.frame_ms = seconds * 1000;
+
+    if (recording) path.add(control, info.width, info.height, playback.time);
+    if (in.screenshot || act.screenshot) {
+      ctx.wait(last_submit);
+      fs::create_directories(out_dir);
+      const fs::path file = next_free(out_dir, "screenshot", "png");
+      io::write_png(file, renderer.read_rgb());
+      info.message = "saved " + file.string();
+    }
+    if (in.toggle_record || act.toggle_record) {
+      if (recording && !path.empty()) {
+        const fs::path file = options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record;
+        path.write(file);
+        info.message = "saved " + file.string() + " (replay: style4d render --ply ... --cameras it)";
+      }
+      recording = !recording;
+    }
+    ++summary.frames;
+    if (summary.frames > 1) total_ms += info.frame_ms;  // the first frame's time includes start-up
+    if (options.exit_after && summary.frames >= options.exit_after) break;
+  }
+  ctx.wait_idle();
+  if (recording && !path.empty())
+    path.write(options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record);
+  summary.mean_frame_ms = summary.frames > 1 ? total_ms / static_cast<double>(summary.frames - 1) : 0;
+  return summary;
+}
+
+}  // namespace s4d::viewer
