@@ -64,6 +64,20 @@ void set_fine_iterations(TrainConfig& c, uint32_t iterations) {
   c.fine_iterations = iterations;
 }
 
+deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
+  deform::FieldConfig f;
+  f.resolution = c.field_resolution;
+  f.multires = c.field_multires;
+  f.channels = c.field_channels;
+  f.width = c.field_width;
+  f.trunk_extra = c.field_trunk_extra;
+  f.heads = c.field_heads;
+  f.aabb_min = lo;
+  f.aabb_max = hi;
+  return f;
+}
+
+
 #define S4D_CONFIG_FIELDS(X)                                                                                     \
   X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(background) X(sh_degree) X(sh_up_every)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \

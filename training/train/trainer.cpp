@@ -61,19 +61,6 @@ nlohmann::json scores_json(const Evaluation& e) {
   return views;
 }
 
-deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
-  deform::FieldConfig f;
-  f.resolution = c.field_resolution;
-  f.multires = c.field_multires;
-  f.channels = c.field_channels;
-  f.width = c.field_width;
-  f.trunk_extra = c.field_trunk_extra;
-  f.heads = c.field_heads;
-  f.aabb_min = lo;
-  f.aabb_max = hi;
-  return f;
-}
-
 // The bounds of a cloud's means (4DGaussians sets the field's AABB from the initial points).
 std::pair<std::array<float, 3>, std::array<float, 3>> bounds(const std::vector<float>& means) {
   std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "s4d/deform/field_config.h"
+
 namespace s4d::train {
 
 struct TrainConfig {
@@ -60,6 +62,11 @@ TrainConfig preset_config(const std::string& name);
 void set_iterations(TrainConfig& config, uint32_t iterations);
 // The same for the fine stage (its densification window).
 void set_fine_iterations(TrainConfig& config, uint32_t iterations);
+
+// The deformation field of the 4DGS stage, over the AABB of the initial points (a run's checkpoint
+// stores it as meta aabb_min / aabb_max).
+deform::FieldConfig field_config(const TrainConfig& config, const std::array<float, 3>& aabb_min,
+                                 const std::array<float, 3>& aabb_max);
 
 nlohmann::json to_json(const TrainConfig& config);
 // Missing keys keep their defaults; a key of the wrong type is an error naming it.
