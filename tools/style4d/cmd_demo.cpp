@@ -38,7 +38,7 @@ const Stage kStages[] = {
     {"engine", "Vulkan compute engine, GPU radix sort and scan", true},
     {"synth", "built-in synthetic dynamic scene (analytic ray caster)", true},
     {"train", "stage 1: static Gaussians (3DGS on every frame, fast preset)", true},
-    {"train-4d", "stage 2: 4DGS HexPlane deformation (field kernels built, training not yet)", false},
+    {"train-4d", "stage 2: 4DGS HexPlane deformation (in style4d train; the demo adds it with its measured preset)", false},
     {"stylize", "stage 3-4: 2D stylizer on training frames, Style Gaussians", false},
     {"render", "render protocols: test-camera and spiral videos", false},
     {"bench", "Style4D-Bench metrics and report", false},
