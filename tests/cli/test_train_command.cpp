@@ -107,7 +107,8 @@ struct SingleThreadedLavapipe {
   ~SingleThreadedLavapipe() { unsetenv("LP_NUM_THREADS"); }
 };
 
-const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "60", "--fine-iters", "40", "--batch", "2", "--checkpoint-every", "20"};
+const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "60", "--fine-iters", "40", "--batch", "2",
+                                              "--checkpoint-every", "20", "--static-motion", "0.01"};
 
 // Trains into `run`, stops it with `signal` once its first checkpoint exists, then resumes it.
 // Returns false when the run finished before the signal arrived (nothing was interrupted).
@@ -155,7 +156,10 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   REQUIRE(j["static"]["test_views"].size() == 3);
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.30 dB (19.19 vs 18.89)
   const train::Checkpoint cp = train::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
-  CHECK(cp.extra.size() == 6);  // the field's planes and MLP, and both Adam moments of each
+  CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the static mask
+  // Deform only what moves: the still background skips the field from the end of densification on.
+  CHECK(j["moving_gaussians"].get<double>() < j["num_gaussians"].get<double>());
+  CHECK(j["deform_evaluations"].get<double>() < j["deform_evaluations_unmasked"].get<double>());
   for (int signal : {SIGINT, SIGKILL}) {
     CAPTURE(signal);
     const fs::path run = dir / (signal == SIGINT ? "sigint" : "sigkill");

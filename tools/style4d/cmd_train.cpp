@@ -40,6 +40,11 @@ train::TrainConfig config_from_args(const Args& args) {
   const std::string stage = args.get_or("stage", "all");
   if (stage == "static") c.fine_iterations = 0;
   else if (stage != "all") throw std::invalid_argument("--stage: expected static or all, got '" + stage + "'");
+  if (auto v = args.get("static-motion")) {
+    std::istringstream in(*v);
+    if (!(in >> c.static_motion) || !in.eof() || !(c.static_motion >= 0) || !std::isfinite(c.static_motion))
+      throw std::invalid_argument("--static-motion: expected a non-negative number, got '" + *v + "'");
+  }
   if (auto v = args.get("batch")) c.fine_batch = std::max(1u, parse_number<uint32_t>("batch", *v));
   if (auto v = args.get("downscale")) c.downscale = parse_number<int>("downscale", *v);
   if (c.downscale < 1) throw std::invalid_argument("--downscale: must be at least 1");
@@ -74,6 +79,7 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
       {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
       {"batch", "views per 4DGS step (default: the preset's)", true, "B"},
+      {"static-motion", "Gaussians moving less than X x scene extent skip the deformation field (0: off)", true, "X"},
       {"preset", "fast | default | quality (default: default)", true, "P"},
       {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
       {"downscale", "integer image downscale factor (default 1)", true, "K"},
@@ -101,7 +107,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
-    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch"})
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
       if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
     trainer = train::Trainer::resume(ctx, *run);
   } else {

@@ -10,6 +10,7 @@
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
 #include "s4d/densify/densifier.h"
+#include "s4d/engine/buffer_from.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
@@ -102,6 +103,10 @@ struct Trainer::Impl {
   std::array<engine::Buffer, model::kAttrCount> deformed, scratch_grad;
   engine::Buffer batch_stats;
   uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
+  // Gaussians that do not move skip the field (config.static_motion); valid until the count changes.
+  engine::Buffer static_mask;
+  uint32_t mask_for = UINT32_MAX, moving = 0;
+  double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
 
   std::string stage = "static";
   uint32_t iteration = 0;  // within the stage
@@ -141,7 +146,8 @@ struct Trainer::Impl {
   nlohmann::json meta(double seconds) const {
     return {{"stage", stage},         {"iteration", iteration},   {"lr_scale", lr_scale},   {"seconds", seconds},
             {"rollbacks", rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
-            {"static_test", static_scores}};
+            {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
+            {"deform_evaluations_unmasked", deform_evaluations_unmasked}};
   }
 
   Checkpoint snapshot(double seconds) const {
@@ -153,6 +159,10 @@ struct Trainer::Impl {
                   {"field.planes.adam_v", ctx.download<float>(planes_v, field->plane_floats())},
                   {"field.mlp.adam_m", ctx.download<float>(mlp_m, field->mlp_floats())},
                   {"field.mlp.adam_v", ctx.download<float>(mlp_v, field->mlp_floats())}};
+      if (mask_for == gaussians->size()) {
+        const std::vector<uint32_t> mask = ctx.download<uint32_t>(static_mask, mask_for);
+        cp.extra.emplace_back("field.static_mask", std::vector<float>(mask.begin(), mask.end()));
+      }
     }
     return cp;
   }
@@ -167,6 +177,9 @@ struct Trainer::Impl {
     rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     static_scores = cp.meta.at("static_test");
+    deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
+    deform_evaluations_unmasked = cp.meta.at("deform_evaluations_unmasked").get<double>();
+    mask_for = UINT32_MAX;
     if (!field) {
       aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
       aabb_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
@@ -186,6 +199,44 @@ struct Trainer::Impl {
       if (v.size() * 4 != buffer->size()) throw std::runtime_error(std::string("checkpoint: array '") + name + "' has the wrong size");
       ctx.upload(*buffer, std::span<const float>(v));
     }
+    for (const auto& [name, values] : cp.extra)
+      if (name == "field.static_mask") set_mask(std::vector<uint32_t>(values.begin(), values.end()));
+  }
+
+  void set_mask(const std::vector<uint32_t>& mask) {
+    if (mask.size() != gaussians->size())
+      throw std::runtime_error("checkpoint: field.static_mask holds " + std::to_string(mask.size()) + " entries for " +
+                               std::to_string(gaussians->size()) + " Gaussians");
+    static_mask = engine::buffer_from(ctx, "static mask", mask);
+    mask_for = gaussians->size();
+    moving = static_cast<uint32_t>(std::count(mask.begin(), mask.end(), 0u));
+  }
+
+  // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
+  // motion_samples times as static (ALGORITHMS.md has no such step: it is this project's "deform
+  // only what moves").
+  void update_mask() {
+    const uint32_t n = gaussians->size();
+    mask_for = UINT32_MAX;  // measure with every Gaussian deformed
+    std::vector<float> lo(size_t{n} * 3, INFINITY), hi(size_t{n} * 3, -INFINITY);
+    const uint32_t samples = std::max<uint32_t>(2, config.motion_samples);
+    for (uint32_t k = 0; k < samples; ++k) {
+      const splat::GaussianParams p = deform_to(double(k) / (samples - 1));
+      const std::vector<float> means = ctx.download<float>(*p.means, size_t{n} * 3);
+      for (size_t i = 0; i < means.size(); ++i) lo[i] = std::min(lo[i], means[i]), hi[i] = std::max(hi[i], means[i]);
+    }
+    const double limit = config.static_motion * dataset.extent;
+    std::vector<uint32_t> mask(n);
+    for (uint32_t i = 0; i < n; ++i) {
+      const double dx = hi[i * 3] - lo[i * 3], dy = hi[i * 3 + 1] - lo[i * 3 + 1], dz = hi[i * 3 + 2] - lo[i * 3 + 2];
+      mask[i] = std::sqrt(dx * dx + dy * dy + dz * dz) < limit ? 1u : 0u;
+    }
+    set_mask(mask);
+  }
+
+  bool mask_due() const {
+    return fine() && config.static_motion > 0 && head(S4D_DEFORM_HEAD_POS) && iteration >= config.fine_densify_until &&
+           (iteration - config.fine_densify_until) % std::max<uint32_t>(1, config.motion_every) == 0;
   }
 
   void set_learning_rates(uint32_t step) {
@@ -272,7 +323,7 @@ struct Trainer::Impl {
             .quats = &g.param(model::kQuats),
             .opacity_logits = &g.param(model::kOpacity),
             .sh = &g.param(model::kSh),
-            .static_mask = nullptr,
+            .static_mask = mask_for == g.size() ? &static_mask : nullptr,
             .count = g.size(),
             .sh_coeffs = g.sh_coeffs()};
   }
@@ -280,6 +331,9 @@ struct Trainer::Impl {
   // Deforms the canonical Gaussians to `time` and returns the rasterizer's view of the result.
   splat::GaussianParams deform_to(double time) {
     size_stage2_buffers();
+    const uint32_t n = gaussians->size();
+    deform_evaluations += mask_for == n ? moving : n;
+    deform_evaluations_unmasked += n;
     const uint32_t bits[model::kAttrCount] = {S4D_DEFORM_HEAD_POS, S4D_DEFORM_HEAD_SCALES, S4D_DEFORM_HEAD_ROTATIONS,
                                               S4D_DEFORM_HEAD_OPACITY, S4D_DEFORM_HEAD_SH};
     auto out = [&](model::Attr a) { return head(bits[a]) ? &deformed[a] : nullptr; };
@@ -367,6 +421,7 @@ struct Trainer::Impl {
       rules.budget = config.budget;
       rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
       densifier.densify(*gaussians, rules);
+      mask_for = UINT32_MAX;  // the Gaussians moved in memory: the mask is measured again when due
     }
     // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000).
     if (!fine() && it % config.opacity_reset_every == 0) densifier.reset_opacity(*gaussians);
@@ -439,6 +494,9 @@ struct Trainer::Impl {
                         {"rollbacks", r.rollbacks},
                         {"test_views", scores_json(r.test)},
                         {"static", static_scores},
+                        {"deform_evaluations", deform_evaluations},
+                        {"deform_evaluations_unmasked", deform_evaluations_unmasked},
+                        {"moving_gaussians", mask_for == gaussians->size() ? moving : gaussians->size()},
                         {"device", ctx.info().name},
                         {"data", fs::absolute(dataset.root).string()},
                         {"settings", to_json(config)}};
@@ -535,6 +593,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       if (m.iteration % config_.test_every == 0 && m.iteration < m.stage_iterations())
         test_psnr = m.evaluate(spread(m.test_views, kPeriodicTestViews)).psnr;
       m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
+      if (m.mask_due()) m.update_mask();
       if (m.iteration % config_.checkpoint_every == 0 && m.iteration < m.stage_iterations()) m.checkpoint(m.elapsed(start));
       std::vector<std::pair<std::string, double>> shown = {{"loss", value.loss}, {"gaussians", m.gaussians->size()}};
       if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test

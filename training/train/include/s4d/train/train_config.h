@@ -50,6 +50,11 @@ struct TrainConfig {
   uint32_t field_heads = 31;  // S4D_DEFORM_HEAD_* bits: dx ds dr do dsh (7: dx ds dr)
   double deform_lr = 1.6e-4, deform_lr_final = 1.6e-5, grid_lr = 1.6e-3, grid_lr_final = 1.6e-4;  // x extent
   float plane_tv_weight = 2e-4f, time_smoothness_weight = 1e-3f, l1_time_planes_weight = 1e-4f;
+  // Deform only what moves: once densification has ended (and every motion_every iterations after),
+  // Gaussians whose mean moves less than static_motion x extent over motion_samples times in [0, 1]
+  // skip the field (offsets 0, no field gradient). 0: off.
+  float static_motion = 0.0f;
+  uint32_t motion_samples = 8, motion_every = 500;
   // Runs.
   uint32_t test_every = 1000;
   uint32_t checkpoint_every = 1000;
