@@ -157,7 +157,8 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.30 dB (19.19 vs 18.89)
   const train::Checkpoint cp = train::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
   CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the static mask
-  // Deform only what moves: the still background skips the field from the end of densification on.
+  // Deform only what moves: from the end of densification on, Gaussians under the threshold skip the field
+  // (after this short a stage nothing has moved far yet: measured 0 of 4000 moving, 260k of 388k evaluations).
   CHECK(j["moving_gaussians"].get<double>() < j["num_gaussians"].get<double>());
   CHECK(j["deform_evaluations"].get<double>() < j["deform_evaluations_unmasked"].get<double>());
   for (int signal : {SIGINT, SIGKILL}) {
