@@ -15,7 +15,7 @@ inline const std::filesystem::path& trained_run() {
     const std::filesystem::path dir = fresh_dir("view_fixture");
     const std::string data = (dir / "data").string(), run_dir = (dir / "run").string();
     REQUIRE(run_style4d("synth", "--out " + data + " --cams 4 --frames 3 --size 64x48", dir / "synth.log") == 0);
-    REQUIRE_MESSAGE(run_style4d("train", "--data " + data + " --out " + run_dir + " --preset fast --iters 100 --max-time 0",
+    REQUIRE_MESSAGE(run_style4d("train", "--data " + data + " --out " + run_dir + " --preset fast --stage static --iters 100 --max-time 0",
                                 dir / "train.log") == 0,
                     read_text(dir / "train.log"));
     return std::filesystem::path(run_dir);
