@@ -30,6 +30,6 @@ TEST_CASE("captures of a 4DGS run match the offline render at each time and diff
     CHECK_MESSAGE(max_abs_diff(s4d::io::read_png(shot), offline) <= 1.0f / 255.0f + 1e-6f, "t = " << time);
   }
   // The scene moves between t = 0 and t = 1 (where, test_render_4d.cpp checks against the ground
-  // truth); measured largest change on lavapipe: LARGEST_MEASURED.
-  CHECK(max_abs_diff(s4d::io::read_png(dir / "t0.png"), s4d::io::read_png(dir / "t2.png")) > 0.1f);
+  // truth). Measured largest change on lavapipe: 0.059 (15 levels); required: half of it.
+  CHECK(max_abs_diff(s4d::io::read_png(dir / "t0.png"), s4d::io::read_png(dir / "t2.png")) > 0.03f);
 }
