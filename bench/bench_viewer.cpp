@@ -20,8 +20,8 @@
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/scene/static_scene.h"
 #include "s4d/viewer/frame_renderer.h"
-#include "s4d/viewer/scene_source.h"
 #include "splat_scene.h"
 #include "timing.h"
 
@@ -74,14 +74,14 @@ s4d::io::GaussianCloud to_cloud(const s4d::ref::Gaussians<float>& g) {
 // Median frame time over `repeats` frames after one warm-up frame.
 s4d::bench::Timing time_frames(s4d::engine::Context& ctx, const Point& pt, int repeats) {
   const s4d::bench::SplatScene scene = s4d::bench::make_splat_scene(pt.width, pt.height, pt.gaussians, 7);
-  s4d::viewer::StaticSceneSource source(ctx, to_cloud(scene.gaussians));
-  s4d::viewer::FrameRenderer renderer(ctx, source, {0, 0, 0});
+  s4d::scene::StaticScene source(ctx, to_cloud(scene.gaussians));
+  s4d::viewer::FrameRenderer renderer(ctx, {0, 0, 0});
   const s4d::splat::Camera cam = s4d::bench::to_gpu_camera(scene.camera);
   std::vector<double> ms;
   for (int r = -1; r < repeats; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
     s4d::engine::Recorder rec(ctx, "bench viewer frame");
-    renderer.render(cam, 0.0, 0, s4d::viewer::PixelOrder::bgra, rec);
+    renderer.render(source, cam, 0.0, s4d::viewer::PixelOrder::bgra, rec);
     ctx.run(std::move(rec));
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (r >= 0) ms.push_back(t);

@@ -1,6 +1,7 @@
 // `style4d render --run` end to end: a run made here (the synthetic dataset from `style4d synth`, its
 // point cloud written as RUN/geometry/gaussians.ply with a minimal run.json) rendered along every
-// path and format, the exact flow read back by `style4d bench --flow exact`, and the errors.
+// path and format, the exact flow read back by `style4d bench --flow exact`, the errors, and
+// export-ply of a static run.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
@@ -156,4 +157,25 @@ TEST_CASE("render --run errors name the file, the path or the camera, and write 
   std::ofstream(out / "old.png") << "x";
   CHECK(f.render("--path test --out " + out.string(), log) != 0);
   CHECK(read_text(log).find("already exists and is not an empty folder") != std::string::npos);
+}
+
+TEST_CASE("export-ply of a static run writes its Gaussians at any time") {
+  const Fixture& f = fixture();
+  const s4d::io::GaussianCloud stored = s4d::io::read_ply_gaussians(f.run / "geometry" / "gaussians.ply");
+  for (const char* time : {"0", "0.7"}) {
+    const fs::path ply = f.root / (std::string("export_") + time + ".ply");
+    REQUIRE_MESSAGE(run_style4d("export-ply", "--run " + f.run.string() + " --time " + time + " --out " + ply.string(),
+                                f.root / "export.log") == 0,
+                    read_text(f.root / "export.log"));
+    const s4d::io::GaussianCloud exported = s4d::io::read_ply_gaussians(ply);
+    CHECK(exported.means == stored.means);
+    CHECK(exported.log_scales == stored.log_scales);
+    CHECK(exported.quats == stored.quats);
+    CHECK(exported.opacity_logits == stored.opacity_logits);
+    CHECK(exported.sh == stored.sh);
+    CHECK(exported.sh_degree == stored.sh_degree);
+  }
+  CHECK(run_style4d("export-ply", "--run " + f.run.string() + " --time 2 --out " + (f.root / "x.ply").string(),
+                    f.root / "export.log") != 0);
+  CHECK(read_text(f.root / "export.log").find("[0, 1]") != std::string::npos);
 }

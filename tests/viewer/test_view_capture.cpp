@@ -1,16 +1,20 @@
-// `style4d view RUN --screenshot`: the headless capture (no window, no GLFW, no display) equals the
-// offline renderer's image of the same camera, is the same at two times of a static scene, and an
-// incomplete run or a bad request fails with a message saying what is wrong.
+// `style4d view RUN --screenshot` of a static run: the headless capture (no window, no GLFW, no
+// display) equals the offline renderer's image of the same camera, is the same at two times, and an
+// incomplete run or a bad request fails with a message saying what is wrong. The moving scene (a
+// 4DGS run) is checked in test_view_capture_4d.cpp.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <vector>
 
 #include "s4d/io/image_io.h"
 #include "s4d/io/nerf_cameras.h"
-#include "s4d/viewer/run_scene.h"
+#include "s4d/scene/trained_run.h"
+#include "s4d/viewer/dataset_cameras.h"
 #include "view_fixture.h"
 
 namespace fs = std::filesystem;
@@ -33,19 +37,21 @@ float max_abs_diff(const s4d::io::ImageF& a, const s4d::io::ImageF& b) {
 TEST_CASE("a headless capture matches the offline renderer's image of the same camera") {
   const fs::path run = s4d::test::trained_run();
   const fs::path dir = s4d::test::fresh_dir("view_capture_match");
-  const s4d::viewer::RunScene scene = s4d::viewer::open_run(run);
-  REQUIRE(scene.cameras.size() == 4);
+  const s4d::scene::TrainedRun trained = s4d::scene::read_trained_run(run);
+  const std::vector<s4d::io::CameraView> cameras = s4d::viewer::dataset_cameras(trained.dataset);
+  const std::array<float, 3>& background = trained.dataset.background;
+  REQUIRE(cameras.size() == 4);
   for (size_t cam : {size_t{0}, size_t{2}}) {
     const fs::path shot = dir / ("capture_" + std::to_string(cam) + ".png");
     const std::string args = run.string() + " --screenshot " + shot.string() + " --camera " + std::to_string(cam);
     REQUIRE_MESSAGE(run_style4d("view", args, dir / "view.log") == 0, read_text(dir / "view.log"));
     CHECK_MESSAGE(read_text(dir / "view.log").find("validation error") == std::string::npos, read_text(dir / "view.log"));
 
-    s4d::io::CameraView view = scene.cameras[cam];
+    s4d::io::CameraView view = cameras[cam];
     view.file_path = "./cam";
     s4d::io::write_nerf_cameras(dir / "transforms.json", {view});
     std::ostringstream bg;
-    bg << scene.background[0] << "," << scene.background[1] << "," << scene.background[2];
+    bg << background[0] << "," << background[1] << "," << background[2];
     const fs::path out = dir / ("render_" + std::to_string(cam));
     REQUIRE_MESSAGE(run_style4d("render", "--ply " + (run / "geometry" / "gaussians.ply").string() + " --cameras " +
                                               (dir / "transforms.json").string() + " --out " + out.string() +
@@ -63,8 +69,8 @@ TEST_CASE("a headless capture matches the offline renderer's image of the same c
 }
 
 TEST_CASE("captures at two times of the static scene are identical") {
-  // A static run looks the same at every time. When the 4D source arrives this test gains its
-  // counterpart: captures at two times differ where the scene moves and nowhere else.
+  // A static run looks the same at every time; the 4DGS counterpart (captures follow the scene's
+  // motion) is in test_view_capture_4d.cpp.
   const fs::path run = s4d::test::trained_run();
   const fs::path dir = s4d::test::fresh_dir("view_capture_times");
   for (const char* t : {"0", "0.75"}) {
@@ -85,7 +91,6 @@ TEST_CASE("an incomplete run directory names what is missing") {
   CHECK(run_style4d("view", args, dir / "view.log") != 0);
   const std::string log = read_text(dir / "view.log");
   CHECK(log.find("incomplete run") != std::string::npos);
-  CHECK(log.find("train.json") != std::string::npos);
   CHECK(log.find("geometry/gaussians.ply") != std::string::npos);
   CHECK(log.find("--resume") != std::string::npos);
   CHECK(!fs::exists(dir / "x.png"));

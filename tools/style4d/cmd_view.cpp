@@ -8,8 +8,9 @@
 #include "args.h"
 #include "commands.h"
 #include "s4d/engine/context.h"
+#include "s4d/scene/trained_run.h"
 #include "s4d/viewer/capture.h"
-#include "s4d/viewer/run_scene.h"
+#include "s4d/viewer/dataset_cameras.h"
 #ifdef S4D_HAVE_VIEWER_WINDOW
 #include "viewer_app.h"
 #endif
@@ -45,13 +46,14 @@ int cmd_view(const std::vector<std::string>& argv) {
   if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1]");
   const size_t camera = parse_number<size_t>("camera", args.get_or("camera", "0"));
   const std::string style = args.get_or("style", "original");
-  const viewer::RunScene scene = viewer::open_run(run_dir);
+  const scene::TrainedRun run = scene::read_trained_run(run_dir);
 
   if (args.get("screenshot")) {
     engine::Context ctx;
     const std::filesystem::path png = *args.get("screenshot");
-    viewer::capture(ctx, scene, {.png = png, .time = time, .camera = camera, .style = style});
-    std::cout << "captured camera " << camera << " (" << scene.cameras.at(camera).name << ") at t = " << time
+    viewer::capture(ctx, run, {.png = png, .time = time, .camera = camera, .style = style});
+    std::cout << "captured camera " << camera << " (" << viewer::dataset_cameras(run.dataset).at(camera).name
+              << ") at t = " << time
               << " into " << png.string() << "\n";
     return 0;
   }
@@ -64,7 +66,7 @@ int cmd_view(const std::vector<std::string>& argv) {
                                 .out_dir = args.get_or("out-dir", (run_dir / "viewer").string()),
                                 .record = args.get_or("record", "")};
   if (args.get("size")) std::tie(options.width, options.height) = parse_size("size", *args.get("size"));
-  const viewer::ViewerSummary summary = viewer::run_viewer(scene, options);
+  const viewer::ViewerSummary summary = viewer::run_viewer(run, options);
   std::cout << "presented " << summary.frames << " frames on " << summary.device << ", mean frame "
             << summary.mean_frame_ms << " ms\n";
   return 0;

@@ -8,6 +8,7 @@ namespace s4d::cli {
 
 int cmd_bench(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
+int cmd_export_ply(const std::vector<std::string>& args);
 int cmd_demo(const std::vector<std::string>& args);
 int cmd_make_style(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);

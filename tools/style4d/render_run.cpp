@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 
 #include "device_json.h"
@@ -36,13 +37,13 @@ int render_run(const Args& args) {
 
   const auto start = std::chrono::steady_clock::now();
   engine::Context ctx;
-  scene::TrainedRun trained = scene::open_trained_run(ctx, run, args.get("style"));
+  const scene::TrainedRun trained = scene::read_trained_run(run);
+  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, trained, args.get_or("style", "original"));
   options.background = args.get("background") ? parse_background(*args.get("background")) : trained.dataset.background;
   const std::vector<protocols::Sequence> sequences = protocols::build_protocol(trained.dataset, path, frames);
-  std::cerr << "[render] " << trained.scene->describe() << "; path " << path.text() << ": " << sequences.size()
+  std::cerr << "[render] " << source->describe() << "; path " << path.text() << ": " << sequences.size()
             << " sequence(s)\n";
-  const protocols::ProtocolResult result =
-      protocols::render_protocol(ctx, *trained.scene, path, sequences, out, options);
+  const protocols::ProtocolResult result = protocols::render_protocol(ctx, *source, path, sequences, out, options);
 
   nlohmann::json seqs = nlohmann::json::array();
   int total = 0;
@@ -65,7 +66,7 @@ int render_run(const Args& args) {
   const nlohmann::json summary = {{"run", std::filesystem::absolute(run).string()},
                                   {"style", args.get("style") ? nlohmann::json(*args.get("style")) : nlohmann::json()},
                                   {"stage", trained.stage},
-                                  {"scene", trained.scene->describe()},
+                                  {"scene", source->describe()},
                                   {"data", trained.dataset.root.string()},
                                   {"path", path.text()},
                                   {"format", protocols::format_name(options.format)},

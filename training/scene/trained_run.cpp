@@ -6,25 +6,23 @@
 #include <stdexcept>
 
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/scene/deformed_scene.h"
 #include "s4d/scene/static_scene.h"
+#include "s4d/scene/trained_field.h"
 #include "s4d/train/run_dir.h"
-#include "s4d/train/train_config.h"
 
 namespace s4d::scene {
 namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json read_run_json(const train::RunDir& run) {
-  if (!fs::is_directory(run.root)) throw std::runtime_error(run.root.string() + ": no such run directory");
-  std::ifstream in(run.run_json());
-  if (!in)
-    throw std::runtime_error(run.run_json().string() + ": missing; " + run.root.string() +
-                             " is not a training run (make one with style4d train)");
+nlohmann::json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot be opened");
   try {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(run.run_json().string() + ": " + e.what());
+    throw std::runtime_error(file.string() + ": " + e.what());
   }
 }
 
@@ -34,43 +32,75 @@ const nlohmann::json& field(const nlohmann::json& j, const char* key, const char
   return j.at(key);
 }
 
+[[noreturn]] void incomplete(const fs::path& root, const std::vector<std::string>& missing, const std::string& fix) {
+  std::string list;
+  for (size_t i = 0; i < missing.size(); ++i) list += (i ? "; " : "") + missing[i];
+  throw std::runtime_error(root.string() + " is an incomplete run: " + list + "; " + fix);
+}
+
 }  // namespace
 
-TrainedRun open_trained_run(engine::Context& ctx, const fs::path& run_dir, const std::optional<std::string>& style) {
-  const train::RunDir run{run_dir};
-  const nlohmann::json j = read_run_json(run);
+TrainedRun read_trained_run(const fs::path& root) {
+  const train::RunDir run{root};
+  if (!fs::is_directory(root))
+    throw std::runtime_error(root.string() + " is not a directory; train one with `style4d train --data DIR --out " +
+                             root.string() + "`");
+  if (!fs::exists(run.run_json()))
+    incomplete(root, {run.run_json().string() + ": missing (what was trained from what)"},
+               "train one with `style4d train --data DIR --out " + root.string() + "`");
+  const nlohmann::json j = read_json(run.run_json());
   const nlohmann::json& data = field(j, "data", "the dataset path", run.run_json());
   const nlohmann::json& settings = field(j, "settings", "the training settings", run.run_json());
   if (!data.is_string()) throw std::runtime_error(run.run_json().string() + ": field 'data' is not a string");
-  train::TrainConfig config;
+  if (j.contains("stage") && !j.at("stage").is_string())
+    throw std::runtime_error(run.run_json().string() + ": field 'stage' is not a string");
+  TrainedRun out;
+  out.root = root;
+  out.stage = j.value("stage", "static");  // runs written before stages were named
+  if (out.stage != "static" && out.stage != "4dgs")
+    throw std::runtime_error(run.run_json().string() + ": stage '" + out.stage +
+                             "' is not one this build renders (static, 4dgs)");
   try {
-    config = train::config_from_json(settings);
+    out.config = train::config_from_json(settings);
   } catch (const std::exception& e) {
     throw std::runtime_error(run.run_json().string() + ": field 'settings': " + e.what());
   }
-  if (!fs::exists(run.gaussians_ply()))
-    throw std::runtime_error(run.gaussians_ply().string() + ": missing; the run has not written its Gaussians yet "
-                             "(style4d train writes them at each checkpoint and at the end)");
-  if (style)
-    throw std::runtime_error("no style " + *style + " in " + run_dir.string() +
-                             " (styles are trained with style4d stylize, not built yet)");
-  const fs::path data_path = data.get<std::string>();
-  if (!fs::exists(data_path))
-    throw std::runtime_error(run.run_json().string() + ": field 'data' names " + data_path.string() +
-                             ", which does not exist");
 
-  if (j.contains("stage") && !j.at("stage").is_string())
-    throw std::runtime_error(run.run_json().string() + ": field 'stage' is not a string");
-  const std::string stage = j.value("stage", "static");  // runs written before stages were named
-  if (stage != "static")
-    throw std::runtime_error(run.run_json().string() + ": stage '" + stage +
-                             "' is not one this build renders (static; rendering 4DGS runs is not built yet)");
-  TrainedRun out;
-  out.root = run_dir;
-  out.stage = stage;
-  out.dataset = data::load_dataset(data_path, {.downscale = config.downscale, .background = config.background});
-  out.scene = std::make_unique<StaticScene>(ctx, io::read_ply_gaussians(run.gaussians_ply()), "run gaussians");
+  std::vector<std::string> missing;
+  if (out.stage == "static" && !fs::exists(run.gaussians_ply()))
+    missing.push_back(run.gaussians_ply().string() + ": missing (the Gaussians, written at each checkpoint and at the end)");
+  if (out.stage == "4dgs" && !fs::exists(run.checkpoint()))
+    missing.push_back(run.checkpoint().string() +
+                      ": missing (the canonical Gaussians and the deformation field, written at each checkpoint)");
+  const fs::path data_path = data.get<std::string>();
+  const bool no_data = !fs::exists(data_path);
+  if (no_data) missing.push_back(data_path.string() + ": missing (the dataset that run.json's field 'data' names)");
+  if (!missing.empty())
+    incomplete(root, missing,
+               no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
+                                              : "finish it with `style4d train --resume " + root.string() + "`");
+  out.dataset = data::load_dataset(data_path, {.downscale = out.config.downscale, .background = out.config.background});
+  if (out.dataset.views.empty()) throw std::runtime_error(data_path.string() + ": the dataset has no views");
   return out;
+}
+
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style) {
+  if (style != "original") {
+    std::string known;
+    for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
+    throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
+                             " (styles are trained with style4d stylize, not built yet)");
+  }
+  const train::RunDir dir{run.root};
+  const train::TrainConfig& c = run.config;
+  if (run.stage == "4dgs") {
+    const TrainedField f = read_trained_field(dir.checkpoint(), c, run.root);
+    return std::make_unique<DeformedScene>(ctx, f.canonical, f.field, f.planes, f.mlp,
+                                           train::active_sh_degree(c, c.iterations + f.fine_iteration));
+  }
+  const io::GaussianCloud cloud = io::read_ply_gaussians(dir.gaussians_ply());
+  if (cloud.size() == 0) throw std::runtime_error(dir.gaussians_ply().string() + ": no Gaussians");
+  return std::make_unique<StaticScene>(ctx, cloud, train::active_sh_degree(c, c.iterations), "run gaussians");
 }
 
 }  // namespace s4d::scene

@@ -64,6 +64,10 @@ void set_fine_iterations(TrainConfig& c, uint32_t iterations) {
   c.fine_iterations = iterations;
 }
 
+int active_sh_degree(const TrainConfig& c, uint32_t iterations_done) {
+  return std::min<int>(c.sh_degree, static_cast<int>(iterations_done / std::max<uint32_t>(1, c.sh_up_every)));
+}
+
 deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3>& lo, const std::array<float, 3>& hi) {
   deform::FieldConfig f;
   f.resolution = c.field_resolution;

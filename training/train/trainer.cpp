@@ -128,8 +128,7 @@ struct Trainer::Impl {
   bool fine() const { return stage == "fine"; }
   uint32_t stage_iterations() const { return fine() ? config.fine_iterations : config.iterations; }
   int active_degree() const {
-    const uint32_t done = fine() ? config.iterations + iteration : iteration;  // the degree is not reset (3.3)
-    return std::min<int>(config.sh_degree, static_cast<int>(done / config.sh_up_every));
+    return active_sh_degree(config, fine() ? config.iterations + iteration : iteration);  // not reset (3.3)
   }
 
   // The field, sized from the initial cloud's bounds (validated here, so a field the device cannot

@@ -14,11 +14,13 @@
 #include "s4d/engine/check.h"
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/scene/download_cloud.h"
+#include "s4d/splat/scene_upload.h"
 #include "s4d/viewer/camera_control.h"
 #include "s4d/viewer/camera_path.h"
+#include "s4d/viewer/dataset_cameras.h"
 #include "s4d/viewer/frame_renderer.h"
 #include "s4d/viewer/playback.h"
-#include "s4d/viewer/scene_source.h"
 #include "swapchain.h"
 #include "window.h"
 
@@ -73,12 +75,13 @@ void record_copy(engine::Recorder& rec, const engine::Buffer& pixels, VkImage im
 
 }  // namespace
 
-ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options) {
-  if (options.camera >= scene.cameras.size())
+ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& options) {
+  const std::vector<io::CameraView> cameras = dataset_cameras(run.dataset);
+  if (options.camera >= cameras.size())
     throw std::invalid_argument("--camera " + std::to_string(options.camera) + ": the run's dataset has cameras 0.." +
-                                std::to_string(scene.cameras.size() - 1));
-  const auto [win_w, win_h] = window_size(options, scene.cameras[options.camera]);
-  Window window("style4d view " + scene.root.filename().string(), win_w, win_h);
+                                std::to_string(cameras.size() - 1));
+  const auto [win_w, win_h] = window_size(options, cameras[options.camera]);
+  Window window("style4d view " + run.root.filename().string(), win_w, win_h);
 
   engine::ContextOptions context_options = engine::ContextOptions::from_env();
   context_options.instance_extensions = window.instance_extensions();
@@ -92,25 +95,31 @@ ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options) {
   Input input(window.handle());
   ImGuiLayer imgui(ctx, window.handle(), swapchain);
 
-  const std::unique_ptr<SceneSource> source = make_scene_source(ctx, scene);
-  size_t style = find_style(*source, options.style);
-  FrameRenderer renderer(ctx, *source, scene.background);
+  std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, options.style);
+  size_t style = static_cast<size_t>(std::find(run.styles.begin(), run.styles.end(), options.style) - run.styles.begin());
+  size_t shown_style = style;
+  FrameRenderer renderer(ctx, run.dataset.background);
   std::vector<std::string> camera_names;
-  for (const io::CameraView& c : scene.cameras) camera_names.push_back(c.name);
-
-  auto pivot_depth = [&](size_t i) { return median_depth(scene.cameras[i], scene.cloud.means, 1.0); };
-  CameraControl control(estimate_up(scene.cameras), kFlySpeedPerDepth * pivot_depth(options.camera));
-  control.snap(scene.cameras[options.camera], pivot_depth(options.camera));
+  for (const io::CameraView& c : cameras) camera_names.push_back(c.name);
   Playback playback{.time = options.time, .playing = options.play};
+
+  // The pivot: the median depth of the Gaussians, where they are at the current time.
+  auto pivot_depth = [&](size_t i) {
+    const splat::Camera cam = splat::to_splat_camera(cameras[i]);
+    return median_depth(cameras[i], scene::download_cloud(ctx, source->at(playback.time, cam)).means, 1.0);
+  };
+  CameraControl control(estimate_up(cameras), kFlySpeedPerDepth * pivot_depth(options.camera));
+  control.snap(cameras[options.camera], pivot_depth(options.camera));
   CameraPath path;
   bool recording = !options.record.empty();
   const fs::path out_dir = options.out_dir;
+  const double clip = clip_seconds(run.dataset);
 
   PanelInfo info{.device = ctx.info().name,
-                 .gaussians = source->gaussian_count(),
+                 .gaussians = source->size(),
                  .dynamic = source->dynamic(),
                  .cameras = &camera_names,
-                 .styles = &source->styles()};
+                 .styles = &run.styles};
   ViewerSummary summary{.device = ctx.info().name};
   double total_ms = 0;
   uint64_t last_submit = 0;
@@ -144,14 +153,20 @@ ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options) {
     control.zoom(in.scroll);
     control.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
     if (in.toggle_play) playback.playing = !playback.playing;
-    playback.advance(seconds, scene.clip_seconds);
+    playback.advance(seconds, clip);
     imgui.new_frame();
     info.width = swapchain.extent().width, info.height = swapchain.extent().height;
     info.recording = recording, info.recorded = path.size();
     const PanelActions act = draw_panel(info, playback, style);
+    if (style != shown_style) {
+      ctx.wait_idle();  // the last frame may still read the old source's buffers
+      source = scene::open_scene(ctx, run, run.styles[style]);
+      shown_style = style;
+    }
     const int snap = act.snap_camera >= 0 ? act.snap_camera : in.snap_camera;
-    if (snap >= 0 && static_cast<size_t>(snap) < scene.cameras.size()) {
-      control.snap(scene.cameras[static_cast<size_t>(snap)], pivot_depth(static_cast<size_t>(snap)));
+    if (snap >= 0 && static_cast<size_t>(snap) < cameras.size()) {
+      ctx.wait_idle();  // the pivot reads the source's buffers, which the last frame may still read
+      control.snap(cameras[static_cast<size_t>(snap)], pivot_depth(static_cast<size_t>(snap)));
       info.message = "camera " + std::to_string(snap) + ": " + camera_names[static_cast<size_t>(snap)];
     }
 
@@ -165,7 +180,7 @@ ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     engine::Recorder rec(ctx, "viewer frame");
-    renderer.render(control.camera(info.width, info.height), playback.time, style, swapchain.pixel_order(), rec);
+    renderer.render(*source, control.camera(info.width, info.height), playback.time, swapchain.pixel_order(), rec);
     record_copy(rec, renderer.pixels(), swapchain.image(*image), swapchain.extent());
     imgui.record(rec.handle(), *image, swapchain.extent());
     last_submit = ctx.submit(std::move(rec), {.wait = swapchain.acquired(),

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "s4d/viewer/run_scene.h"
+#include "s4d/scene/trained_run.h"
 
 namespace s4d::viewer {
 
@@ -29,6 +29,7 @@ struct ViewerSummary {
   std::string device;
 };
 
-ViewerSummary run_viewer(const RunScene& scene, const ViewerOptions& options);
+// Opens the run's scene source on the window's device; switching styles in the panel reopens it.
+ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& options);
 
 }  // namespace s4d::viewer

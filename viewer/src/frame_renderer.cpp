@@ -5,12 +5,12 @@
 
 namespace s4d::viewer {
 
-FrameRenderer::FrameRenderer(engine::Context& ctx, SceneSource& source, const std::array<float, 3>& background)
-    : ctx_(&ctx), source_(&source), background_(background), rasterizer_(ctx, "viewer rasterizer") {}
+FrameRenderer::FrameRenderer(engine::Context& ctx, const std::array<float, 3>& background)
+    : ctx_(&ctx), background_(background), rasterizer_(ctx, "viewer rasterizer") {}
 
-splat::RenderStats FrameRenderer::render(const splat::Camera& cam, double time, size_t style, PixelOrder order,
-                                         engine::Recorder& rec) {
-  const splat::RenderStats stats = rasterizer_.forward(source_->params_at(time, style), cam, background_);
+splat::RenderStats FrameRenderer::render(scene::SceneSource& source, const splat::Camera& cam, double time,
+                                         PixelOrder order, engine::Recorder& rec) {
+  const splat::RenderStats stats = rasterizer_.forward(source.at(time, cam), cam, background_);
   const uint32_t pixels = cam.width * cam.height;
   if (pixels_.size() < size_t{pixels} * 4) pixels_ = engine::Buffer(*ctx_, "viewer pixels", size_t{pixels} * 4);
   width_ = cam.width, height_ = cam.height, order_ = order;

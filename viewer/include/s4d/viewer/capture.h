@@ -5,18 +5,19 @@
 #include <string>
 
 #include "s4d/engine/context.h"
-#include "s4d/viewer/run_scene.h"
+#include "s4d/scene/trained_run.h"
 
 namespace s4d::viewer {
 
 struct CaptureRequest {
   std::filesystem::path png;
   double time = 0;      // in [0, 1]
-  size_t camera = 0;    // index into RunScene::cameras
+  size_t camera = 0;    // index into dataset_cameras(run.dataset)
   std::string style = "original";
 };
 
-// Throws std::invalid_argument for a camera index or time out of range or an unknown style.
-void capture(engine::Context& ctx, const RunScene& scene, const CaptureRequest& request);
+// Throws std::invalid_argument for a camera index or time out of range; scene::open_scene's errors
+// (an unknown style, a run's unreadable files) propagate.
+void capture(engine::Context& ctx, const scene::TrainedRun& run, const CaptureRequest& request);
 
 }  // namespace s4d::viewer

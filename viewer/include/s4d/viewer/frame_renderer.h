@@ -1,4 +1,4 @@
-// One viewer frame: the scene source's Gaussians at (time, style) through the compute rasterizer,
+// One viewer frame: a scene source's Gaussians at a time through the compute rasterizer,
 // then the float image packed into 8-bit pixels on the device (shaders/viewer/present_pack.comp).
 // The window copies pixels() into its swapchain image; captures and screenshots read them back
 // once. Every path that shows or saves a frame goes through render().
@@ -10,8 +10,8 @@
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/io/image_io.h"
+#include "s4d/scene/scene_source.h"
 #include "s4d/splat/rasterizer.h"
-#include "s4d/viewer/scene_source.h"
 
 namespace s4d::viewer {
 
@@ -19,11 +19,11 @@ enum class PixelOrder { rgba, bgra };  // byte order of pixels() in memory
 
 class FrameRenderer {
  public:
-  FrameRenderer(engine::Context& ctx, SceneSource& source, const std::array<float, 3>& background);
+  FrameRenderer(engine::Context& ctx, const std::array<float, 3>& background);
 
-  // Rasterizes (forward() submits and waits) and records the packing into `rec`; pixels() holds
-  // the frame once `rec` has run.
-  splat::RenderStats render(const splat::Camera& cam, double time, size_t style, PixelOrder order,
+  // Rasterizes source.at(time, cam) (forward() submits and waits) and records the packing into
+  // `rec`; pixels() holds the frame once `rec` has run.
+  splat::RenderStats render(scene::SceneSource& source, const splat::Camera& cam, double time, PixelOrder order,
                             engine::Recorder& rec);
 
   // [height * width] u32 of the last render, row-major, one byte per channel, alpha 255.
@@ -36,7 +36,6 @@ class FrameRenderer {
 
  private:
   engine::Context* ctx_;
-  SceneSource* source_;
   std::array<float, 3> background_;
   splat::Rasterizer rasterizer_;
   engine::Buffer pixels_;

@@ -11,11 +11,14 @@ namespace s4d::scene {
 
 class StaticScene final : public SceneSource {
  public:
-  // Uploads `cloud`; renders with every SH degree it stores.
-  StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name = "static scene");
+  // Uploads `cloud`; renders at SH degree `sh_degree` (clamped to what the cloud stores; negative:
+  // every degree it stores).
+  StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, int sh_degree = -1,
+              const std::string& name = "static scene");
 
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return gaussians_.size(); }
+  bool dynamic() const override { return false; }
   std::string describe() const override;
 
  private:

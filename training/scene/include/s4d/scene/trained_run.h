@@ -1,33 +1,42 @@
-// Opens a training run directory for rendering: its dataset (cameras, times, test views, loaded with
-// the run's own downscale and background) and the scene source of the requested style.
+// Opens a training run directory for rendering (the render protocols, the viewer, export-ply):
+// read_trained_run reads what the run is on the host (its settings, stage and dataset, loaded with
+// the run's own downscale and background) and checks that every file its stage needs is there;
+// open_scene then gives the scene source of one style on a device.
 //
-// A run today is the static stage: RUN/run.json (data = dataset path, settings), RUN/geometry/
-// gaussians.ply. When the deformation field and styles are written into runs, this is where their
-// sources are chosen.
+// What a run needs, by run.json "stage": "static": RUN/geometry/gaussians.ply; "4dgs":
+// RUN/checkpoint/state.s4dckpt (canonical Gaussians and the deformation field, trained_field.h).
+// Both render at the SH degree the trainer evaluated the finished run at.
 #pragma once
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <string>
+#include <vector>
 
 #include "s4d/data/dataset.h"
 #include "s4d/engine/context.h"
 #include "s4d/scene/scene_source.h"
+#include "s4d/train/train_config.h"
 
 namespace s4d::scene {
 
 struct TrainedRun {
   std::filesystem::path root;
-  std::string stage;  // run.json "stage", e.g. "static"
+  std::string stage;  // run.json "stage": "static" or "4dgs"
+  train::TrainConfig config;
   data::Dataset dataset;
-  std::unique_ptr<SceneSource> scene;
+  std::vector<std::string> styles{"original"};  // what open_scene takes; "original" is the unstylised scene
 };
 
-// `style`: nullopt renders the original scene. Throws std::runtime_error naming the file and field:
-// RUN or RUN/run.json missing, run.json unreadable or without 'data' / 'settings', the dataset it
-// names missing or unloadable, RUN/geometry/gaussians.ply missing or unreadable; and
-// "no style NAME in RUN (styles are trained with style4d stylize, not built yet)" for any style.
-TrainedRun open_trained_run(engine::Context& ctx, const std::filesystem::path& run,
-                            const std::optional<std::string>& style = std::nullopt);
+// Throws std::runtime_error naming the file and field: RUN not a directory; RUN/run.json unreadable,
+// without 'data' or 'settings', or with a stage this build does not render; and, all at once as "an
+// incomplete run" with how to finish it, every missing file: run.json, the stage's files above, the
+// dataset run.json names. Dataset loading errors propagate.
+TrainedRun read_trained_run(const std::filesystem::path& run);
+
+// The scene source of `style` (one of run.styles). Throws std::runtime_error naming the file and what
+// is wrong with it (trained_field.h for 4DGS runs; an empty or unreadable PLY), and "no style NAME in
+// RUN; it has: ..." for a style the run does not have.
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run,
+                                        const std::string& style = "original");
 
 }  // namespace s4d::scene

@@ -68,6 +68,10 @@ void set_iterations(TrainConfig& config, uint32_t iterations);
 // The same for the fine stage (its densification window).
 void set_fine_iterations(TrainConfig& config, uint32_t iterations);
 
+// The SH degree the renderer uses after `iterations_done` iterations of both stages together: one
+// more every sh_up_every, at most sh_degree (the degree is not reset by the fine stage).
+int active_sh_degree(const TrainConfig& config, uint32_t iterations_done);
+
 // The deformation field of the 4DGS stage, over the AABB of the initial points (a run's checkpoint
 // stores it as meta aabb_min / aabb_max).
 deform::FieldConfig field_config(const TrainConfig& config, const std::array<float, 3>& aabb_min,

@@ -1,0 +1,41 @@
+// The 4DGS stage's scene: canonical Gaussians moved by the trained deformation field (training/
+// deform) to each asked time, exactly as the trainer renders its evaluation (Trainer::Impl::
+// deform_to): the heads that are on replace the canonical means, scales, rotations, opacities or SH
+// with their deformed values; the others stay canonical.
+#pragma once
+#include <span>
+#include <string>
+
+#include "s4d/deform/deformation_field.h"
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+#include "s4d/io/ply_gaussians.h"
+#include "s4d/scene/scene_source.h"
+#include "s4d/splat/scene_upload.h"
+
+namespace s4d::scene {
+
+class DeformedScene final : public SceneSource {
+ public:
+  // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
+  // field.planes and field.mlp); renders at SH degree `sh_degree` (clamped to what the cloud
+  // stores). Throws std::invalid_argument naming the field setting or array that does not fit.
+  DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
+                std::span<const float> planes, std::span<const float> mlp, int sh_degree);
+
+  // Runs the field's forward pass at `time` (the camera is not read) and waits for it.
+  splat::GaussianParams at(double time, const splat::Camera& camera) override;
+  uint32_t size() const override { return canonical_.size(); }
+  bool dynamic() const override { return true; }
+  std::string describe() const override;
+
+ private:
+  engine::Context* ctx_;
+  splat::DeviceGaussians canonical_;
+  deform::DeformationField field_;
+  int sh_degree_;
+  // The deformed attributes; allocated only for the heads that are on.
+  engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
+};
+
+}  // namespace s4d::scene
