@@ -1,6 +1,9 @@
 #include "s4d/scene/deformed_scene.h"
 
+#include <string>
 #include <utility>
+
+#include "s4d/engine/buffer_from.h"
 
 namespace s4d::scene {
 namespace {
@@ -14,12 +17,19 @@ engine::Buffer head_buffer(engine::Context& ctx, uint32_t heads, uint32_t bit, c
 }  // namespace
 
 DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
-                             std::span<const float> planes, std::span<const float> mlp, int sh_degree)
+                             std::span<const float> planes, std::span<const float> mlp,
+                             std::span<const uint32_t> static_mask, int sh_degree)
     : ctx_(&ctx), canonical_(ctx, canonical, "canonical gaussians"), field_(ctx, field, kNoSeed, "deformation field"),
       sh_degree_(sh_degree) {
   field_.upload_planes(planes);
   field_.upload_mlp(mlp);
   const size_t n = canonical.size();
+  if (!static_mask.empty()) {
+    if (static_mask.size() != n)
+      throw std::invalid_argument("static mask: " + std::to_string(static_mask.size()) + " entries for " +
+                                  std::to_string(n) + " Gaussians");
+    static_mask_ = engine::buffer_from(ctx, "static mask", static_mask);
+  }
   means_ = head_buffer(ctx, field.heads, S4D_DEFORM_HEAD_POS, "means", n * 3);
   log_scales_ = head_buffer(ctx, field.heads, S4D_DEFORM_HEAD_SCALES, "log_scales", n * 3);
   quats_ = head_buffer(ctx, field.heads, S4D_DEFORM_HEAD_ROTATIONS, "quats", n * 4);
@@ -41,7 +51,7 @@ splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
                          .quats = p.quats,
                          .opacity_logits = p.opacity_logits,
                          .sh = p.sh,
-                         .static_mask = nullptr,
+                         .static_mask = static_mask_.valid() ? &static_mask_ : nullptr,
                          .count = p.count,
                          .sh_coeffs = p.sh_coeffs},
                         static_cast<float>(time), deformed);

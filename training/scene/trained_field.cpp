@@ -63,6 +63,13 @@ TrainedField read_trained_field(const fs::path& file, const train::TrainConfig& 
   }
   out.planes = take_array(cp, "field.planes", "the deformation field's HexPlanes", gpu::deform_planes_total(shape), file);
   out.mlp = take_array(cp, "field.mlp", "the deformation field's MLP", gpu::deform_mlp_total(shape), file);
+  for (const auto& [name, values] : cp.extra) {
+    if (name != "field.static_mask") continue;
+    if (values.size() != cp.state.cloud.size())
+      throw std::runtime_error(file.string() + ": array 'field.static_mask' holds " + std::to_string(values.size()) +
+                               " entries for " + std::to_string(cp.state.cloud.size()) + " Gaussians");
+    out.static_mask.assign(values.begin(), values.end());
+  }
   out.canonical = std::move(cp.state.cloud);
   return out;
 }

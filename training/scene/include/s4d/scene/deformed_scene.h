@@ -18,10 +18,12 @@ namespace s4d::scene {
 class DeformedScene final : public SceneSource {
  public:
   // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
-  // field.planes and field.mlp); renders at SH degree `sh_degree` (clamped to what the cloud
-  // stores). Throws std::invalid_argument naming the field setting or array that does not fit.
+  // field.planes and field.mlp) and the static mask when training made one (empty: none);
+  // renders at SH degree `sh_degree` (clamped to what the cloud stores). Throws
+  // std::invalid_argument naming the field setting or array that does not fit.
   DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
-                std::span<const float> planes, std::span<const float> mlp, int sh_degree);
+                std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> static_mask,
+                int sh_degree);
 
   // Runs the field's forward pass at `time` (the camera is not read) and waits for it.
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
@@ -36,6 +38,7 @@ class DeformedScene final : public SceneSource {
   int sh_degree_;
   // The deformed attributes; allocated only for the heads that are on.
   engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
+  engine::Buffer static_mask_;  // empty: every Gaussian is deformed
 };
 
 }  // namespace s4d::scene
