@@ -93,6 +93,13 @@ void DeformationField::record_zero_grads(engine::Recorder& rec) const {
   rec.fill(v_mlp_, 0);
 }
 
+void DeformationField::check_device() const {
+  const engine::DeviceInfo& info = ctx_->info();
+  const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
+  check_llvmpipe(info, shape_, false, false, name_);
+  check_llvmpipe(info, shape_, true, !float_atomics, name_);
+}
+
 void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
                                       const DeformedGaussians& out) const {
   check_gaussians(g);

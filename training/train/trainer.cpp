@@ -135,7 +135,12 @@ struct Trainer::Impl {
   // run fails before any training).
   void make_field(uint32_t seed) {
     if (config.fine_iterations == 0) return;
-    field = std::make_unique<deform::DeformationField>(ctx, field_config(config, aabb_min, aabb_max), seed, "deformation field");
+    try {
+      field = std::make_unique<deform::DeformationField>(ctx, field_config(config, aabb_min, aabb_max), seed, "deformation field");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(e.what()) + " (the 4DGS stage of preset '" + config.preset +
+                               "'; --preset fast fits lavapipe, --stage static trains without it)");
+    }
     planes_m = zeros(ctx, "field planes adam m", field->plane_floats());
     planes_v = zeros(ctx, "field planes adam v", field->plane_floats());
     mlp_m = zeros(ctx, "field mlp adam m", field->mlp_floats());

@@ -66,7 +66,8 @@ struct DeformOptions {
 class DeformationField {
  public:
   // Allocates and initialises the parameters (field_init.h, from `seed`) and zeroes the gradients.
-  // Throws std::invalid_argument naming the offending configuration field.
+  // Throws std::invalid_argument naming the offending configuration field, std::runtime_error when
+  // the device cannot run a field this size (lavapipe's loop limit), so that no work is wasted first.
   DeformationField(engine::Context& ctx, const FieldConfig& config, uint32_t seed, std::string name = "deform",
                    DeformOptions options = {});
 
@@ -105,6 +106,8 @@ class DeformationField {
  private:
   gpu::DeformParams params(const CanonicalGaussians& g, float time) const;
   void check_gaussians(const CanonicalGaussians& g) const;
+  // Throws when this device cannot run the field's kernels correctly (lavapipe's loop limit).
+  void check_device() const;
 
   engine::Context* ctx_;
   FieldConfig config_;
