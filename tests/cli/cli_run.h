@@ -1,6 +1,8 @@
 // Helpers for tests that run the style4d program: run a subcommand with its output captured in a
 // log file, read the log, and make a fresh scratch directory.
 #pragma once
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,8 +25,10 @@ inline std::string read_text(const std::filesystem::path& p) {
   return s.str();
 }
 
+// Named after the process too, so two runs of the same test at once (a developer and CI) never share one.
 inline std::filesystem::path fresh_dir(const std::string& name) {
-  const std::filesystem::path d = std::filesystem::temp_directory_path() / ("s4d_cli_" + name);
+  const std::filesystem::path d =
+      std::filesystem::temp_directory_path() / ("s4d_cli_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

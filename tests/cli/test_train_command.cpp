@@ -166,6 +166,7 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
     const fs::path run = dir / (signal == SIGINT ? "sigint" : "sigkill");
     if (!interrupt_and_resume(run, signal, dir)) MESSAGE("the run finished before the signal; only completion was checked");
     CHECK(test::read_text(run / "geometry" / "gaussians.ply") == test::read_text(whole / "geometry" / "gaussians.ply"));
+    CHECK(loss_column(run / "loss.csv") == loss_column(whole / "loss.csv"));  // every row once, the same losses
     CHECK(read_json(run / "train.json")["test_psnr"] == read_json(whole / "train.json")["test_psnr"]);
   }
 }

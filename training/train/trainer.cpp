@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -431,6 +432,23 @@ struct Trainer::Impl {
     if (!fine() && it % config.opacity_reset_every == 0) densifier.reset_opacity(*gaussians);
   }
 
+  // loss.csv keeps the rows up to the state training continues from: a resumed run drops the rows
+  // logged after its checkpoint (they are logged again), and a new run starts with the header.
+  void trim_loss_log() const {
+    std::string kept = "stage,iteration,loss,l1,ssim,gaussians,seconds\n", line;
+    std::ifstream in(run.loss_csv());
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+      const size_t comma = line.find(',');
+      if (comma == std::string::npos) break;  // a row cut short by a kill
+      const std::string row_stage = line.substr(0, comma);
+      const uint32_t row_iteration = static_cast<uint32_t>(std::strtoul(line.c_str() + comma + 1, nullptr, 10));
+      const bool before = row_stage == stage ? row_iteration <= iteration : row_stage == "static";
+      if (before && std::count(line.begin(), line.end(), ',') == 6) kept += line + "\n";
+    }
+    util::write_file_atomic(run.loss_csv(), kept);
+  }
+
   double elapsed(const std::chrono::steady_clock::time_point& start) const {
     return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -571,8 +589,8 @@ Trainer::~Trainer() = default;
 TrainResult Trainer::run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
   const auto start = std::chrono::steady_clock::now();
+  m.trim_loss_log();
   std::ofstream log(m.run.loss_csv(), std::ios::app);
-  if (m.stage == "static" && m.iteration == 0) log << "stage,iteration,loss,l1,ssim,gaussians,seconds\n";
   while (true) {
     util::Progress progress(m.stage, m.stage_iterations());
     double test_psnr = NAN;
@@ -593,7 +611,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       }
       if (m.iteration % 10 == 0)
         log << m.stage << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
-            << m.gaussians->size() << ',' << m.elapsed(start) << '\n';
+            << m.gaussians->size() << ',' << m.elapsed(start) << std::endl;  // on disk before any later checkpoint
       if (m.iteration % config_.test_every == 0 && m.iteration < m.stage_iterations())
         test_psnr = m.evaluate(spread(m.test_views, kPeriodicTestViews)).psnr;
       m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
