@@ -30,6 +30,7 @@ DeformationField::DeformationField(engine::Context& ctx, const FieldConfig& conf
 }
 
 uint32_t DeformationField::scratch_rows() const {
+  if (options_.scratch_rows != 0) return options_.scratch_rows;
   const uint32_t row_bytes = gpu::deform_scratch_floats(shape_) * 4;
   const uint32_t rows = S4D_DEFORM_SCRATCH_BYTES / row_bytes / 256 * 256;
   return std::clamp<uint32_t>(rows, 256, S4D_DEFORM_SCRATCH_MAX_ROWS);

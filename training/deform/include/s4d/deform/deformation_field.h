@@ -60,7 +60,8 @@ struct RegulariserWeights {
 };
 
 struct DeformOptions {
-  bool force_cas_atomics = false;  // use deform_bwd_cas even where float atomics exist
+  bool force_cas_atomics = false;  // use deform_bwd_cas / deform_wgrad_cas even where float atomics exist
+  uint32_t scratch_rows = 0;       // Gaussians per backward pass; 0: as many as S4D_DEFORM_SCRATCH_BYTES hold
 };
 
 class DeformationField {
