@@ -3,7 +3,8 @@
 // inside the field's AABB, none static. One JSON line per kernel on stdout, a human table on stderr.
 // Timings come from GPU timestamps around each kernel's recorded work, median of --repeats after a
 // warm-up run. The backward's gradients (v_means, v_planes, v_mlp) are checked against the double CPU
-// twin on the first --check Gaussians (0: none); the relative errors go into the bwd line.
+// twin on the first --check Gaussians (0: none); the relative errors and "matches_twin" (all below
+// tests/gpu/test_deform.cpp's 1e-5) go into the bwd line.
 //
 //   s4d_bench_deform [--preset fast] [--gaussians 15000] [--repeats 5] [--cas] [--check 2000]
 #include <nlohmann/json.hpp>
@@ -195,6 +196,9 @@ int main(int argc, char** argv) {
                {"v_means_max_rel", max_rel(ctx.download<float>(c.v_means, 3 * size_t{m}), r.v.means)},
                {"v_planes_max_rel", max_rel(ctx.download<float>(field.v_planes(), field.plane_floats()), r.v_planes)},
                {"v_mlp_max_rel", max_rel(ctx.download<float>(field.v_mlp(), field.mlp_floats()), r.v_mlp)}};
+      // tests/gpu/test_deform.cpp's tolerance
+      check["matches_twin"] = check["v_means_max_rel"].get<double>() < 1e-5 &&
+                              check["v_planes_max_rel"].get<double>() < 1e-5 && check["v_mlp_max_rel"].get<double>() < 1e-5;
     }
 
     const auto& info = ctx.info();
