@@ -31,6 +31,8 @@ set(S4D_SHADER_VARIANTS
   "deform_fwd|deform/deform_fwd.comp"
   "deform_bwd|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "deform_bwd_cas|deform/deform_bwd.comp|S4D_FLOAT_ATOMICS=0"
+  "deform_wgrad|deform/deform_wgrad.comp|S4D_FLOAT_ATOMICS=1"
+  "deform_wgrad_cas|deform/deform_wgrad.comp|S4D_FLOAT_ATOMICS=0"
   "deform_reg|deform/deform_reg.comp"
   "flow_project|flow/flow_project.comp"
   "flow_displace|flow/flow_displace.comp"

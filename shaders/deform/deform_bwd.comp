@@ -1,20 +1,18 @@
 // deform_bwd: backward of deform_fwd. One invocation per Gaussian recomputes its features and MLP
 // activations (nothing is saved by the forward), then walks the layers back to front:
-//  - MLP weight and bias gradients: each weight's per-Gaussian terms are summed over the subgroup,
-//    the subgroup sums over the workgroup in shared memory (S4D_DEFORM_GRAD_CHUNK weights at a
-//    time), then one atomic add per weight and workgroup goes to v_mlp;
+//  - MLP weight and bias gradients: each Linear layer's input (after its ReLU) and output cotangent
+//    go to this Gaussian's scratch row (layout: deform_scratch_col in s4d_deform.h); deform_wgrad
+//    sums them over Gaussians afterwards;
 //  - plane gradients: each sample's cotangent is scattered to its 4 texels with atomic adds;
 //  - dL/d canonical mean: the field's term (through the grid coordinates) is added in place to
 //    v_means, which holds dL/d deformed mean on entry. The other raw parameters' gradients pass
 //    through unchanged (deformed = canonical + delta), so their buffers are only read.
-// Static (masked) and out-of-range invocations run the same loops with zero cotangents: the
-// subgroup and workgroup reductions need every invocation.
-// S4D_FLOAT_ATOMICS=1 adds with float atomics (buffer and shared); 0 with compare-and-swap loops.
+// One pass covers Gaussians p.first .. p.n - 1 (scratch rows 0 ..). Static (masked) Gaussians write a
+// zero scratch row and change nothing else. There are no barriers: every invocation may return early.
+// S4D_FLOAT_ATOMICS=1 adds with float atomics; 0 with compare-and-swap loops.
 // Specialization constants S4D_DEFORM_SPEC_* size the private arrays (capacity only, never results).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_arithmetic : require
 #if S4D_FLOAT_ATOMICS
 #extension GL_EXT_shader_atomic_float : require
 #endif
@@ -32,18 +30,12 @@ layout(std430, binding = S4D_B_DBWD_V_LOG_SCALES) readonly buffer VLogScales { f
 layout(std430, binding = S4D_B_DBWD_V_QUATS) readonly buffer VQuats { float v_quats[]; };
 layout(std430, binding = S4D_B_DBWD_V_OPACITY_LOGITS) readonly buffer VOpacity { float v_opacity[]; };
 layout(std430, binding = S4D_B_DBWD_V_SH) readonly buffer VSh { float v_sh[]; };
+layout(std430, binding = S4D_B_DBWD_SCRATCH) writeonly buffer Scratch { float scratch[]; };    // [rows, row floats]
 #if S4D_FLOAT_ATOMICS
 layout(std430, binding = S4D_B_DBWD_V_PLANES) buffer VPlanes { float v_planes[]; };
-layout(std430, binding = S4D_B_DBWD_V_MLP) buffer VMlp { float v_mlp[]; };
-shared float s_acc[S4D_DEFORM_GRAD_CHUNK];
 void add_v_planes(uint k, float value) { atomicAdd(v_planes[k], value); }
-void add_v_mlp(uint k, float value) { atomicAdd(v_mlp[k], value); }
-void add_shared(uint k, float value) { atomicAdd(s_acc[k], value); }
-float shared_value(uint k) { return s_acc[k]; }
 #else
 layout(std430, binding = S4D_B_DBWD_V_PLANES) buffer VPlanes { uint v_planes[]; };
-layout(std430, binding = S4D_B_DBWD_V_MLP) buffer VMlp { uint v_mlp[]; };
-shared uint s_acc[S4D_DEFORM_GRAD_CHUNK];
 // Compare-and-swap adds; the first read is atomic, as a plain load would race the swaps.
 void add_v_planes(uint k, float value) {
   uint old = atomicOr(v_planes[k], 0u);
@@ -53,23 +45,6 @@ void add_v_planes(uint k, float value) {
     old = seen;
   }
 }
-void add_v_mlp(uint k, float value) {
-  uint old = atomicOr(v_mlp[k], 0u);
-  for (;;) {
-    uint seen = atomicCompSwap(v_mlp[k], old, floatBitsToUint(uintBitsToFloat(old) + value));
-    if (seen == old) break;
-    old = seen;
-  }
-}
-void add_shared(uint k, float value) {
-  uint old = atomicOr(s_acc[k], 0u);
-  for (;;) {
-    uint seen = atomicCompSwap(s_acc[k], old, floatBitsToUint(uintBitsToFloat(old) + value));
-    if (seen == old) break;
-    old = seen;
-  }
-}
-float shared_value(uint k) { return uintBitsToFloat(s_acc[k]); }
 #endif
 
 #include "deform_mlp.glsl"
@@ -79,34 +54,13 @@ float g_v[ACT_SIZE];  // cotangents, same segments as g_act (of the pre-activati
 layout(constant_id = S4D_DEFORM_SPEC_CHANNELS) const uint CHANNELS_CAP = S4D_DEFORM_MAX_CHANNELS;
 float g_samples[S4D_DEFORM_PLANES * CHANNELS_CAP];
 
-// Weight and bias gradients of the Linear(in_dim -> out_dim) at mlp[offset] whose input is g_act[in_at ..]
-// (through ReLU if relu_in) and output cotangent g_v[out_at ..], summed over the workgroup.
-// Called by every invocation of the workgroup (it has barriers and subgroup reductions).
-void linear_bwd_weights(uint offset, uint in_dim, uint out_dim, uint in_at, bool relu_in, uint out_at) {
-  uint lid = gl_LocalInvocationIndex, weights = out_dim * in_dim, total = weights + out_dim;
-  for (uint start = 0u; start < total; start += uint(S4D_DEFORM_GRAD_CHUNK)) {
-    uint count = min(uint(S4D_DEFORM_GRAD_CHUNK), total - start);
-    for (uint k = lid; k < count; k += uint(S4D_DEFORM_WG)) s_acc[k] = 0;
-    barrier();
-    for (uint k = 0u; k < count; ++k) {
-      uint flat_k = start + k;
-      float g;
-      if (flat_k < weights) {
-        uint o = flat_k / in_dim;
-        g = g_v[out_at + o] * act_in(in_at + flat_k - o * in_dim, relu_in);
-      } else {
-        g = g_v[out_at + flat_k - weights];
-      }
-      float sum = subgroupAdd(g);
-      if (subgroupElect() && sum != 0.0) add_shared(k, sum);
-    }
-    barrier();
-    for (uint k = lid; k < count; k += uint(S4D_DEFORM_WG)) {
-      float sum = shared_value(k);
-      if (sum != 0.0) add_v_mlp(offset + start + k, sum);
-    }
-    barrier();  // s_acc is zeroed again by the next chunk
-  }
+// Layer l's input g_act[in_at ..] (through ReLU if relu_in) and output cotangent g_v[out_at ..] to
+// its columns of scratch row `row`.
+void stage_layer(uint row, uint l, uint in_at, bool relu_in, uint out_at) {
+  uint at = row * deform_scratch_floats(p.shape) + deform_scratch_col(p.shape, l);
+  uint in_dim = deform_layer_in(p.shape, l), out_dim = deform_layer_out(p.shape, l);
+  for (uint k = 0u; k < in_dim; ++k) scratch[at + k] = act_in(in_at + k, relu_in);
+  for (uint o = 0u; o < out_dim; ++o) scratch[at + in_dim + o] = g_v[out_at + o];
 }
 
 // Cotangent of the layer's input pre-activation: g_v[in_at + i] (+)= ReLU'(g_act[in_at + i]) *
@@ -173,34 +127,38 @@ vec3 deform_features_bwd(vec4 g) {
 }
 
 void main() {
-  uint i = flat_group_id() * S4D_DEFORM_WG + gl_LocalInvocationIndex;
-  if (flat_group_id() * S4D_DEFORM_WG >= p.n) return;  // whole workgroups only: barriers stay uniform
-  bool live = i < p.n && !((p.flags & S4D_DEFORM_HAS_MASK) != 0u && static_mask[i] != 0u);
-  // Inactive invocations evaluate the grid centre so every activation they feed the reductions is finite.
-  vec4 g = live ? deform_coords(vec3(means[3u * i], means[3u * i + 1u], means[3u * i + 2u])) : vec4(0.0);
+  uint row = flat_group_id() * S4D_DEFORM_WG + gl_LocalInvocationIndex, i = p.first + row;
+  if (i >= p.n) return;
+  if ((p.flags & S4D_DEFORM_HAS_MASK) != 0u && static_mask[i] != 0u) {
+    uint floats = deform_scratch_floats(p.shape);
+    for (uint k = 0u; k < floats; ++k) scratch[row * floats + k] = 0.0;
+    return;
+  }
+  vec4 g = deform_coords(vec3(means[3u * i], means[3u * i + 1u], means[3u * i + 2u]));
   deform_features(g);
   trunk_fwd();
 
   uint W = p.shape.width, last = ACT_Z(p.shape.trunk_extra);
   for (uint k = 0u; k < W; ++k) g_v[last + k] = 0.0;
+  uint l = p.shape.trunk_extra + 1u;  // layer index of the next head's hidden layer
   for (uint h = 0u; h < uint(S4D_DEFORM_HEADS); ++h) {
     if (!deform_head_on(p.shape, h)) continue;
     uint o1 = deform_head_offset(p.shape, h), o2 = o1 + deform_linear_floats(W, W), out_dim = deform_head_out(h);
     head_hidden_fwd(h);
-    load_head_cotangent(h, i, live);
-    linear_bwd_weights(o2, W, out_dim, ACT_Y1, true, ACT_Y2);
+    load_head_cotangent(h, i, true);
+    stage_layer(row, l + 1u, ACT_Y1, true, ACT_Y2);
     linear_bwd_input(o2, W, out_dim, ACT_Y1, true, ACT_Y2, false);
-    linear_bwd_weights(o1, W, W, last, true, ACT_Y1);
+    stage_layer(row, l, last, true, ACT_Y1);
     linear_bwd_input(o1, W, W, last, true, ACT_Y1, true);
+    l += 2u;
   }
   for (uint e = p.shape.trunk_extra; e >= 1u; --e) {
     uint o = deform_trunk_offset(p.shape, e);
-    linear_bwd_weights(o, W, W, ACT_Z(e - 1u), true, ACT_Z(e));
+    stage_layer(row, e, ACT_Z(e - 1u), true, ACT_Z(e));
     linear_bwd_input(o, W, W, ACT_Z(e - 1u), true, ACT_Z(e), false);
   }
   uint F = deform_feat_dim(p.shape);
-  linear_bwd_weights(deform_trunk_offset(p.shape, 0u), F, W, ACT_FEAT, false, ACT_Z(0u));
-  if (!live) return;
+  stage_layer(row, 0u, ACT_FEAT, false, ACT_Z(0u));
   linear_bwd_input(deform_trunk_offset(p.shape, 0u), F, W, ACT_FEAT, false, ACT_Z(0u), false);
   vec3 v_xyz = deform_features_bwd(g);
   for (uint k = 0u; k < 3u; ++k) v_means[3u * i + k] += v_xyz[k];

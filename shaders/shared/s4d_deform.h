@@ -72,9 +72,17 @@
 
 #define S4D_DEFORM_WG 64               // deform_fwd / deform_bwd: one invocation per Gaussian
 #define S4D_DEFORM_REG_WG 256          // deform_reg: one invocation per plane element
-// deform_bwd reduces MLP weight gradients over its workgroup in shared memory, this many weights at
-// a time (8 KiB of the 32 KiB lavapipe guarantees), then adds each with one atomic.
-#define S4D_DEFORM_GRAD_CHUNK 2048
+// MLP weight gradients take two kernels: deform_bwd writes, per Gaussian, each Linear layer's input
+// (after its ReLU) and output cotangent to a scratch row (no workgroup reductions, so no barriers:
+// on lavapipe a barrier in a kernel with this much private state costs more than the arithmetic);
+// deform_wgrad then sums them over Gaussians, one invocation per 4x4 weight block and
+// S4D_DEFORM_WGRAD_ROWS scratch rows, with one atomic add per weight and invocation.
+#define S4D_DEFORM_WGRAD_WG 64
+#define S4D_DEFORM_WGRAD_ROWS 256
+// Scratch rows (Gaussians) per deform_bwd + deform_wgrad pass: at most this many bytes of scratch,
+// a multiple of 256 rows, at most S4D_DEFORM_SCRATCH_MAX_ROWS; more Gaussians take more passes.
+#define S4D_DEFORM_SCRATCH_BYTES (32u * 1024u * 1024u)
+#define S4D_DEFORM_SCRATCH_MAX_ROWS 65536u
 
 // Bits of DeformParams.flags.
 #define S4D_DEFORM_HAS_MASK 1u  // the static-mask buffer is bound: Gaussians with mask != 0 are not deformed
@@ -105,7 +113,11 @@
 #define S4D_B_DBWD_V_OPACITY_LOGITS 7 // [N]
 #define S4D_B_DBWD_V_SH 8             // [N, K, 3]
 #define S4D_B_DBWD_V_PLANES 9         // [plane floats] accumulated (+=) with atomics
-#define S4D_B_DBWD_V_MLP 10           // [mlp floats] accumulated (+=) with atomics
+#define S4D_B_DBWD_SCRATCH 10         // [rows, deform_scratch_floats] f32 out: per Gaussian, each layer's [input | output cotangent]
+
+// deform_wgrad bindings.
+#define S4D_B_DWG_SCRATCH 0           // [rows, deform_scratch_floats] f32, written by deform_bwd
+#define S4D_B_DWG_V_MLP 1             // [mlp floats] accumulated (+=) with atomics
 
 // deform_reg bindings.
 #define S4D_B_DREG_PLANES 0
@@ -137,6 +149,19 @@ struct DeformParams {
   uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
   uint flags;       // S4D_DEFORM_HAS_MASK
   float time;       // raw time, used unnormalised as the fourth grid coordinate
+  uint first;       // deform_bwd: first Gaussian of this pass (scratch row 0); Gaussians first..n-1
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+};
+
+// Push constants of deform_wgrad.
+struct DeformWgradParams {
+  DeformShape shape;
+  uint rows;        // scratch rows (Gaussians) written by the deform_bwd pass
+  uint row_floats;  // deform_scratch_floats(shape)
+  uint blocks;      // deform_wgrad_blocks(shape): 4x4 weight blocks over all layers
+  uint _pad0;
 };
 
 // Push constants of deform_reg. Weights as ALGORITHMS.md 3.2: plane_tv on the spatial planes'
@@ -203,6 +228,67 @@ S4D_DEFORM_FN uint deform_head_offset(DeformShape s, uint h) {
 }
 
 S4D_DEFORM_FN uint deform_mlp_total(DeformShape s) { return deform_head_offset(s, uint(S4D_DEFORM_HEADS)); }
+
+// The MLP's Linear layers in scratch order: 0..trunk_extra the trunk, then for each head that is on
+// its hidden layer (W -> W) and its output layer (W -> out).
+S4D_DEFORM_FN uint deform_layer_count(DeformShape s) {
+  uint on = 0u;
+  for (uint h = 0u; h < uint(S4D_DEFORM_HEADS); ++h)
+    if (deform_head_on(s, h)) ++on;
+  return s.trunk_extra + 1u + 2u * on;
+}
+
+// Head of a head layer l (> trunk_extra).
+S4D_DEFORM_FN uint deform_layer_head(DeformShape s, uint l) {
+  uint pair = (l - s.trunk_extra - 1u) / 2u, h = 0u;
+  for (uint k = 0u; k < uint(S4D_DEFORM_HEADS); ++k)
+    if (deform_head_on(s, k)) {
+      if (pair == 0u) {
+        h = k;
+        break;
+      }
+      --pair;
+    }
+  return h;
+}
+
+S4D_DEFORM_FN bool deform_layer_is_head_out(DeformShape s, uint l) {
+  return l > s.trunk_extra && (l - s.trunk_extra - 1u) % 2u == 1u;
+}
+
+S4D_DEFORM_FN uint deform_layer_in(DeformShape s, uint l) { return l == 0u ? deform_feat_dim(s) : s.width; }
+
+S4D_DEFORM_FN uint deform_layer_out(DeformShape s, uint l) {
+  return deform_layer_is_head_out(s, l) ? deform_head_out(deform_layer_head(s, l)) : s.width;
+}
+
+// First float of layer l in the MLP buffer.
+S4D_DEFORM_FN uint deform_layer_offset(DeformShape s, uint l) {
+  if (l <= s.trunk_extra) return deform_trunk_offset(s, l);
+  return deform_head_offset(s, deform_layer_head(s, l)) +
+         (deform_layer_is_head_out(s, l) ? deform_linear_floats(s.width, s.width) : 0u);
+}
+
+// First float of layer l's [input | output cotangent] in a scratch row; l = deform_layer_count(s)
+// gives the row's length.
+S4D_DEFORM_FN uint deform_scratch_col(DeformShape s, uint l) {
+  uint col = 0u;
+  for (uint k = 0u; k < l; ++k) col += deform_layer_in(s, k) + deform_layer_out(s, k);
+  return col;
+}
+
+S4D_DEFORM_FN uint deform_scratch_floats(DeformShape s) { return deform_scratch_col(s, deform_layer_count(s)); }
+
+// deform_wgrad's 4x4 weight blocks of layer l (outputs x inputs, partial blocks at the edges).
+S4D_DEFORM_FN uint deform_layer_blocks(DeformShape s, uint l) {
+  return (deform_layer_out(s, l) + 3u) / 4u * ((deform_layer_in(s, l) + 3u) / 4u);
+}
+
+S4D_DEFORM_FN uint deform_wgrad_blocks(DeformShape s) {
+  uint b = 0u;
+  for (uint l = 0u; l < deform_layer_count(s); ++l) b += deform_layer_blocks(s, l);
+  return b;
+}
 
 S4D_NAMESPACE_END
 

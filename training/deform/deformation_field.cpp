@@ -2,6 +2,7 @@
 // the kernels is in deformation_field_record.cpp.
 #include "s4d/deform/deformation_field.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -25,6 +26,14 @@ DeformationField::DeformationField(engine::Context& ctx, const FieldConfig& conf
   v_planes_ = engine::buffer_from(ctx, name_ + " v_planes", std::vector<float>(plane_floats(), 0.0f));
   v_mlp_ = engine::buffer_from(ctx, name_ + " v_mlp", std::vector<float>(mlp_floats(), 0.0f));
   reg_partials_ = engine::Buffer(ctx, name_ + " regulariser partials", size_t{reg_groups(plane_floats())} * 4);
+  scratch_ = engine::Buffer(ctx, name_ + " backward scratch", size_t{scratch_rows()} * gpu::deform_scratch_floats(shape_) * 4);
+}
+
+uint32_t DeformationField::scratch_rows() const {
+  if (options_.scratch_rows != 0) return options_.scratch_rows;
+  const uint32_t row_bytes = gpu::deform_scratch_floats(shape_) * 4;
+  const uint32_t rows = S4D_DEFORM_SCRATCH_BYTES / row_bytes / 256 * 256;
+  return std::clamp<uint32_t>(rows, 256, S4D_DEFORM_SCRATCH_MAX_ROWS);
 }
 
 std::vector<float> DeformationField::download_planes() const { return ctx_->download<float>(planes_, plane_floats()); }

@@ -1,5 +1,6 @@
-// DeformationField: recording of deform_fwd, deform_bwd / deform_bwd_cas and deform_reg, with the
+// DeformationField: recording of deform_fwd, deform_bwd + deform_wgrad (or their _cas variants) and deform_reg, with the
 // host-side checks that run before anything is recorded.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -13,18 +14,20 @@ namespace {
 using primitives::ceil_div;
 using primitives::shader_pipeline;
 
-// Loop iterations one invocation runs, an upper bound. Per Linear(in -> out) each pass (forward,
-// input cotangent, weight reduction) runs at most 2 (in + 1) out iterations, inner and outer loops
-// together, so the MLP costs at most 2 weights per pass: 1 pass forward, 3 backward. The field visits,
-// per level and plane, each channel's taps and the other five planes. The compare-and-swap variant
-// loops at least once per atomic (shared and global per weight, global per plane tap).
-// About 2x conservative: with C = 4, 2 levels and all heads, lavapipe's deform_bwd breaks between
-// W = 52 and W = 56 (bounds 123k and 140k), the compare-and-swap one between 44 and 48 (122k, 142k).
+// Loop iterations one invocation runs, an upper bound. Per Linear(in -> out) the forward runs
+// (in + 1) out iterations (inner and outer loops together), the input cotangent (out + 1) in, so a
+// pass costs at most 2 per weight: deform_fwd 1 pass, deform_bwd 2 (recomputed forward, input
+// cotangent) plus the scratch row (in + out per layer) and the layer-table walks of s4d_deform.h
+// (bounded by 200 per layer). The field visits, per level and plane, each channel's taps and the other
+// five planes. The compare-and-swap variant loops at least once per plane atomic. deform_wgrad runs
+// S4D_DEFORM_WGRAD_ROWS rows plus its layer walk, far below the limit for any shape.
+// With the old in-kernel weight reduction (6 per weight) this bound was about 2x conservative: C = 4,
+// 2 levels, all heads broke between W = 52 and 56 (bounds 123k, 140k).
 uint64_t loop_bound(const gpu::DeformShape& s, bool backward, bool cas) {
-  const uint64_t weights = gpu::deform_mlp_total(s);
+  const uint64_t weights = gpu::deform_mlp_total(s), layers = gpu::deform_layer_count(s);
   const uint64_t field = uint64_t{s.levels} * S4D_DEFORM_PLANES * s.channels * (S4D_DEFORM_PLANES + 4);
   if (!backward) return 2 * weights + field + 1000;
-  return 6 * weights + 2 * field + (cas ? 2 * weights + field : 0) + 1000;
+  return 4 * weights + gpu::deform_scratch_floats(s) + 200 * layers + 2 * field + (cas ? field : 0) + 1000;
 }
 
 // llvmpipe ends a shader invocation after 65535 loop iterations in total and says nothing (Mesa
@@ -132,11 +135,31 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
   check_llvmpipe(info, shape_, true, !float_atomics, name_);
   if (g.count == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  const uint32_t rows = scratch_rows();
+  gpu::DeformWgradParams wp{};
+  wp.shape = shape_;
+  wp.row_floats = gpu::deform_scratch_floats(shape_);
+  wp.blocks = gpu::deform_wgrad_blocks(shape_);
+  const engine::Pipeline& bwd =
+      sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas, shape_);
+  const engine::Pipeline& wgrad =
+      shader_pipeline(*ctx_, float_atomics ? shaders::Id::deform_wgrad : shaders::Id::deform_wgrad_cas);
   rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
-  rec.dispatch(sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas, shape_),
-               {planes_, mlp_, *g.means, in(g.static_mask), *v.v_means, in(v.v_log_scales), in(v.v_quats),
-                in(v.v_opacity_logits), in(v.v_sh), v_planes_, v_mlp_},
-               params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
+  for (uint32_t first = 0; first < g.count; first += rows) {
+    gpu::DeformParams p = params(g, time);
+    p.first = first;
+    p.n = std::min(g.count - first, rows) + first;
+    wp.rows = p.n - first;
+    rec.barrier();  // the scratch's previous readers are done
+    rec.dispatch(bwd,
+                 {planes_, mlp_, *g.means, in(g.static_mask), *v.v_means, in(v.v_log_scales), in(v.v_quats),
+                  in(v.v_opacity_logits), in(v.v_sh), v_planes_, scratch_},
+                 p, ceil_div(wp.rows, S4D_DEFORM_WG));
+    rec.barrier();
+    rec.dispatch(wgrad, {scratch_, v_mlp_}, wp,
+                 ceil_div(uint64_t{ceil_div(wp.rows, S4D_DEFORM_WGRAD_ROWS)} * wp.blocks, S4D_DEFORM_WGRAD_WG));
+  }
+  rec.barrier();
   rec.end_label();
 }
 

@@ -1,6 +1,6 @@
 // The 4DGaussians deformation field F(x, y, z, t) on the GPU (ALGORITHMS.md 3.1-3.2): owns the
 // HexPlane and MLP parameters and their gradients, and records the kernels of shaders/deform
-// (deform_fwd, deform_bwd or deform_bwd_cas, deform_reg). Layouts: shaders/shared/s4d_deform.h.
+// (deform_fwd, deform_bwd + deform_wgrad or their _cas variants, deform_reg). Layouts: shaders/shared/s4d_deform.h.
 // CPU twin: training/ref/include/s4d/ref/deform_ref.h and hexplane_reg_ref.h.
 //
 // Every record_* only records: the caller orders dependent work with Recorder::barrier() and
@@ -60,7 +60,8 @@ struct RegulariserWeights {
 };
 
 struct DeformOptions {
-  bool force_cas_atomics = false;  // use deform_bwd_cas even where float atomics exist
+  bool force_cas_atomics = false;  // use deform_bwd_cas / deform_wgrad_cas even where float atomics exist
+  uint32_t scratch_rows = 0;       // Gaussians per backward pass; 0: as many as S4D_DEFORM_SCRATCH_BYTES hold
 };
 
 class DeformationField {
@@ -86,6 +87,8 @@ class DeformationField {
   const engine::Buffer& v_mlp() const { return v_mlp_; }
   uint32_t plane_floats() const { return gpu::deform_planes_total(shape_); }
   uint32_t mlp_floats() const { return gpu::deform_mlp_total(shape_); }
+  // Gaussians per deform_bwd + deform_wgrad pass (the scratch buffer's rows; s4d_deform.h).
+  uint32_t scratch_rows() const;
 
   // Checkpoints: whole parameter arrays (waits for submitted work). Uploads check the size.
   std::vector<float> download_planes() const;
@@ -97,6 +100,8 @@ class DeformationField {
   // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised).
   void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
   // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
+  // Records deform_bwd then deform_wgrad per scratch_rows() Gaussians, with barriers before, between
+  // and after them (they share the field's scratch buffer).
   void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
   void record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const;
@@ -115,6 +120,7 @@ class DeformationField {
   std::string name_;
   DeformOptions options_;
   engine::Buffer planes_, mlp_, v_planes_, v_mlp_, reg_partials_;
+  engine::Buffer scratch_;  // deform_bwd -> deform_wgrad: [scratch_rows(), deform_scratch_floats] f32
 };
 
 }  // namespace s4d::deform

@@ -1,4 +1,4 @@
-// CPU twin of the deformation MLP of deform_fwd / deform_bwd (ALGORITHMS.md 3.1 "Deformation
+// CPU twin of the deformation MLP of deform_fwd / deform_bwd + deform_wgrad (ALGORITHMS.md 3.1 "Deformation
 // decoder"): trunk Linear(F -> W) + trunk_extra x [ReLU, Linear(W -> W)], then per head
 // ReLU -> Linear(W -> W) -> ReLU -> Linear(W -> out). Weight layout in shaders/shared/s4d_deform.h.
 // Templated on the scalar type.

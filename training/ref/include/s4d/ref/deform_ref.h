@@ -1,6 +1,7 @@
-// CPU twin of deform_fwd / deform_bwd: the deformation field applied to canonical Gaussians at time
-// t (ALGORITHMS.md 3.1 "Updates"). Each head's output is added to the raw parameter; Gaussians with a
-// non-zero static mask are not deformed and give the field no gradient. Templated on the scalar type.
+// CPU twin of deform_fwd / deform_bwd + deform_wgrad (the MLP weight gradients): the deformation
+// field applied to canonical Gaussians at time t (ALGORITHMS.md 3.1 "Updates"). Each head's output is
+// added to the raw parameter; Gaussians with a non-zero static mask are not deformed and give the
+// field no gradient. Templated on the scalar type.
 #pragma once
 #include <cstddef>
 #include <cstdint>
