@@ -28,7 +28,7 @@ TrainConfig preset_config(const std::string& name) {
     // Fine stage sized for lavapipe: llvmpipe ends any shader invocation after 65535 loop
     // iterations, which caps the MLP width near 32 (README, deformation field).
     c.fine_iterations = 1500;
-    c.fine_batch = 2;
+    c.fine_batch = 1;  // 4DGaussians uses 1 for D-NeRF; a 4DGS step costs ~2.5x a static one on lavapipe
     c.fine_densify_until = 1000;
     c.field_resolution = {32, 32, 32, 16};
     c.field_channels = 8;
