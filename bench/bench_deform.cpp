@@ -24,6 +24,7 @@
 #include "s4d/engine/context.h"
 #include "s4d/engine/timestamps.h"
 #include "s4d/ref/deform_ref.h"
+#include "s4d/ref/random_deform.h"
 #include "s4d/train/train_config.h"
 #include "timing.h"
 
@@ -40,12 +41,7 @@ struct Options {
   uint32_t check = 2000;
 };
 
-std::vector<float> uniform(size_t n, std::mt19937& rng, float lo, float hi) {
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> v(n);
-  for (float& x : v) x = u(rng);
-  return v;
-}
+using ref::uniform;
 
 std::vector<double> to_double(const std::vector<float>& v) { return {v.begin(), v.end()}; }
 
@@ -77,12 +73,7 @@ Scene make_scene(engine::Context& ctx, const deform::FieldConfig& c, uint32_t n,
   std::mt19937 rng(seed);
   Scene s;
   s.n = n;
-  for (uint32_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) s.host.means.push_back(uniform(1, rng, c.aabb_min[k], c.aabb_max[k])[0]);
-  s.host.log_scales = uniform(3 * size_t{n}, rng, -4, -2);
-  s.host.quats = uniform(4 * size_t{n}, rng, -1, 1);
-  s.host.opacity_logits = uniform(n, rng, -2, 2);
-  s.host.sh = uniform(3 * size_t{n}, rng, -0.5f, 0.5f);
+  s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, n, rng, {.margin = 0, .log_scale_lo = -4, .log_scale_hi = -2});
   s.v_host.means = uniform(3 * size_t{n}, rng, -1, 1);
   s.v_host.log_scales = uniform(3 * size_t{n}, rng, -1, 1);
   s.v_host.quats = uniform(4 * size_t{n}, rng, -1, 1);

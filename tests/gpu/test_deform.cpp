@@ -16,6 +16,7 @@
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
+#include "s4d/ref/random_deform.h"
 #include "test_context.h"
 
 namespace {
@@ -25,12 +26,7 @@ using namespace s4d;
 constexpr uint32_t kN = 300;  // five workgroups of 64, the last one partial
 constexpr float kTime = 0.37f;
 
-std::vector<float> uniform(size_t n, std::mt19937& rng, float lo, float hi) {
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> v(n);
-  for (float& x : v) x = u(rng);
-  return v;
-}
+using ref::uniform;
 
 std::vector<double> to_double(const std::vector<float>& v) { return {v.begin(), v.end()}; }
 
@@ -59,15 +55,9 @@ struct Scene {
 Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_every) {
   std::mt19937 rng(seed);
   Scene s;
-  for (uint32_t i = 0; i < kN; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const float margin = i % 10 == 3 ? -0.3f : 0.02f;  // every tenth Gaussian outside the AABB
-      s.host.means.push_back(uniform(1, rng, c.aabb_min[k] + margin, c.aabb_max[k] - margin)[0]);
-    }
-  s.host.log_scales = uniform(3 * kN, rng, -3, -1);
-  s.host.quats = uniform(4 * kN, rng, -1, 1);
-  s.host.opacity_logits = uniform(kN, rng, -2, 2);
-  s.host.sh = uniform(kN * 3 * S4D_DEFORM_SH_COEFFS, rng, -0.5f, 0.5f);
+  // every tenth Gaussian outside the AABB
+  s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, kN, rng,
+                                        {.outside_every = 10, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
   for (uint32_t i = 0; i < kN; ++i) s.host.static_mask.push_back(static_every != 0 && i % static_every == 0 ? 1u : 0u);
   engine::Context& ctx = test::context();
   s.means = engine::buffer_from(ctx, "means", s.host.means);

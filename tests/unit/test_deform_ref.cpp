@@ -15,17 +15,11 @@
 #include "s4d/deform/field_init.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
+#include "s4d/ref/random_deform.h"
 
 namespace {
 
 using namespace s4d;
-
-std::vector<double> uniform(size_t n, std::mt19937& rng, double lo, double hi) {
-  std::uniform_real_distribution<double> u(lo, hi);
-  std::vector<double> v(n);
-  for (double& x : v) x = u(rng);
-  return v;
-}
 
 deform::FieldConfig small_config() {
   deform::FieldConfig c;
@@ -49,20 +43,15 @@ ref::DeformField<double> random_field(const deform::FieldConfig& c, unsigned see
     f.aabb_max[k] = c.aabb_max[k];
     f.aabb_scale[k] = 2.0 / (c.aabb_min[k] - c.aabb_max[k]);
   }
-  f.planes = uniform(gpu::deform_planes_total(f.shape), rng, 0.5, 1.5);
-  f.mlp = uniform(gpu::deform_mlp_total(f.shape), rng, -0.6, 0.6);
+  f.planes = ref::uniform<double>(gpu::deform_planes_total(f.shape), rng, 0.5, 1.5);
+  f.mlp = ref::uniform<double>(gpu::deform_mlp_total(f.shape), rng, -0.6, 0.6);
   return f;
 }
 
 ref::DeformGaussians<double> random_gaussians(const deform::FieldConfig& c, size_t n, unsigned seed) {
   std::mt19937 rng(seed);
-  ref::DeformGaussians<double> g;
-  for (size_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) g.means.push_back(uniform(1, rng, c.aabb_min[k] + 0.05, c.aabb_max[k] - 0.05)[0]);
-  g.log_scales = uniform(3 * n, rng, -3, -1);
-  g.quats = uniform(4 * n, rng, -1, 1);
-  g.opacity_logits = uniform(n, rng, -2, 2);
-  g.sh = uniform(n * 3 * S4D_DEFORM_SH_COEFFS, rng, -0.5, 0.5);
+  ref::DeformGaussians<double> g =
+      ref::random_gaussians<double>(c.aabb_min, c.aabb_max, n, rng, {.margin = 0.05, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
   g.static_mask.assign(n, 0);
   g.static_mask[1] = 1;  // one static Gaussian: no field term, pure pass-through
   return g;
@@ -175,11 +164,11 @@ TEST_CASE("deform twin backward matches central finite differences in double") {
   ref::DeformGaussians<double> g = random_gaussians(c, 6, 3);
   std::mt19937 rng(4);
   ref::DeformGaussians<double> v;
-  v.means = uniform(g.means.size(), rng, -1, 1);
-  v.log_scales = uniform(g.log_scales.size(), rng, -1, 1);
-  v.quats = uniform(g.quats.size(), rng, -1, 1);
-  v.opacity_logits = uniform(g.opacity_logits.size(), rng, -1, 1);
-  v.sh = uniform(g.sh.size(), rng, -1, 1);
+  v.means = ref::uniform<double>(g.means.size(), rng, -1, 1);
+  v.log_scales = ref::uniform<double>(g.log_scales.size(), rng, -1, 1);
+  v.quats = ref::uniform<double>(g.quats.size(), rng, -1, 1);
+  v.opacity_logits = ref::uniform<double>(g.opacity_logits.size(), rng, -1, 1);
+  v.sh = ref::uniform<double>(g.sh.size(), rng, -1, 1);
   const double time = 0.37;
   const ref::DeformGrads<double> r = ref::deform_backward(f, g, time, v);
   auto loss = [&] { return weighted(ref::deform_forward(f, g, time), v); };
