@@ -18,6 +18,7 @@ set(S4D_SHADER_VARIANTS
   "ssim_hpass|loss/ssim_hpass.comp"
   "ssim_vpass|loss/ssim_vpass.comp"
   "loss_grad|loss/loss_grad.comp"
+  "tv_grad|loss/tv_grad.comp"
   "adam_step|optim/adam_step.comp"
   "grad_add|optim/grad_add.comp"
   "densify_accumulate|densify/densify_accumulate.comp"

@@ -34,6 +34,11 @@
 #define S4D_B_LOSS_GRAD_DMAPS_H 2 // [3n] horizontally filtered dmaps
 #define S4D_B_LOSS_GRAD_OUT 3    // out dL/dx [n]
 
+// Binding ids: tv_grad (squared total variation of an image, value partials and gradient).
+#define S4D_B_TV_IMAGE 0         // image x [n]
+#define S4D_B_TV_GRAD 1          // dL/dx [n]: the TV gradient is added to what is there
+#define S4D_B_TV_PARTIALS 2      // out [groups]: per workgroup sum of squared right and down differences
+
 S4D_NAMESPACE_BEGIN
 
 // Push constants of ssim_hpass, ssim_vpass and loss_grad.
@@ -46,6 +51,19 @@ struct LossParams {
   float inv_count;     // 1 / n
   uint mode;           // ssim_hpass: 0 = forward statistics, 1 = backward maps
   uint _pad0;
+};
+
+// Push constants of tv_grad: L = weight * inv_pairs * sum over neighbour pairs (x_a - x_b)^2, pairs
+// being horizontal and vertical neighbours within one channel.
+struct TvParams {
+  uint width;
+  uint height;
+  uint channels;
+  uint n;              // width * height * channels
+  float weight;
+  float inv_pairs;     // 1 / (channels * ((width - 1) * height + width * (height - 1)))
+  uint _pad0;
+  uint _pad1;
 };
 
 S4D_NAMESPACE_END

@@ -36,7 +36,7 @@ static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CON
 static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
-static_assert(sizeof(LossParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
+static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(AddParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformShape) == 64);
@@ -72,6 +72,9 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(LossParams, S4D_MEMBER(LossParams, width), S4D_MEMBER(LossParams, height),
                  S4D_MEMBER(LossParams, channels), S4D_MEMBER(LossParams, n), S4D_MEMBER(LossParams, ssim_weight),
                  S4D_MEMBER(LossParams, inv_count), S4D_MEMBER(LossParams, mode), S4D_MEMBER(LossParams, _pad0)),
+      S4D_STRUCT(TvParams, S4D_MEMBER(TvParams, width), S4D_MEMBER(TvParams, height), S4D_MEMBER(TvParams, channels),
+                 S4D_MEMBER(TvParams, n), S4D_MEMBER(TvParams, weight), S4D_MEMBER(TvParams, inv_pairs),
+                 S4D_MEMBER(TvParams, _pad0), S4D_MEMBER(TvParams, _pad1)),
       S4D_STRUCT(AdamGroup, S4D_MEMBER(AdamGroup, lr), S4D_MEMBER(AdamGroup, beta1), S4D_MEMBER(AdamGroup, beta2),
                  S4D_MEMBER(AdamGroup, eps), S4D_MEMBER(AdamGroup, inv_bias1), S4D_MEMBER(AdamGroup, inv_sqrt_bias2),
                  S4D_MEMBER(AdamGroup, step), S4D_MEMBER(AdamGroup, _pad0)),

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "s4d_loss.h"
@@ -123,6 +124,30 @@ LossValue<T> l1_ssim_loss(const std::vector<T>& x, const std::vector<T>& y, int 
   out.loss = (1 - ssim_weight) * out.l1 + ssim_weight * (1 - out.ssim);
   out.grad = loss_grad(x, y, ssim_hpass_dmaps(v.dmaps, s), s, ssim_weight);
   return out;
+}
+
+// tv_grad: squared total variation weight * mean over horizontal and vertical neighbour pairs (per
+// channel) of (x_a - x_b)^2; value and gradient.
+template <class T>
+std::pair<T, std::vector<T>> tv_loss(const std::vector<T>& x, const LossShape& s, T weight) {
+  const size_t c = static_cast<size_t>(s.channels), row = static_cast<size_t>(s.width) * c;
+  const T pairs = static_cast<T>(s.channels) * (static_cast<T>(s.width - 1) * s.height + static_cast<T>(s.width) * (s.height - 1));
+  const T scale = weight / pairs;
+  T value = 0;
+  std::vector<T> grad(s.n(), T(0));
+  auto pair = [&](size_t a, size_t b) {
+    const T d = x[b] - x[a];
+    value += d * d;
+    grad[a] -= 2 * scale * d, grad[b] += 2 * scale * d;
+  };
+  for (size_t y = 0; y < static_cast<size_t>(s.height); ++y)
+    for (size_t xx = 0; xx < static_cast<size_t>(s.width); ++xx)
+      for (size_t k = 0; k < c; ++k) {
+        const size_t e = y * row + xx * c + k;
+        if (xx + 1 < static_cast<size_t>(s.width)) pair(e, e + c);
+        if (y + 1 < static_cast<size_t>(s.height)) pair(e, e + row);
+      }
+  return {value * scale, grad};
 }
 
 }  // namespace s4d::ref
