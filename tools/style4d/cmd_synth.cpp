@@ -25,10 +25,13 @@ int cmd_synth(const std::vector<std::string>& argv) {
                 "                        bit per pixel): decoded frames of this scene at 160x120 differ from\n"
                 "                        the render by 6 levels of 255 on average and up to 160 at sharp\n"
                 "                        edges. --size must be even on both sides", false, ""},
+      {"dnerf", "write the D-NeRF layout, monocular: DIR/train/r_NNN.png one view per time, each\n"
+                "                        from another camera of the arc (not camera 0), DIR/test/r_NNN.png\n"
+                "                        camera 0 at every time, DIR/transforms_{train,test}.json", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video]",
+    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf]",
                        "Renders the built-in dynamic scene (static textured wall and floor, a spinning sphere,\n"
                        "a box sliding along an arc, a waving sheet) with an analytic CPU ray caster into a\n"
                        "DyNeRF/Neu3D dataset: DIR/camNN/NNNN.png (frame k has t = k/(T-1); DIR/camNN.mp4 with\n"
@@ -47,6 +50,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   std::tie(options.width, options.height) = parse_size("size", args.get_or("size", "160x120"));
   options.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   options.video = args.flag("video");
+  options.dnerf = args.flag("dnerf");
   synth::check_options(options);
 
   util::Progress progress("synth", static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames));

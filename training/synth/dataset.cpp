@@ -11,6 +11,7 @@
 #include "s4d/data/video_writer.h"
 #include "s4d/io/image_io.h"
 #include "s4d/synth/camera_rig.h"
+#include "s4d/synth/dnerf_layout.h"
 #include "s4d/synth/point_cloud.h"
 #include "s4d/synth/render.h"
 #include "s4d/synth/scene.h"
@@ -48,6 +49,13 @@ void check_destination(const fs::path& out) {
     throw std::invalid_argument(out.string() + " already exists and is not an empty directory; choose a new --out");
 }
 
+// Only now does DIR appear, complete. An empty directory the user made is replaced.
+void finish(const fs::path& partial, const fs::path& out) {
+  fs::remove(partial / kPartialMarker);
+  if (fs::exists(out)) fs::remove(out);
+  fs::rename(partial, out);
+}
+
 }  // namespace
 
 void check_options(const SynthOptions& o) {
@@ -57,6 +65,8 @@ void check_options(const SynthOptions& o) {
   check_range("--size height", o.height, kMinSide, kMaxSide);
   check_range("samples per axis", o.samples_per_axis, 1, 16);
   check_range("point count", o.points, 1, 10'000'000);
+  if (o.video && o.dnerf) throw std::invalid_argument("--video writes the DyNeRF layout; the D-NeRF layout has image files only");
+  if (o.dnerf && o.cams < 3) throw std::invalid_argument("the D-NeRF layout needs --cams >= 3 (one test camera, two or more training cameras)");
   if (o.video && (o.width % 2 != 0 || o.height % 2 != 0))
     throw std::invalid_argument("--size must be even on both sides with --video (mp4v stores chroma at half "
                                 "resolution), got " + std::to_string(o.width) + "x" + std::to_string(o.height));
@@ -100,6 +110,15 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   std::rotate(cameras.begin(), cameras.begin() + options.cams / 2, cameras.begin() + options.cams / 2 + 1);
   const RenderSettings settings{options.samples_per_axis, options.seed, 0};
 
+  const std::vector<ColouredPoint> points = sample_points(scene, cameras, options.points, options.seed);
+  util::write_file_atomic(partial / "points3D.ply", points_to_ply(points));
+  if (options.dnerf) {
+    write_dnerf_views(partial, scene, cameras, options, settings, progress);
+    util::write_file_atomic(partial / "scene.json", scene_json(scene, rig, options, cameras, {}, points.size()));
+    finish(partial, out);
+    return;
+  }
+
   const uint64_t total = static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames);
   uint64_t done = 0;
   std::vector<DepthBounds> bounds;
@@ -129,9 +148,6 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
     bounds.push_back({lo * kNearScale, hi * kFarScale});
   }
 
-  const std::vector<ColouredPoint> points = sample_points(scene, cameras, options.points, options.seed);
-  util::write_file_atomic(partial / "points3D.ply", points_to_ply(points));
-
   data::NpyArray poses{{static_cast<size_t>(options.cams), 17}, {}};
   for (size_t c = 0; c < cameras.size(); ++c) {
     const std::array<double, 15> m = llff_pose(cameras[c]);
@@ -141,11 +157,7 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   }
   data::write_npy(partial / "poses_bounds.npy", poses);
   util::write_file_atomic(partial / "scene.json", scene_json(scene, rig, options, cameras, bounds, points.size()));
-
-  // Only now does DIR appear, complete. An empty directory the user made is replaced.
-  fs::remove(partial / kPartialMarker);
-  if (fs::exists(out)) fs::remove(out);
-  fs::rename(partial, out);
+  finish(partial, out);
 }
 
 }  // namespace s4d::synth

@@ -43,16 +43,20 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
                        size_t num_points) {
   nlohmann::ordered_json cams = nlohmann::ordered_json::array();
   for (size_t c = 0; c < cameras.size(); ++c)
-    cams.push_back({{"name", camera_dir_name(static_cast<int>(c))},
-                    {"position", vec(cameras[c].position)},
-                    {"look_at", vec(scene.centre)},
-                    {"near", bounds[c].near},
-                    {"far", bounds[c].far}});
+  {
+    nlohmann::ordered_json cam = {{"name", camera_dir_name(static_cast<int>(c))},
+                                  {"position", vec(cameras[c].position)},
+                                  {"look_at", vec(scene.centre)}};
+    if (c < bounds.size()) cam["near"] = bounds[c].near, cam["far"] = bounds[c].far;
+    cams.push_back(cam);
+  }
   const PinholeCamera& first = cameras.front();
   const nlohmann::ordered_json doc = {
       {"generator", "style4d synth"},
-      {"layout", options.video ? "DyNeRF/Neu3D: camNN.mp4 (mp4v, 30 fps, lossy), poses_bounds.npy, points3D.ply"
-                               : "DyNeRF/Neu3D: camNN/NNNN.png, poses_bounds.npy, points3D.ply"},
+      {"layout", options.dnerf ? "D-NeRF, monocular: train/r_NNN.png one camera per time (cameras 1.., jumping), "
+                                 "test/r_NNN.png camera 0 at every time, transforms_{train,test}.json, points3D.ply"
+                 : options.video ? "DyNeRF/Neu3D: camNN.mp4 (mp4v, 30 fps, lossy), poses_bounds.npy, points3D.ply"
+                                 : "DyNeRF/Neu3D: camNN/NNNN.png, poses_bounds.npy, points3D.ply"},
       {"parameters", {{"cams", options.cams}, {"frames", options.frames}, {"width", options.width},
                       {"height", options.height}, {"seed", options.seed},
                       {"samples_per_pixel", options.samples_per_axis * options.samples_per_axis},

@@ -23,6 +23,7 @@ struct SynthOptions {
   int samples_per_axis = 2;
   int points = 4000;
   bool video = false;  // camNN.mp4 videos instead of camNN/ frame folders; needs even width and height
+  bool dnerf = false;  // the D-NeRF layout, monocular: one training camera per time (dnerf_layout.h)
 };
 
 // Throws std::invalid_argument naming the bad value.
