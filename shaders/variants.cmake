@@ -21,6 +21,7 @@ set(S4D_SHADER_VARIANTS
   "tv_grad|loss/tv_grad.comp"
   "adam_step|optim/adam_step.comp"
   "grad_add|optim/grad_add.comp"
+  "grad_mask|optim/grad_mask.comp"
   "densify_accumulate|densify/densify_accumulate.comp"
   "densify_classify|densify/densify_classify.comp"
   "densify_demote|densify/densify_demote.comp"

@@ -15,6 +15,10 @@
 #define S4D_B_ADD_DST 0  // [n] float, += src
 #define S4D_B_ADD_SRC 1  // [n] float
 
+#define S4D_MASK_WG 256
+#define S4D_B_MASK_VALUES 0  // [rows * row] float, zeroed where the row's mask is 0
+#define S4D_B_MASK_ROWS 1    // [rows] u32, non-zero keeps the row
+
 S4D_NAMESPACE_BEGIN
 
 // One parameter group's hyperparameters for the current step.
@@ -49,6 +53,14 @@ struct AddParams {
   uint _pad0;
   uint _pad1;
   uint _pad2;
+};
+
+// Push constants of grad_mask (gradients of the Gaussians a region leaves out set to zero).
+struct MaskParams {
+  uint n;    // floats: rows * row
+  uint row;  // floats per row
+  uint _pad0;
+  uint _pad1;
 };
 
 S4D_NAMESPACE_END

@@ -10,6 +10,7 @@
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
 #include "s4d/optim/grad_add.h"
+#include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/optim/tv_loss.h"
 #include "s4d/primitives/shader_pipeline.h"
@@ -171,6 +172,21 @@ TEST_CASE("GPU TV term adds the twin's gradient to the existing one and reports 
   engine::Buffer one = engine::buffer_from(test::context(), "one pixel", std::vector<float>(3, 0));
   engine::Recorder rec(test::context(), "tv");
   CHECK_THROWS_AS(tv.record(rec, one, 1, 1, 3, 1.0f, one), std::invalid_argument);
+}
+
+TEST_CASE("grad_mask zeroes exactly the rows whose mask is 0 and keeps the others bit for bit") {
+  const uint32_t rows = 300, row = 52;
+  const std::vector<float> values = random_values(size_t{rows} * row, 6, -1, 1);
+  std::vector<uint32_t> mask(rows);
+  for (uint32_t i = 0; i < rows; ++i) mask[i] = (i * 7) % 3 == 0 ? 0u : i;
+  engine::Buffer bv = engine::buffer_from(test::context(), "values", values), bm = engine::buffer_from(test::context(), "mask", mask);
+  engine::Recorder rec(test::context(), "mask");
+  optim::record_grad_mask(rec, bv, bm, rows, row);
+  test::context().run(std::move(rec));
+  const std::vector<float> out = test::context().download<float>(bv, values.size());
+  for (size_t i = 0; i < values.size(); ++i) CHECK(out[i] == (mask[i / row] == 0 ? 0.0f : values[i]));
+  engine::Recorder bad(test::context(), "mask");
+  CHECK_THROWS_AS(optim::record_grad_mask(bad, bv, bm, rows + 1, row), std::invalid_argument);
 }
 
 TEST_CASE("each loss kernel matches its twin on the same inputs: ssim_hpass, ssim_vpass, loss_grad") {

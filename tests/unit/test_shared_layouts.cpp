@@ -37,7 +37,7 @@ static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
 static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
-static_assert(sizeof(AddParams) == 16);
+static_assert(sizeof(AddParams) == 16 && sizeof(MaskParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformShape) == 64);
 static_assert(sizeof(DeformParams) == 128 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -72,6 +72,8 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(LossParams, S4D_MEMBER(LossParams, width), S4D_MEMBER(LossParams, height),
                  S4D_MEMBER(LossParams, channels), S4D_MEMBER(LossParams, n), S4D_MEMBER(LossParams, ssim_weight),
                  S4D_MEMBER(LossParams, inv_count), S4D_MEMBER(LossParams, mode), S4D_MEMBER(LossParams, _pad0)),
+      S4D_STRUCT(MaskParams, S4D_MEMBER(MaskParams, n), S4D_MEMBER(MaskParams, row), S4D_MEMBER(MaskParams, _pad0),
+                 S4D_MEMBER(MaskParams, _pad1)),
       S4D_STRUCT(TvParams, S4D_MEMBER(TvParams, width), S4D_MEMBER(TvParams, height), S4D_MEMBER(TvParams, channels),
                  S4D_MEMBER(TvParams, n), S4D_MEMBER(TvParams, weight), S4D_MEMBER(TvParams, inv_pairs),
                  S4D_MEMBER(TvParams, _pad0), S4D_MEMBER(TvParams, _pad1)),
