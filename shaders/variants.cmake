@@ -37,4 +37,13 @@ set(S4D_SHADER_VARIANTS
   "flow_project|flow/flow_project.comp"
   "flow_displace|flow/flow_displace.comp"
   "present_pack|viewer/present_pack.comp"
+  "nn_conv3x3|nn/nn_conv3x3.comp"
+  "nn_conv1x1|nn/nn_conv1x1.comp"
+  "nn_relu|nn/nn_relu.comp"
+  "nn_maxpool|nn/nn_maxpool.comp"
+  "nn_upsample|nn/nn_upsample.comp"
+  "nn_channel_stats|nn/nn_channel_stats.comp|S4D_NN_STATS_MCC=0"
+  "nn_channel_stats_mcc|nn/nn_channel_stats.comp|S4D_NN_STATS_MCC=1"
+  "nn_adain|nn/nn_adain.comp"
+  "nn_scale_channels|nn/nn_scale_channels.comp"
 )

@@ -54,8 +54,9 @@ void check_fails(const std::string& bytes, const std::string& expected, const st
 TEST_CASE("safetensors reader reads a file laid out by hand, metadata and all dtypes it converts") {
   TempDir dir("safetensors_hand");
   std::string data = floats_le({1.5f, -2.0f, 0.25f, 8.0f, 3.0f, -0.5f});
-  for (const int h : {0x3c00, 0xc000, 0x0001, 0x7bff}) append_le(data, static_cast<uint16_t>(h));  // F16: 1, -2, 2^-24, 65504
-  for (const int b : {0x3fc0, 0xc080}) append_le(data, static_cast<uint16_t>(b));  // BF16: 1.5, -4
+  // F16: 1, -2, 2^-24, 65504; BF16: 1.5, -4.
+  for (const int h : {0x3c00, 0xc000, 0x0001, 0x7bff}) append_le(data, static_cast<uint16_t>(h));
+  for (const int b : {0x3fc0, 0xc080}) append_le(data, static_cast<uint16_t>(b));
   const std::string header =
       R"({"__metadata__":{"format":"pt"},"0.weight":{"dtype":"F32","shape":[2,3],"data_offsets":[0,24]},)"
       R"("half":{"dtype":"F16","shape":[4],"data_offsets":[24,32]},"brain":{"dtype":"BF16","shape":[2,1],"data_offsets":[32,36]}})";
@@ -82,8 +83,8 @@ TEST_CASE("safetensors writer round-trips F32 exactly and F16 / BF16 to nearest 
 
   s4d::io::write_safetensors(dir / "f16.safetensors", tensors, TensorDtype::f16);
   // 1/3 -> 0x3555; 123.456 -> 123.4375; 6e-8 -> the subnormal 2^-24; 1e-30 -> 0.
-  const std::vector<float> f16 = {0.0f, -0.0f, 1.0f, -3.140625f, 0.333251953125f, 65504.0f, std::ldexp(1.0f, -24), 0.0f,
-                                  123.4375f};
+  const std::vector<float> f16 = {0.0f, -0.0f,    1.0f, -3.140625f, 0.333251953125f, 65504.0f, std::ldexp(1.0f, -24),
+                                  0.0f, 123.4375f};
   CHECK(SafetensorsFile(dir / "f16.safetensors").read("b", {3, 3}) == f16);
 
   s4d::io::write_safetensors(dir / "bf16.safetensors", tensors, TensorDtype::bf16);
@@ -100,7 +101,8 @@ TEST_CASE("safetensors writer round-trips F32 exactly and F16 / BF16 to nearest 
 }
 
 TEST_CASE("safetensors reader names a missing tensor, a wrong shape and a wrong dtype") {
-  check_fails(file_bytes(kOneTensor, floats_le({1, 2})), "no tensor '2.weight' (it holds 1 tensors: w)", "2.weight", {2});
+  check_fails(file_bytes(kOneTensor, floats_le({1, 2})), "no tensor '2.weight' (it holds 1 tensors: w)", "2.weight",
+              {2});
   check_fails(file_bytes(kOneTensor, floats_le({1, 2})), "tensor 'w' has shape [2], expected [1, 2]", "w", {1, 2});
   std::string ints;
   append_le(ints, int64_t{5});

@@ -28,7 +28,8 @@ inline uint16_t float_to_half(float f) {
   const uint32_t abs = x & 0x7fffffffu;
   if (abs >= 0x7f800000u) return static_cast<uint16_t>(sign | 0x7c00u | (abs > 0x7f800000u ? 0x200u : 0u));
   if (abs >= 0x477ff000u) return static_cast<uint16_t>(sign | 0x7c00u);  // rounds past 65504
-  if (abs < 0x38800000u) {  // below the smallest normal half (2^-14): subnormal or zero
+  // Below the smallest normal half (2^-14): subnormal or zero.
+  if (abs < 0x38800000u) {
     if (abs < 0x33000000u) return sign;  // below half of the smallest subnormal (2^-25)
     const uint32_t mantissa = (abs & 0x7fffffu) | 0x800000u;
     const uint32_t shift = 126 - (abs >> 23);  // 14..24

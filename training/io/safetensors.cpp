@@ -59,11 +59,14 @@ std::string shape_text(const std::vector<int64_t>& shape) {
   return s + "]";
 }
 
-SafetensorsFile::SafetensorsFile(const std::filesystem::path& path) : path_(path), bytes_(detail::read_whole_file(path)) {
-  if (bytes_.size() < 8) fail(path, "truncated: " + std::to_string(bytes_.size()) + " bytes, less than the 8-byte header length");
+SafetensorsFile::SafetensorsFile(const std::filesystem::path& path)
+    : path_(path), bytes_(detail::read_whole_file(path)) {
+  if (bytes_.size() < 8)
+    fail(path, "truncated: " + std::to_string(bytes_.size()) + " bytes, less than the 8-byte header length");
   uint64_t header_bytes = 0;
   std::memcpy(&header_bytes, bytes_.data(), 8);
-  if (header_bytes > kMaxHeaderBytes) fail(path, "bad header: its length " + std::to_string(header_bytes) + " is over 100 MB");
+  if (header_bytes > kMaxHeaderBytes)
+    fail(path, "bad header: its length " + std::to_string(header_bytes) + " is over 100 MB");
   if (header_bytes > bytes_.size() - 8)
     fail(path, "truncated: the header is " + std::to_string(header_bytes) + " bytes, the file holds " +
                    std::to_string(bytes_.size() - 8) + " after the length");
@@ -89,16 +92,18 @@ SafetensorsFile::SafetensorsFile(const std::filesystem::path& path) : path_(path
     if (!value.is_object() || !value.contains("dtype") || !value.contains("shape") || !value.contains("data_offsets"))
       fail(path, where + "needs dtype, shape and data_offsets");
     const json &dtype = value["dtype"], &shape = value["shape"], &offsets = value["data_offsets"];
-    if (!dtype.is_string() || dtype_bytes(dtype.get<std::string>()) == 0) fail(path, where + "has an unknown dtype " + dtype.dump());
-    if (!shape.is_array() || !std::all_of(shape.begin(), shape.end(), [](const json& d) { return d.is_number_unsigned(); }))
+    if (!dtype.is_string() || dtype_bytes(dtype.get<std::string>()) == 0)
+      fail(path, where + "has an unknown dtype " + dtype.dump());
+    if (!shape.is_array() ||
+        !std::all_of(shape.begin(), shape.end(), [](const json& d) { return d.is_number_unsigned(); }))
       fail(path, where + "has a shape that is not a list of non-negative integers");
-    if (!offsets.is_array() || offsets.size() != 2 || !offsets[0].is_number_unsigned() || !offsets[1].is_number_unsigned())
+    if (!offsets.is_array() || offsets.size() != 2 || !offsets[0].is_number_unsigned() ||
+        !offsets[1].is_number_unsigned())
       fail(path, where + "has data_offsets that are not two non-negative integers");
     Entry e{dtype.get<std::string>(), {}, offsets[0].get<uint64_t>(), offsets[1].get<uint64_t>()};
     for (const json& d : shape) e.shape.push_back(d.get<int64_t>());
     const int64_t count = element_count(e.shape);
-    if (e.begin > e.end || count < 0 ||
-        e.end - e.begin != static_cast<uint64_t>(count) * dtype_bytes(e.dtype))
+    if (e.begin > e.end || count < 0 || e.end - e.begin != static_cast<uint64_t>(count) * dtype_bytes(e.dtype))
       fail(path, where + "has data_offsets [" + std::to_string(e.begin) + ", " + std::to_string(e.end) +
                      "], which do not hold " + shape_text(e.shape) + " " + e.dtype);
     if (e.end > data_bytes)
