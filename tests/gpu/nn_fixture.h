@@ -1,0 +1,42 @@
+// Random AdaIN-style networks for the tests: parameters of vgg_normalised (up to relu<levels>_1) and
+// its decoder at any channel widths, keyed by their PyTorch state-dict prefix, written as
+// safetensors files, and the double CPU twins of the encoder and decoder composed from the layer
+// twins, written from ALGORITHMS.md 4.2's layer list independently of training/nn/vgg.cpp.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+
+#include "nn_test_util.h"
+#include "s4d/nn/vgg.h"
+
+namespace s4d::test {
+
+// A fresh directory for a test's weight files, removed at the end; the pid keeps processes apart.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& name);
+  ~ScratchDir();
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  std::filesystem::path operator/(const std::string& file) const { return path_ / file; }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+using NetParams = std::map<std::string, ConvParams>;  // "2" -> Conv2d(3, 64, 3) ...
+
+NetParams random_vgg(const nn::VggWidths& widths, int levels, std::mt19937& rng);
+NetParams random_decoder(const nn::VggWidths& widths, std::mt19937& rng);
+
+// "<prefix>.weight" [cout, cin, k, k] and "<prefix>.bias" [cout] for every layer.
+void write_params(const std::filesystem::path& path, const NetParams& params);
+
+// relu<level>_1 of an RGB image, and the decoder's image of relu4_1-shaped features.
+ref::Chw<double> twin_encode(const NetParams& vgg, ref::Chw<double> x, int level);
+ref::Chw<double> twin_decode(const NetParams& decoder, ref::Chw<double> x);
+
+}  // namespace s4d::test
