@@ -9,8 +9,8 @@ namespace s4d::stylize {
 namespace {
 
 // Network stylizers of the design (ARCHITECTURE.md stage 3, ALGORITHMS.md 4.2 and 5), not built yet.
-const std::vector<std::string>& network_names() {
-  static const std::vector<std::string> names = {"adain", "adaattn", "mccnet", "hgst"};
+const std::vector<std::string>& unbuilt_names() {
+  static const std::vector<std::string> names = {"adaattn", "mccnet", "hgst"};
   return names;
 }
 
@@ -22,14 +22,18 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
-std::vector<std::string> stylizer_names() { return {"patch"}; }
+std::vector<std::string> stylizer_names() { return {"patch", "adain"}; }
 
-std::unique_ptr<Stylizer> make_stylizer(const std::string& name) {
-  if (name == "patch") return std::make_unique<PatchStylizer>();
-  for (const std::string& n : network_names())
+std::unique_ptr<Stylizer> make_stylizer(const std::string& name, const NetworkOptions& network) {
+  if (name == "patch") {
+    if (!network.weights.empty()) throw std::invalid_argument("patch needs no weights; --weights is for adain");
+    return std::make_unique<PatchStylizer>();
+  }
+  if (name == "adain") return std::make_unique<AdainStylizer>(network);
+  for (const std::string& n : unbuilt_names())
     if (n == name)
-      throw std::invalid_argument("stylizer '" + name + "' needs --weights FILE and is not built yet (available: " +
-                                  joined(stylizer_names()) + ")");
+      throw std::invalid_argument("stylizer '" + name + "' is not built yet (available: " + joined(stylizer_names()) +
+                                  ")");
   throw std::invalid_argument("unknown stylizer '" + name + "' (available: " + joined(stylizer_names()) + ")");
 }
 
