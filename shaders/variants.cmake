@@ -46,4 +46,5 @@ set(S4D_SHADER_VARIANTS
   "nn_channel_stats_mcc|nn/nn_channel_stats.comp|S4D_NN_STATS_MCC=1"
   "nn_adain|nn/nn_adain.comp"
   "nn_scale_channels|nn/nn_scale_channels.comp"
+  "nn_blend|nn/nn_blend.comp"
 )

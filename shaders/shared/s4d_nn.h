@@ -36,6 +36,9 @@
 #define S4D_B_RESIZE_OUT 1    // [c, out_h, out_w]
 #define S4D_B_SCALE_DATA 0    // nn_scale_channels: [c, count], in place
 #define S4D_B_SCALE_FACTORS 1 // [c]
+#define S4D_B_BLEND_A 0       // nn_blend: out = alpha a + (1 - alpha) b, [n] each
+#define S4D_B_BLEND_B 1
+#define S4D_B_BLEND_OUT 2
 
 // Channel statistics: one workgroup per channel, two passes over its H*W values (mean, then the
 // centred squares). nn_channel_stats writes mean and std = sqrt(unbiased variance + eps);
@@ -71,6 +74,14 @@ struct NnConvParams {
 struct NnEltParams {
   uint n;
   uint count;
+  uint _pad0;
+  uint _pad1;
+};
+
+// Push constants of nn_blend.
+struct NnBlendParams {
+  uint n;
+  float alpha;
   uint _pad0;
   uint _pad1;
 };

@@ -123,7 +123,7 @@ TEST_CASE("stylize-frames refuses bad inputs with one line and writes nothing") 
   CHECK(one_error_line(dir / "log.txt", "is the input"));
 }
 
-TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and names what is wrong with it") {
+TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and names what is missing") {
   const fs::path dir = s4d::test::fresh_dir("stylize_adain");
   const fs::path in = write_frames(dir);
   REQUIRE(run("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "log.txt") == 0);
@@ -149,6 +149,12 @@ TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and na
     CHECK(f.height == 24);
   }
   CHECK(read_text(dir / "log.txt").find("stylized 3 frames (32x24) with adain") != std::string::npos);
+
+  // hgst reads MCCNet's module too.
+  CHECK(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() +
+                                  " --stylizer hgst --weights " + weights.string() + " --out " + (dir / "hgst").string(),
+            dir / "log.txt") != 0);
+  CHECK(one_error_line(dir / "log.txt", (weights / "mcc_module.safetensors").string() + ": cannot open"));
 
   // A frame whose 64-channel feature maps (130 MiB) pass lavapipe's 128 MiB storage-buffer limit.
   const fs::path large = dir / "large";

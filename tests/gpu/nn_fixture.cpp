@@ -54,10 +54,23 @@ NetParams random_decoder(const nn::VggWidths& widths, std::mt19937& rng) {
   return p;
 }
 
+NetParams random_mcc(const nn::VggWidths& widths, std::mt19937& rng) {
+  const uint32_t c = widths.level[3];
+  NetParams p;
+  for (const char* name : {"MCCN.f", "MCCN.g", "MCCN.h", "MCCN.out_conv", "MCCN.fc"})
+    p[name] = random_conv(c, c, 1, rng);
+  p["MCCN.fc"].linear = true;
+  std::uniform_real_distribution<float> magnitude(0.5f, 1.0f);
+  for (float& b : p["MCCN.g"].bias) b = (rng() % 2 ? 1.0f : -1.0f) * magnitude(rng);
+  return p;
+}
+
 void write_params(const std::filesystem::path& path, const NetParams& params) {
   std::vector<io::NamedTensor> tensors;
   for (const auto& [prefix, c] : params) {
-    tensors.push_back({prefix + ".weight", {c.cout, c.cin, c.k, c.k}, c.weight});
+    tensors.push_back({prefix + ".weight",
+                       c.linear ? std::vector<int64_t>{c.cout, c.cin} : std::vector<int64_t>{c.cout, c.cin, c.k, c.k},
+                       c.weight});
     tensors.push_back({prefix + ".bias", {c.cout}, c.bias});
   }
   io::write_safetensors(path, tensors);
@@ -99,6 +112,30 @@ ref::Chw<double> twin_decode(const NetParams& decoder, ref::Chw<double> x) {
   x = ref::upsample2(conv(decoder, "14", x, true));
   x = ref::upsample2(conv(decoder, "21", conv(decoder, "18", x, true), true));
   return conv(decoder, "28", conv(decoder, "25", x, true), false);
+}
+
+namespace {
+
+// fc(a) of features F: a_k = sum G_k^2 / sum G_k with G = g(norm(F)).
+std::vector<double> twin_channel_weights(const NetParams& mcc, const ref::Chw<double>& f) {
+  const auto g = conv(mcc, "MCCN.g", ref::normalise(f, ref::mean_std(f, 1e-5)), false);
+  ref::Chw<double> a(f.c, 1, 1);
+  a.v = ref::squares_over_sum(g);
+  return conv(mcc, "MCCN.fc", a, false).v;
+}
+
+}  // namespace
+
+ref::Chw<double> twin_mcc(const NetParams& mcc, const ref::Chw<double>& fc, const ref::Chw<double>& fs, double alpha) {
+  std::vector<double> w = twin_channel_weights(mcc, fs);
+  if (alpha != 1.0) {
+    const std::vector<double> wc = twin_channel_weights(mcc, fc);
+    for (size_t k = 0; k < w.size(); ++k) w[k] = alpha * w[k] + (1 - alpha) * wc[k];
+  }
+  const auto c = ref::scale_channels(conv(mcc, "MCCN.f", ref::normalise(fc, ref::mean_std(fc, 1e-5)), false), w);
+  auto out = conv(mcc, "MCCN.out_conv", c, false);
+  for (size_t i = 0; i < out.v.size(); ++i) out.v[i] += fc.v[i];  // residual on the un-normalised features
+  return out;
 }
 
 }  // namespace s4d::test

@@ -32,11 +32,19 @@ using NetParams = std::map<std::string, ConvParams>;  // "2" -> Conv2d(3, 64, 3)
 NetParams random_vgg(const nn::VggWidths& widths, int levels, std::mt19937& rng);
 NetParams random_decoder(const nn::VggWidths& widths, std::mt19937& rng);
 
-// "<prefix>.weight" [cout, cin, k, k] and "<prefix>.bias" [cout] for every layer.
+// MCCNet's MCC module at relu4_1's width (keys "MCCN.f", "MCCN.g", "MCCN.h", "MCCN.out_conv",
+// "MCCN.fc"). g's biases are pushed to +-[0.5, 1]: the normalised features sum to zero per channel,
+// so sum_p G_k(p) is H*W times g's bias, the denominator of MCC's style weights, and a bias near zero
+// would make the float and double results incomparable.
+NetParams random_mcc(const nn::VggWidths& widths, std::mt19937& rng);
+
+// "<prefix>.weight" [cout, cin, k, k] ([cout, cin] for Linear) and "<prefix>.bias" [cout] for every layer.
 void write_params(const std::filesystem::path& path, const NetParams& params);
 
 // relu<level>_1 of an RGB image, and the decoder's image of relu4_1-shaped features.
 ref::Chw<double> twin_encode(const NetParams& vgg, ref::Chw<double> x, int level);
 ref::Chw<double> twin_decode(const NetParams& decoder, ref::Chw<double> x);
+// MCC(Fc, Fs) with the channel weights blended as alpha w(Fs) + (1 - alpha) w(Fc).
+ref::Chw<double> twin_mcc(const NetParams& mcc, const ref::Chw<double>& fc, const ref::Chw<double>& fs, double alpha);
 
 }  // namespace s4d::test

@@ -43,17 +43,27 @@ inline nn::Tensor upload(const ref::Chw<float>& t, const std::string& name = "x"
   return nn::upload_tensor(context(), name, t.c, t.h, t.w, t.v);
 }
 
-// A layer's random parameters, uniform within +-1/sqrt(fan_in) as PyTorch initialises them, so
-// activations stay O(1) through deep stacks.
+// A device tensor's values as a double twin tensor (the twin then starts from what the GPU holds).
+inline ref::Chw<double> download_chw(const nn::Tensor& t) {
+  ref::Chw<double> d(t.c, t.h, t.w);
+  d.v = to_double(nn::download(context(), t));
+  return d;
+}
+
+// A layer's random parameters: He-uniform weights (+-sqrt(6 / fan_in)), so activations keep their
+// scale and their spatial variation through deep ReLU stacks (PyTorch's default +-1/sqrt(fan_in)
+// shrinks them about 6x per layer and leaves relu4_1 of a random VGG nearly constant per channel),
+// and small biases.
 struct ConvParams {
   uint32_t cin = 0, cout = 0, k = 1;
   std::vector<float> weight, bias;
+  bool linear = false;  // a Linear layer: weight [cout, cin] in files
 };
 
 inline ConvParams random_conv(uint32_t cin, uint32_t cout, uint32_t k, std::mt19937& rng) {
-  const float bound = 1.0f / std::sqrt(static_cast<float>(cin * k * k));
+  const float bound = std::sqrt(6.0f / static_cast<float>(cin * k * k));
   return {cin, cout, k, random_values(size_t{cout} * cin * k * k, -bound, bound, rng),
-          random_values(cout, -bound, bound, rng)};
+          random_values(cout, -0.1f, 0.1f, rng)};
 }
 
 inline nn::ConvWeights upload(const ConvParams& c, const std::string& name = "w") {

@@ -50,7 +50,7 @@ static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4
 static_assert(sizeof(FlowDisplaceParams) == 16);
 static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
-static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16);
+static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -132,6 +132,8 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(NnStatsParams, eps), S4D_MEMBER(NnStatsParams, _pad0)),
       S4D_STRUCT(NnAdainParams, S4D_MEMBER(NnAdainParams, channels), S4D_MEMBER(NnAdainParams, count),
                  S4D_MEMBER(NnAdainParams, alpha), S4D_MEMBER(NnAdainParams, mode)),
+      S4D_STRUCT(NnBlendParams, S4D_MEMBER(NnBlendParams, n), S4D_MEMBER(NnBlendParams, alpha),
+                 S4D_MEMBER(NnBlendParams, _pad0), S4D_MEMBER(NnBlendParams, _pad1)),
   };
 }
 

@@ -37,9 +37,9 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
                        "    [--style-size N] [--strength S] [--seed N]",
                        "Restyles one camera's frames, in time order, after a style image. The default stylizer\n"
                        "(patch) needs no weights: texture synthesis from the style's patches (Elad & Milanfar\n"
-                       "2017), each frame warm-started from the previous result moved by optical flow. adain\n"
-                       "(Huang & Belongie 2017) runs on the GPU with the published weights converted to\n"
-                       "safetensors; --strength is then its alpha.",
+                       "2017), each frame warm-started from the previous result moved by optical flow. The\n"
+                       "network stylizers adain, mccnet and hgst run on the GPU with the published weights\n"
+                       "converted to safetensors; --strength is then their alpha.",
                        specs);
     return 0;
   }

@@ -8,14 +8,13 @@ AdainNet::AdainNet(engine::Context& ctx, const io::SafetensorsFile& vgg, const i
                    const VggWidths& widths)
     : encoder_(ctx, vgg, 4, widths), decoder_(ctx, decoder, widths) {}
 
-engine::Buffer AdainNet::style_stats(engine::Recorder& rec, const Tensor& style) const {
+engine::Buffer AdainNet::style(engine::Recorder& rec, const Tensor& style) const {
   return mean_std(rec, encoder_.encode(rec, style, 4));
 }
 
-Tensor AdainNet::stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style_stats,
-                         float alpha) const {
+Tensor AdainNet::stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style, float alpha) const {
   const Tensor features = encoder_.encode(rec, content, 4);
-  return decoder_.decode(rec, adain(rec, features, mean_std(rec, features), style_stats, alpha));
+  return decoder_.decode(rec, adain(rec, features, mean_std(rec, features), style, alpha));
 }
 
 }  // namespace s4d::nn

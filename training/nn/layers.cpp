@@ -139,11 +139,11 @@ engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps) {
   return stats;
 }
 
-engine::Buffer squares_over_sum(engine::Recorder& rec, const Tensor& x) {
+Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x) {
   check_stats_input("squares_over_sum", x);
-  engine::Buffer a(rec.context(), "squares_over_sum", size_t{x.c} * sizeof(float));
+  Tensor a = make_tensor(rec.context(), "squares_over_sum", x.c, 1, 1);
   const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = 0.0f, ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats_mcc), {x.buffer, a}, p, x.c);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats_mcc), {x.buffer, a.buffer}, p, x.c);
   rec.barrier();
   return a;
 }
@@ -165,6 +165,16 @@ void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& fact
   rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_scale_channels), {x.buffer, factors}, p,
                ceil_div(x.count(), S4D_NN_WG));
   rec.barrier();
+}
+
+Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha) {
+  if (a.c != b.c || a.h != b.h || a.w != b.w) fail("blend", "shapes " + a.shape() + " and " + b.shape() + " differ");
+  Tensor y = make_tensor(rec.context(), "blend", a.c, a.h, a.w);
+  const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend), {a.buffer, b.buffer, y.buffer}, p,
+               ceil_div(a.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
 }
 
 }  // namespace s4d::nn

@@ -39,8 +39,8 @@ Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 
 // [2, c]: per-channel means, then sqrt(unbiased variance + eps) (AdaIN's calc_mean_std). Needs H*W >= 2.
 engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps = 1e-5f);
-// [c]: sum(x^2) / sum(x) per channel (MCC's style weights).
-engine::Buffer squares_over_sum(engine::Recorder& rec, const Tensor& x);
+// [c, 1, 1]: sum(x^2) / sum(x) per channel (MCC's style weighting). Needs H*W >= 2.
+Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x);
 // alpha (sigma_s (x - mu_c) / sigma_c + mu_s) + (1 - alpha) x, with stats from mean_std.
 Tensor adain(engine::Recorder& rec, const Tensor& x, const engine::Buffer& content_stats,
              const engine::Buffer& style_stats, float alpha);
@@ -48,5 +48,7 @@ Tensor adain(engine::Recorder& rec, const Tensor& x, const engine::Buffer& conte
 Tensor normalise(engine::Recorder& rec, const Tensor& x, const engine::Buffer& stats);
 // x[c, :] *= factors[c], in place.
 void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& factors);
+// alpha a + (1 - alpha) b, both of a's shape.
+Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha);
 
 }  // namespace s4d::nn
