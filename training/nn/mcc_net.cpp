@@ -1,7 +1,5 @@
 #include "s4d/nn/mcc_net.h"
 
-#include <utility>
-
 #include "s4d/nn/weights.h"
 
 namespace s4d::nn {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/adain_net.h"
