@@ -1,14 +1,18 @@
-// `style4d stylize-frames` end to end on 3 tiny frames (a folder of PNGs and an mp4), and its error
-// cases: a missing style file, an empty input folder, an unknown or weightless stylizer, a bad
-// strength, the input as output. Each failure is one line naming what is wrong, and writes nothing. Also `make-style`.
+// `style4d stylize-frames` end to end on 3 tiny frames (a folder of PNGs and an mp4; the patch
+// stylizer, and adain with random weights at VGG19's real shapes), and its error cases: a missing
+// style file, an empty input folder, an unknown or weightless stylizer, weights for patch, missing
+// weight files, a frame too large for adain, a bad strength, the input as output. Each failure is
+// one line naming what is wrong, and writes nothing. Also `make-style`.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "cli_run.h"
+#include "nn_fixture.h"
 #include "s4d/io/image_io.h"
 
 namespace fs = std::filesystem;
@@ -102,7 +106,11 @@ TEST_CASE("stylize-frames refuses bad inputs with one line and writes nothing") 
   CHECK(one_error_line(dir / "log.txt", "available: patch"));
 
   CHECK(run("stylize-frames", "--in " + in.string() + style + out + " --stylizer adain", dir / "log.txt") != 0);
-  CHECK(one_error_line(dir / "log.txt", "needs --weights FILE"));
+  CHECK(one_error_line(dir / "log.txt", "adain needs weights: --weights DIR holding vgg_normalised.safetensors"));
+
+  CHECK(run("stylize-frames", "--in " + in.string() + style + out + " --weights " + dir.string(), dir / "log.txt") !=
+        0);
+  CHECK(one_error_line(dir / "log.txt", "patch needs no weights"));
 
   for (const std::string strength : {"1.5", "-0.1", "x", "0.5x"}) {
     CAPTURE(strength);
@@ -113,4 +121,48 @@ TEST_CASE("stylize-frames refuses bad inputs with one line and writes nothing") 
 
   CHECK(run("stylize-frames", "--in " + in.string() + style + " --out " + in.string(), dir / "log.txt") != 0);
   CHECK(one_error_line(dir / "log.txt", "is the input"));
+}
+
+TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and names what is missing") {
+  const fs::path dir = s4d::test::fresh_dir("stylize_adain");
+  const fs::path in = write_frames(dir);
+  REQUIRE(run("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "log.txt") == 0);
+  // Random weights at the published networks' shapes, as the README's conversion line writes them.
+  std::mt19937 rng(31);
+  const fs::path weights = dir / "weights";
+  fs::create_directories(weights);
+  s4d::test::write_params(weights / "vgg_normalised.safetensors", s4d::test::random_vgg({}, 4, rng));
+  const std::string common = " --style " + (dir / "style.png").string() + " --stylizer adain --style-size 32";
+
+  CHECK(run("stylize-frames", "--in " + in.string() + common + " --weights " + weights.string() + " --out " +
+                                  (dir / "out").string(),
+            dir / "log.txt") != 0);
+  CHECK(one_error_line(dir / "log.txt", (weights / "decoder.safetensors").string() + ": cannot open"));
+
+  s4d::test::write_params(weights / "decoder.safetensors", s4d::test::random_decoder({}, rng));
+  REQUIRE(run("stylize-frames", "--in " + in.string() + common + " --weights " + weights.string() + " --out " +
+                                    (dir / "out").string(),
+              dir / "log.txt") == 0);
+  for (int t = 0; t < 3; ++t) {
+    const s4d::io::ImageF f = s4d::io::read_png(dir / "out" / ("frame_" + std::to_string(t) + ".png"));
+    CHECK(f.width == 32);
+    CHECK(f.height == 24);
+  }
+  CHECK(read_text(dir / "log.txt").find("stylized 3 frames (32x24) with adain") != std::string::npos);
+
+  // hgst reads MCCNet's module too.
+  CHECK(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() +
+                                  " --stylizer hgst --weights " + weights.string() + " --out " + (dir / "hgst").string(),
+            dir / "log.txt") != 0);
+  CHECK(one_error_line(dir / "log.txt", (weights / "mcc_module.safetensors").string() + ": cannot open"));
+
+  // A frame whose 64-channel feature maps (130 MiB) pass lavapipe's 128 MiB storage-buffer limit.
+  const fs::path large = dir / "large";
+  fs::create_directories(large);
+  s4d::io::write_png(large / "0.png", s4d::io::ImageF{1024, 520, 3, std::vector<float>(1024 * 520 * 3, 0.5f)});
+  CHECK(run("stylize-frames", "--in " + large.string() + common + " --weights " + weights.string() + " --out " +
+                                  (dir / "large_out").string(),
+            dir / "log.txt") != 0);
+  CHECK(one_error_line(dir / "log.txt", "adain: a 1024x520 frame needs 130 MiB feature maps"));
+  CHECK_FALSE(fs::exists(dir / "large_out"));
 }

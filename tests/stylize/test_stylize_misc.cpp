@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "s4d/stylize/builtin_style.h"
 #include "s4d/stylize/image_file.h"
@@ -11,10 +13,25 @@
 using namespace s4d;
 
 TEST_CASE("registry makes the patch stylizer and explains the others") {
-  CHECK(stylize::stylizer_names().front() == "patch");
+  CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "mccnet", "hgst"});
   CHECK(stylize::make_stylizer("patch")->name() == "patch");
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("mccnet"), doctest::Contains("needs --weights FILE"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("patch", {.weights = "w"}),
+                       "patch needs no weights; --weights is for adain, mccnet, hgst", std::invalid_argument);
+  // Network stylizers never run without weights; the message says which files they need.
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adain"),
+                       doctest::Contains("adain needs weights: --weights DIR holding vgg_normalised.safetensors and "
+                                         "decoder.safetensors"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("hgst"),
+                       doctest::Contains("hgst needs weights: --weights DIR holding vgg_normalised.safetensors, "
+                                         "decoder.safetensors and mcc_module.safetensors"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("mccnet", {.weights = "/nonexistent/weights"}),
+                       doctest::Contains("--weights /nonexistent/weights is not a folder"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adaattn"), doctest::Contains("'adaattn' is not built yet"),
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch, adain, mccnet, hgst"),
+                       std::invalid_argument);
 }
 
 TEST_CASE("built-in style is deterministic, painted and seed-dependent") {

@@ -15,6 +15,7 @@
 #include "s4d_densify.h"
 #include "s4d_flow.h"
 #include "s4d_loss.h"
+#include "s4d_nn.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
@@ -48,6 +49,8 @@ static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
 static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(FlowDisplaceParams) == 16);
 static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
+static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -121,6 +124,21 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(FlowDisplaceParams, _pad1), S4D_MEMBER(FlowDisplaceParams, _pad2)),
       S4D_STRUCT(PackParams, S4D_MEMBER(PackParams, pixels), S4D_MEMBER(PackParams, swap_rb),
                  S4D_MEMBER(PackParams, _pad0), S4D_MEMBER(PackParams, _pad1)),
+      S4D_STRUCT(NnConvParams, S4D_MEMBER(NnConvParams, cin), S4D_MEMBER(NnConvParams, cout),
+                 S4D_MEMBER(NnConvParams, height), S4D_MEMBER(NnConvParams, width), S4D_MEMBER(NnConvParams, tiles_x),
+                 S4D_MEMBER(NnConvParams, tiles_y), S4D_MEMBER(NnConvParams, flags), S4D_MEMBER(NnConvParams, _pad0)),
+      S4D_STRUCT(NnEltParams, S4D_MEMBER(NnEltParams, n), S4D_MEMBER(NnEltParams, count), S4D_MEMBER(NnEltParams, _pad0),
+                 S4D_MEMBER(NnEltParams, _pad1)),
+      S4D_STRUCT(NnResizeParams, S4D_MEMBER(NnResizeParams, channels), S4D_MEMBER(NnResizeParams, in_height),
+                 S4D_MEMBER(NnResizeParams, in_width), S4D_MEMBER(NnResizeParams, out_height),
+                 S4D_MEMBER(NnResizeParams, out_width), S4D_MEMBER(NnResizeParams, n_out),
+                 S4D_MEMBER(NnResizeParams, _pad0), S4D_MEMBER(NnResizeParams, _pad1)),
+      S4D_STRUCT(NnStatsParams, S4D_MEMBER(NnStatsParams, channels), S4D_MEMBER(NnStatsParams, count),
+                 S4D_MEMBER(NnStatsParams, eps), S4D_MEMBER(NnStatsParams, _pad0)),
+      S4D_STRUCT(NnAdainParams, S4D_MEMBER(NnAdainParams, channels), S4D_MEMBER(NnAdainParams, count),
+                 S4D_MEMBER(NnAdainParams, alpha), S4D_MEMBER(NnAdainParams, mode)),
+      S4D_STRUCT(NnBlendParams, S4D_MEMBER(NnBlendParams, n), S4D_MEMBER(NnBlendParams, alpha),
+                 S4D_MEMBER(NnBlendParams, _pad0), S4D_MEMBER(NnBlendParams, _pad1)),
   };
 }
 

@@ -1,5 +1,6 @@
-// style4d stylize-frames --in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--strength S]
-// [--seed N]: restyles one camera's frames in time order with a frame stylizer (s4d_stylize).
+// style4d stylize-frames --in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]
+// [--style-size N] [--strength S] [--seed N]: restyles one camera's frames in time order with a
+// frame stylizer (s4d_stylize).
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -23,16 +24,22 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
       {"style", "the style image (PNG, JPEG, ...), e.g. assets/styles/builtin.png", true, "IMG"},
       {"out", "a folder (one PNG per frame, the input's names) or a .mp4 video (mp4v, lossy)", true, "DIR|VIDEO"},
       {"stylizer", "which stylizer: " + names + " (default patch)", true, "NAME"},
+      {"weights", "network stylizers: the folder of their .safetensors weights (README, \"Network stylizers\")", true,
+       "DIR"},
+      {"style-size", "network stylizers: the style's shorter side in pixels (default 512; 0 keeps it)", true, "N"},
       {"strength", "0 keeps the content, 1 the full stylization (default 1)", true, "S"},
       {"seed", "seed of the stylizer's random choices (default 0)", true, "N"},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("stylize-frames",
-                       "--in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--strength S] [--seed N]",
+                       "--in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]\n"
+                       "    [--style-size N] [--strength S] [--seed N]",
                        "Restyles one camera's frames, in time order, after a style image. The default stylizer\n"
                        "(patch) needs no weights: texture synthesis from the style's patches (Elad & Milanfar\n"
-                       "2017), each frame warm-started from the previous result moved by optical flow.",
+                       "2017), each frame warm-started from the previous result moved by optical flow. The\n"
+                       "network stylizers adain, mccnet and hgst run on the GPU with the published weights\n"
+                       "converted to safetensors; --strength is then their alpha.",
                        specs);
     return 0;
   }
@@ -52,7 +59,11 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   if (!(settings.strength >= 0.0f && settings.strength <= 1.0f))
     throw std::invalid_argument("--strength: " + strength_text + " is outside [0, 1]");
   settings.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
-  const auto stylizer = stylize::make_stylizer(args.get_or("stylizer", "patch"));
+  stylize::NetworkOptions network;
+  network.weights = args.get_or("weights", "");
+  network.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));
+  if (network.style_size < 0) throw std::invalid_argument("--style-size: expected 0 or more pixels");
+  const auto stylizer = stylize::make_stylizer(args.get_or("stylizer", "patch"), network);
 
   const io::ImageF style = stylize::read_image_rgb(style_path);
   const FrameSequence input = read_frame_sequence(in);

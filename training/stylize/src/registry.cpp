@@ -1,5 +1,6 @@
 #include "s4d/stylize/registry.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "s4d/stylize/patch_stylizer.h"
@@ -7,12 +8,6 @@
 namespace s4d::stylize {
 
 namespace {
-
-// Network stylizers of the design (ARCHITECTURE.md stage 3, ALGORITHMS.md 4.2 and 5), not built yet.
-const std::vector<std::string>& network_names() {
-  static const std::vector<std::string> names = {"adain", "adaattn", "mccnet", "hgst"};
-  return names;
-}
 
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
@@ -22,14 +17,23 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
-std::vector<std::string> stylizer_names() { return {"patch"}; }
+std::vector<std::string> stylizer_names() {
+  std::vector<std::string> names = {"patch"};
+  for (const std::string& n : network_stylizer_names()) names.push_back(n);
+  return names;
+}
 
-std::unique_ptr<Stylizer> make_stylizer(const std::string& name) {
-  if (name == "patch") return std::make_unique<PatchStylizer>();
-  for (const std::string& n : network_names())
-    if (n == name)
-      throw std::invalid_argument("stylizer '" + name + "' needs --weights FILE and is not built yet (available: " +
-                                  joined(stylizer_names()) + ")");
+std::unique_ptr<Stylizer> make_stylizer(const std::string& name, const NetworkOptions& network) {
+  const auto networks = network_stylizer_names();
+  if (name == "patch") {
+    if (!network.weights.empty())
+      throw std::invalid_argument("patch needs no weights; --weights is for " + joined(networks));
+    return std::make_unique<PatchStylizer>();
+  }
+  if (std::find(networks.begin(), networks.end(), name) != networks.end()) return make_network_stylizer(name, network);
+  // AdaAttN (ALGORITHMS.md 5) is a network of the design not built yet.
+  if (name == "adaattn")
+    throw std::invalid_argument("stylizer 'adaattn' is not built yet (available: " + joined(stylizer_names()) + ")");
   throw std::invalid_argument("unknown stylizer '" + name + "' (available: " + joined(stylizer_names()) + ")");
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "s4d/stylize/network_stylizer.h"
 #include "s4d/stylize/stylizer.h"
 
 namespace s4d::stylize {
@@ -12,8 +13,9 @@ namespace s4d::stylize {
 std::vector<std::string> stylizer_names();
 
 // Throws std::invalid_argument for an unknown name, listing the available ones; for a network
-// stylizer of the design (adain, adaattn, mccnet, hgst) it says that it needs weights and is not
-// built yet.
-std::unique_ptr<Stylizer> make_stylizer(const std::string& name);
+// stylizer without `network.weights`, saying which files it needs; for "patch" with weights; and
+// for adaattn, a network of the design not built yet. Network stylizers load their weights here,
+// so a bad weight file fails before any frame is read (network_stylizer.h).
+std::unique_ptr<Stylizer> make_stylizer(const std::string& name, const NetworkOptions& network = {});
 
 }  // namespace s4d::stylize

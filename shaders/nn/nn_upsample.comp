@@ -1,0 +1,17 @@
+// nn_upsample: nearest-neighbour upsampling by 2 (PyTorch Upsample(scale_factor=2, mode='nearest')).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "s4d_nn.h"
+#include "flat_group.glsl"
+
+layout(local_size_x = S4D_NN_WG) in;
+layout(push_constant) uniform Push { NnResizeParams p; };
+layout(std430, binding = S4D_B_RESIZE_IN) readonly buffer In { float x[]; };
+layout(std430, binding = S4D_B_RESIZE_OUT) writeonly buffer Out { float y[]; };
+
+void main() {
+  uint i = flat_group_id() * S4D_NN_WG + gl_LocalInvocationIndex;
+  if (i >= p.n_out) return;
+  uint ox = i % p.out_width, oy = (i / p.out_width) % p.out_height, c = i / (p.out_width * p.out_height);
+  y[i] = x[(c * p.in_height + oy / 2) * p.in_width + ox / 2];
+}

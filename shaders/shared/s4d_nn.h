@@ -1,0 +1,119 @@
+// Shared layouts of the network layers (shaders/nn; ALGORITHMS.md 4.2, 5): VGG-style convolutions,
+// pooling, upsampling, channel statistics, AdaIN and the MCC module's pieces. Every tensor is one
+// image, float [C, H, W] row-major; weights keep PyTorch's layouts ([Cout, Cin, k, k], Linear
+// [out, in]). CPU twins: training/ref/include/s4d/ref/nn_ref.h.
+//
+// llvmpipe ends an invocation after 65,535 loop iterations in total, so no kernel loops over more
+// than Cin (convolutions: the 3x3 taps and the output-channel block are unrolled) or over more than
+// H*W / S4D_NN_STATS_WG per pass (statistics); the host refuses sizes past S4D_NN_MAX_LOOP.
+#ifndef S4D_NN_H
+#define S4D_NN_H
+#include "s4d_common.h"
+
+#define S4D_NN_MAX_LOOP 60000
+
+// Convolutions: a workgroup is WG_X x WG_Y invocations, each computing a strip of S4D_NN_CONV_PIX
+// pixels along x for one block of S4D_NN_CONV_COUT output channels, so a tile is 32 x 8 pixels.
+// Flat group index = block * tiles_x * tiles_y + tile_y * tiles_x + tile_x. Measured on lavapipe
+// (CPU time, 3x3, 64-512 channels): 4.6 GFLOP/s; strips of 2 or 8 pixels, blocks of 4 or 16
+// channels and 4-wide workgroups were 10-60 % slower.
+#define S4D_NN_CONV_WG_X 8
+#define S4D_NN_CONV_WG_Y 8
+#define S4D_NN_CONV_PIX 4
+#define S4D_NN_CONV_COUT 8
+#define S4D_NN_FLAG_RELU 1u        // ReLU on the output
+#define S4D_NN_FLAG_ACCUMULATE 2u  // out += conv(in) (residual connections)
+#define S4D_B_CONV_IN 0      // [cin, h, w]
+#define S4D_B_CONV_WEIGHT 1  // [cout, cin, k, k]
+#define S4D_B_CONV_BIAS 2    // [cout]
+#define S4D_B_CONV_OUT 3     // [cout, h, w]
+
+// Element-wise kernels (ReLU, pooling, upsampling, AdaIN, channel scaling): one invocation per
+// output element.
+#define S4D_NN_WG 64
+#define S4D_B_RELU_DATA 0     // [n], in place
+#define S4D_B_RESIZE_IN 0     // [c, in_h, in_w]
+#define S4D_B_RESIZE_OUT 1    // [c, out_h, out_w]
+#define S4D_B_SCALE_DATA 0    // nn_scale_channels: [c, count], in place
+#define S4D_B_SCALE_FACTORS 1 // [c]
+#define S4D_B_BLEND_A 0       // nn_blend: out = alpha a + (1 - alpha) b, [n] each
+#define S4D_B_BLEND_B 1
+#define S4D_B_BLEND_OUT 2
+
+// Channel statistics: one workgroup per channel, two passes over its H*W values (mean, then the
+// centred squares). nn_channel_stats writes mean and std = sqrt(unbiased variance + eps);
+// nn_channel_stats_mcc writes a = sum(x^2) / sum(x) (MCC's style weighting, no stabilisation).
+#define S4D_NN_STATS_WG 64
+#define S4D_B_STATS_IN 0   // [c, count]
+#define S4D_B_STATS_OUT 1  // nn_channel_stats: [2, c] (means, then stds); _mcc: [c]
+
+// AdaIN: out = alpha (sigma_s (x - mu_c) / sigma_c + mu_s) + (1 - alpha) x; mode normalise:
+// out = (x - mu_c) / sigma_c (style statistics unused; bind any buffer).
+#define S4D_NN_ADAIN_BLEND 0u
+#define S4D_NN_ADAIN_NORMALISE 1u
+#define S4D_B_ADAIN_IN 0            // [c, count]
+#define S4D_B_ADAIN_CONTENT_STATS 1 // [2, c]
+#define S4D_B_ADAIN_STYLE_STATS 2   // [2, c]
+#define S4D_B_ADAIN_OUT 3           // [c, count]
+
+S4D_NAMESPACE_BEGIN
+
+// Push constants of nn_conv3x3 (reflection padding 1) and nn_conv1x1.
+struct NnConvParams {
+  uint cin;
+  uint cout;
+  uint height;
+  uint width;
+  uint tiles_x;  // ceil(width / (S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX))
+  uint tiles_y;  // ceil(height / S4D_NN_CONV_WG_Y)
+  uint flags;    // S4D_NN_FLAG_*
+  uint _pad0;
+};
+
+// Push constants of nn_relu and nn_scale_channels (count: values per channel).
+struct NnEltParams {
+  uint n;
+  uint count;
+  uint _pad0;
+  uint _pad1;
+};
+
+// Push constants of nn_blend.
+struct NnBlendParams {
+  uint n;
+  float alpha;
+  uint _pad0;
+  uint _pad1;
+};
+
+// Push constants of nn_maxpool (2x2, stride 2, ceil mode) and nn_upsample (nearest, x2).
+struct NnResizeParams {
+  uint channels;
+  uint in_height;
+  uint in_width;
+  uint out_height;
+  uint out_width;
+  uint n_out;  // channels * out_height * out_width
+  uint _pad0;
+  uint _pad1;
+};
+
+// Push constants of nn_channel_stats and nn_channel_stats_mcc.
+struct NnStatsParams {
+  uint channels;
+  uint count;  // values per channel (H * W)
+  float eps;   // added to the variance
+  uint _pad0;
+};
+
+// Push constants of nn_adain.
+struct NnAdainParams {
+  uint channels;
+  uint count;
+  float alpha;
+  uint mode;  // S4D_NN_ADAIN_*
+};
+
+S4D_NAMESPACE_END
+
+#endif  // S4D_NN_H

@@ -1,0 +1,185 @@
+// The network layers (shaders/nn) against their double CPU twins (ref/nn_ref.h) on lavapipe, at
+// sizes that leave partial tiles, partial output-channel blocks and partial workgroups, plus the
+// shape errors the host refuses before recording.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "nn_test_util.h"
+#include "s4d/engine/buffer_from.h"
+
+namespace {
+
+using namespace s4d;
+using test::context;
+using test::max_rel;
+using test::to_double;
+
+// Records `f` into one command buffer, runs it and returns what it returned.
+template <class F>
+auto run(F&& f) {
+  engine::Recorder rec(context(), "nn layer test");
+  auto out = f(rec);
+  context().run(std::move(rec));
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("conv3x3 with reflection padding matches its twin, with and without ReLU") {
+  std::mt19937 rng(1);
+  // 13x9: two partial tiles each way; 11 outputs: a partial block of 8.
+  for (const auto& [cin, cout, h, w] : {std::array<uint32_t, 4>{5, 11, 9, 13}, {3, 8, 2, 2}, {16, 3, 8, 8}}) {
+    const auto x = test::random_chw(cin, h, w, rng);
+    const auto params = test::random_conv(cin, cout, 3, rng);
+    const auto gx = test::upload(x);
+    const auto weights = test::upload(params);
+    for (const bool relu : {false, true}) {
+      const auto gpu =
+          nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3(r, gx, weights, relu); }));
+      const auto twin = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), cout, relu);
+      // Float sums of at most 144 products of O(1) terms against double: measured 2.0e-7.
+      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+    }
+  }
+}
+
+TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
+  // Were the kernel rows, taps, strip pixels and channel block runtime loops, each invocation would
+  // run over 100,000 iterations and llvmpipe would end it early: this test then fails (checked
+  // with [[dont_unroll]]).
+  std::mt19937 rng(2);
+  const auto x = test::random_chw(1024, 3, 2, rng);
+  const auto params = test::random_conv(1024, 8, 3, rng);
+  const auto gx = test::upload(x);
+  const auto weights = test::upload(params);
+  const auto gpu =
+      nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3(r, gx, weights, false); }));
+  const auto twin = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), 8, false);
+  CHECK(max_rel(gpu, twin.v) < 1e-5);  // 9216 float products per output: measured 5.8e-7
+}
+
+TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into its output") {
+  std::mt19937 rng(3);
+  const auto x = test::random_chw(7, 5, 6, rng);
+  const auto params = test::random_conv(7, 10, 1, rng);
+  const auto gx = test::upload(x);
+  const auto weights = test::upload(params);
+  const auto twin = ref::conv1x1(to_double(x), to_double(params.weight), to_double(params.bias), 10, true);
+  const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, gx, weights, true); }));
+  CHECK(max_rel(gpu, twin.v) < 2e-6);  // 7 products: measured 7.7e-8
+
+  const auto v = test::random_chw(33, 1, 1, rng);
+  const auto linear = test::random_conv(33, 20, 1, rng);
+  const auto gv = test::upload(v);
+  const auto lw = test::upload(linear);
+  const auto lin = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, gv, lw, false); }));
+  const auto lin_twin = ref::conv1x1(to_double(v), to_double(linear.weight), to_double(linear.bias), 20, false);
+  CHECK(max_rel(lin, lin_twin.v) < 2e-6);  // 33 products: measured 1.4e-7
+
+  const auto residual = test::random_chw(10, 5, 6, rng);
+  auto out = test::upload(residual, "residual");
+  run([&](engine::Recorder& r) {
+    nn::conv1x1_accumulate(r, gx, weights, out);
+    return 0;
+  });
+  auto expected = ref::conv1x1(to_double(x), to_double(params.weight), to_double(params.bias), 10, false);
+  for (size_t i = 0; i < expected.v.size(); ++i) expected.v[i] += residual.v[i];
+  CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
+}
+
+TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their twins exactly") {
+  std::mt19937 rng(4);
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2(r, gx); }));
+    CHECK(max_rel(pooled, ref::maxpool2_ceil(to_double(x)).v) == 0.0);
+    const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
+    CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
+  }
+  auto x = test::random_chw(2, 9, 11, rng);
+  auto gx = test::upload(x);
+  run([&](engine::Recorder& r) {
+    nn::relu_inplace(r, gx);
+    return 0;
+  });
+  CHECK(max_rel(nn::download(context(), gx), ref::relu(to_double(x)).v) == 0.0);
+}
+
+TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match their twins") {
+  std::mt19937 rng(5);
+  // 300x300: each of the 64 invocations sums about 1400 values before the workgroup sum.
+  for (const auto& [c, h, w] : {std::array<uint32_t, 3>{3, 17, 23}, {2, 300, 300}, {5, 1, 2}}) {
+    const auto x = test::random_chw(c, h, w, rng, -0.5f, 1.5f);
+    const auto gx = test::upload(x);
+    const auto stats =
+        context().download<float>(run([&](engine::Recorder& r) { return nn::mean_std(r, gx, 1e-5f); }), 2 * size_t{c});
+    // Float partial sums against double: measured 2.0e-7 (300x300).
+    CHECK(max_rel(stats, ref::mean_std(to_double(x), 1e-5)) < 2e-6);
+    const auto a = nn::download(context(), run([&](engine::Recorder& r) { return nn::squares_over_sum(r, gx); }));
+    CHECK(max_rel(a, ref::squares_over_sum(to_double(x))) < 2e-6);  // measured 3.7e-7 (300x300)
+  }
+}
+
+TEST_CASE("adain, its content blend, normalisation, channel scaling and blending match their twins") {
+  std::mt19937 rng(6);
+  const auto content = test::random_chw(6, 7, 9, rng);
+  const auto style = test::random_chw(6, 4, 5, rng, 0.0f, 3.0f);
+  const auto gc = test::upload(content);
+  const auto gs = test::upload(style);
+  const auto cs = ref::mean_std(to_double(content), 1e-5), ss = ref::mean_std(to_double(style), 1e-5);
+  for (const float alpha : {1.0f, 0.3f}) {
+    const auto gpu = nn::download(context(), run([&](engine::Recorder& r) {
+                                    const auto c_stats = nn::mean_std(r, gc);
+                                    const auto s_stats = nn::mean_std(r, gs);
+                                    return nn::adain(r, gc, c_stats, s_stats, alpha);
+                                  }));
+    // The float statistics' 1e-7 error carried through: measured 1.1e-7.
+    CHECK(max_rel(gpu, ref::adain(to_double(content), cs, ss, double{alpha}).v) < 2e-6);
+  }
+  const auto normalised = nn::download(context(), run([&](engine::Recorder& r) {
+                                         const auto c_stats = nn::mean_std(r, gc);
+                                         return nn::normalise(r, gc, c_stats);
+                                       }));
+  CHECK(max_rel(normalised, ref::normalise(to_double(content), cs).v) < 2e-6);  // measured 7.7e-8
+
+  const auto factors = test::random_values(6, -2.0f, 2.0f, rng);
+  auto scaled = test::upload(content);
+  const auto gf = engine::buffer_from(context(), "factors", factors);
+  run([&](engine::Recorder& r) {
+    nn::scale_channels(r, scaled, gf);
+    return 0;
+  });
+  const auto scaled_twin = ref::scale_channels(to_double(content), to_double(factors));
+  CHECK(max_rel(nn::download(context(), scaled), scaled_twin.v) < 1e-7);  // one rounding: measured 3.0e-8
+
+  const auto other = test::random_chw(6, 7, 9, rng);
+  const auto go = test::upload(other, "other");
+  const auto blended = nn::download(context(), run([&](engine::Recorder& r) { return nn::blend(r, gc, go, 0.3f); }));
+  std::vector<double> blend_twin(content.v.size());
+  for (size_t i = 0; i < blend_twin.size(); ++i) blend_twin[i] = 0.3 * content.v[i] + 0.7 * other.v[i];
+  CHECK(max_rel(blended, blend_twin) < 2e-7);  // two products and a sum in float: measured 6.2e-8
+}
+
+TEST_CASE("layers refuse mismatched shapes before recording anything") {
+  std::mt19937 rng(7);
+  const auto weights = test::upload(test::random_conv(4, 8, 3, rng), "enc 2");
+  const auto three = test::upload(test::random_chw(3, 4, 4, rng));
+  const auto thin = test::upload(test::random_chw(4, 1, 5, rng));
+  const auto single = test::upload(test::random_chw(4, 1, 1, rng));
+  engine::Recorder rec(context(), "errors");
+  CHECK_THROWS_WITH_AS(nn::conv3x3(rec, three, weights, true), "conv enc 2: expects 4 input channels, got [3, 4, 4]",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(nn::conv3x3(rec, thin, weights, true),
+                       "conv enc 2: reflection padding needs H, W >= 2, got [4, 1, 5]", std::invalid_argument);
+  CHECK_THROWS_WITH_AS(nn::conv1x1(rec, thin, weights, true), "conv enc 2: is not a 1x1 convolution",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(nn::mean_std(rec, single), "mean_std: needs at least 2 values per channel, got [4, 1, 1]",
+                       std::invalid_argument);
+  CHECK_THROWS_AS(nn::upload_conv(context(), "bad", 4, 8, 3, std::vector<float>(10), std::vector<float>(8)),
+                  std::invalid_argument);
+}

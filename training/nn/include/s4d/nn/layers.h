@@ -1,0 +1,54 @@
+// The network layers on the GPU (kernels in shaders/nn, twins in training/ref/.../nn_ref.h). Each
+// call records one dispatch followed by a barrier, so its result is ready for the next layer, and
+// returns a new tensor unless it says otherwise. Shape errors throw std::invalid_argument naming
+// the layer and the shapes, before anything is recorded.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/recorder.h"
+#include "s4d/nn/tensor.h"
+
+namespace s4d::nn {
+
+// One Conv2d (k = 1 or 3) or Linear (k = 1) layer's parameters on the device.
+struct ConvWeights {
+  std::string name;  // for messages and buffer names, e.g. "vgg_normalised.safetensors 2"
+  uint32_t cin = 0, cout = 0, k = 1;
+  engine::Buffer weight;  // [cout, cin, k, k]
+  engine::Buffer bias;    // [cout]
+};
+
+// Throws std::invalid_argument when the value counts do not match the shape.
+ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
+                        std::span<const float> weight, std::span<const float> bias);
+
+// ReflectionPad2d(1) + Conv2d(k=3) (+ ReLU). Needs H, W >= 2, as PyTorch's reflection padding does.
+Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
+// Conv2d(k=1) (+ ReLU); a Linear layer when x is [in, 1, 1].
+Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
+// out += Conv2d(k=1)(x): a residual connection into `out`.
+void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, Tensor& out);
+void relu_inplace(engine::Recorder& rec, Tensor& x);
+// MaxPool2d(2, 2, ceil_mode=True): [c, ceil(h/2), ceil(w/2)].
+Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
+// Upsample(scale_factor=2, mode='nearest').
+Tensor upsample2(engine::Recorder& rec, const Tensor& x);
+
+// [2, c]: per-channel means, then sqrt(unbiased variance + eps) (AdaIN's calc_mean_std). Needs H*W >= 2.
+engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps = 1e-5f);
+// [c, 1, 1]: sum(x^2) / sum(x) per channel (MCC's style weighting). Needs H*W >= 2.
+Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x);
+// alpha (sigma_s (x - mu_c) / sigma_c + mu_s) + (1 - alpha) x, with stats from mean_std.
+Tensor adain(engine::Recorder& rec, const Tensor& x, const engine::Buffer& content_stats,
+             const engine::Buffer& style_stats, float alpha);
+// (x - mu) / sigma (MCC's normal()).
+Tensor normalise(engine::Recorder& rec, const Tensor& x, const engine::Buffer& stats);
+// x[c, :] *= factors[c], in place.
+void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& factors);
+// alpha a + (1 - alpha) b, both of a's shape.
+Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha);
+
+}  // namespace s4d::nn

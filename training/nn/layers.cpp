@@ -1,0 +1,180 @@
+#include "s4d/nn/layers.h"
+
+#include <stdexcept>
+
+#include "s4d/engine/buffer_from.h"
+#include "s4d/primitives/shader_pipeline.h"
+#include "s4d_nn.h"
+
+namespace s4d::nn {
+
+namespace {
+
+using primitives::ceil_div;
+using primitives::shader_pipeline;
+
+[[noreturn]] void fail(const std::string& layer, const std::string& what) {
+  throw std::invalid_argument(layer + ": " + what);
+}
+
+void check_loop(const std::string& layer, uint64_t iterations, const std::string& what) {
+  // llvmpipe silently ends invocations past 65,535 loop iterations (s4d_nn.h).
+  if (iterations > S4D_NN_MAX_LOOP)
+    fail(layer, what + " needs " + std::to_string(iterations) + " loop iterations per invocation, over the " +
+                    std::to_string(S4D_NN_MAX_LOOP) + " the kernels allow");
+}
+
+void check_stats_input(const std::string& layer, const Tensor& x) {
+  if (x.plane() < 2) fail(layer, "needs at least 2 values per channel, got " + x.shape());
+  check_loop(layer, (x.plane() + S4D_NN_STATS_WG - 1) / S4D_NN_STATS_WG, x.shape());
+}
+
+void check_stats(const std::string& layer, const Tensor& x, const engine::Buffer& stats) {
+  if (stats.size() < 2 * size_t{x.c} * sizeof(float))
+    fail(layer, "statistics '" + stats.name() + "' hold fewer than 2 x " + std::to_string(x.c) + " values");
+}
+
+Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t flags, Tensor* into) {
+  const std::string layer = "conv " + w.name;
+  if (x.c != w.cin) fail(layer, "expects " + std::to_string(w.cin) + " input channels, got " + x.shape());
+  if (w.k == 3 && (x.h < 2 || x.w < 2)) fail(layer, "reflection padding needs H, W >= 2, got " + x.shape());
+  check_loop(layer, w.cin, "input channels " + std::to_string(w.cin));
+  Tensor out;
+  if (into == nullptr) out = make_tensor(rec.context(), w.name, w.cout, x.h, x.w);
+  Tensor& y = into != nullptr ? *into : out;
+  if (y.c != w.cout || y.h != x.h || y.w != x.w) fail(layer, "output " + y.shape() + " does not match");
+  const gpu::NnConvParams p{.cin = w.cin,
+                            .cout = w.cout,
+                            .height = x.h,
+                            .width = x.w,
+                            .tiles_x = ceil_div(x.w, S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX),
+                            .tiles_y = ceil_div(x.h, S4D_NN_CONV_WG_Y),
+                            .flags = flags,
+                            ._pad0 = 0};
+  const auto id = w.k == 3 ? shaders::Id::nn_conv3x3 : shaders::Id::nn_conv1x1;
+  rec.dispatch(shader_pipeline(rec.context(), id), {x.buffer, w.weight, w.bias, y.buffer}, p,
+               p.tiles_x * p.tiles_y * ceil_div(w.cout, S4D_NN_CONV_COUT));
+  rec.barrier();
+  return out;
+}
+
+Tensor resize(engine::Recorder& rec, const Tensor& x, shaders::Id id, uint32_t out_h, uint32_t out_w,
+              const char* what) {
+  Tensor y = make_tensor(rec.context(), what, x.c, out_h, out_w);
+  const gpu::NnResizeParams p{.channels = x.c,
+                              .in_height = x.h,
+                              .in_width = x.w,
+                              .out_height = out_h,
+                              .out_width = out_w,
+                              .n_out = static_cast<uint32_t>(y.count()),
+                              ._pad0 = 0,
+                              ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), id), {x.buffer, y.buffer}, p, ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
+Tensor adain_mode(engine::Recorder& rec, const Tensor& x, const engine::Buffer& content_stats,
+                  const engine::Buffer& style_stats, float alpha, uint32_t mode) {
+  const char* layer = mode == S4D_NN_ADAIN_BLEND ? "adain" : "normalise";
+  check_stats(layer, x, content_stats);
+  check_stats(layer, x, style_stats);
+  Tensor y = make_tensor(rec.context(), layer, x.c, x.h, x.w);
+  const gpu::NnAdainParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .alpha = alpha, .mode = mode};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_adain), {x.buffer, content_stats, style_stats, y.buffer},
+               p, ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
+}  // namespace
+
+ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
+                        std::span<const float> weight, std::span<const float> bias) {
+  if (k != 1 && k != 3) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1 or 3");
+  if (weight.size() != size_t{cout} * cin * k * k || bias.size() != cout)
+    fail("conv " + name, std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
+                             " biases do not match " + std::to_string(cin) + " -> " + std::to_string(cout));
+  ConvWeights w{name, cin, cout, k, {}, {}};
+  w.weight = engine::buffer_from(ctx, name + " weight", weight);
+  w.bias = engine::buffer_from(ctx, name + " bias", bias);
+  return w;
+}
+
+Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
+  if (w.k != 3) fail("conv " + w.name, "is not a 3x3 convolution");
+  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr);
+}
+
+Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
+  if (w.k != 1) fail("conv " + w.name, "is not a 1x1 convolution");
+  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr);
+}
+
+void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, Tensor& out) {
+  if (w.k != 1) fail("conv " + w.name, "is not a 1x1 convolution");
+  conv(rec, x, w, S4D_NN_FLAG_ACCUMULATE, &out);
+}
+
+void relu_inplace(engine::Recorder& rec, Tensor& x) {
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(x.count()), .count = 0, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_relu), {x.buffer}, p, ceil_div(x.count(), S4D_NN_WG));
+  rec.barrier();
+}
+
+Tensor maxpool2(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_maxpool, (x.h + 1) / 2, (x.w + 1) / 2, "maxpool");
+}
+
+Tensor upsample2(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_upsample, 2 * x.h, 2 * x.w, "upsample");
+}
+
+engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps) {
+  check_stats_input("mean_std", x);
+  engine::Buffer stats(rec.context(), "mean_std", 2 * size_t{x.c} * sizeof(float));
+  const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = eps, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats), {x.buffer, stats}, p, x.c);
+  rec.barrier();
+  return stats;
+}
+
+Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x) {
+  check_stats_input("squares_over_sum", x);
+  Tensor a = make_tensor(rec.context(), "squares_over_sum", x.c, 1, 1);
+  const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = 0.0f, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats_mcc), {x.buffer, a.buffer}, p, x.c);
+  rec.barrier();
+  return a;
+}
+
+Tensor adain(engine::Recorder& rec, const Tensor& x, const engine::Buffer& content_stats,
+             const engine::Buffer& style_stats, float alpha) {
+  return adain_mode(rec, x, content_stats, style_stats, alpha, S4D_NN_ADAIN_BLEND);
+}
+
+Tensor normalise(engine::Recorder& rec, const Tensor& x, const engine::Buffer& stats) {
+  return adain_mode(rec, x, stats, stats, 1.0f, S4D_NN_ADAIN_NORMALISE);
+}
+
+void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& factors) {
+  if (factors.size() < size_t{x.c} * sizeof(float))
+    fail("scale_channels", "factors '" + factors.name() + "' hold fewer than " + std::to_string(x.c) + " values");
+  const gpu::NnEltParams p{
+      .n = static_cast<uint32_t>(x.count()), .count = static_cast<uint32_t>(x.plane()), ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_scale_channels), {x.buffer, factors}, p,
+               ceil_div(x.count(), S4D_NN_WG));
+  rec.barrier();
+}
+
+Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha) {
+  if (a.c != b.c || a.h != b.h || a.w != b.w) fail("blend", "shapes " + a.shape() + " and " + b.shape() + " differ");
+  Tensor y = make_tensor(rec.context(), "blend", a.c, a.h, a.w);
+  const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend), {a.buffer, b.buffer, y.buffer}, p,
+               ceil_div(a.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
+}  // namespace s4d::nn

@@ -1,0 +1,83 @@
+#include "s4d/nn/vgg.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "s4d/nn/weights.h"
+
+namespace s4d::nn {
+
+uint32_t pooled_size(uint32_t size, int level) {
+  for (int l = 1; l < level; ++l) size = (size + 1) / 2;
+  return size;
+}
+
+VggEncoder::VggEncoder(engine::Context& ctx, const io::SafetensorsFile& file, int levels, const VggWidths& widths)
+    : levels_(levels), widths_(widths) {
+  if (levels < 1 || levels > 5)
+    throw std::invalid_argument("VggEncoder: levels " + std::to_string(levels) + " is not 1..5");
+  const auto& w = widths.level;
+  auto conv = [&](int index, uint32_t cin, uint32_t cout, int ends_level = 0) {
+    steps_.push_back({load_conv(ctx, file, std::to_string(index), cin, cout, 3), ends_level});
+  };
+  auto pool = [&] { steps_.push_back({}); };
+  // nn.Sequential indices: each 3x3 conv sits after its ReflectionPad2d and before its ReLU.
+  steps_.push_back({load_conv(ctx, file, "0", 3, 3, 1), 0});
+  conv(2, 3, w[0], 1);
+  if (levels == 1) return;
+  conv(5, w[0], w[0]);
+  pool();
+  conv(9, w[0], w[1], 2);
+  if (levels == 2) return;
+  conv(12, w[1], w[1]);
+  pool();
+  conv(16, w[1], w[2], 3);
+  if (levels == 3) return;
+  for (const int i : {19, 22, 25}) conv(i, w[2], w[2]);
+  pool();
+  conv(29, w[2], w[3], 4);
+  if (levels == 4) return;
+  for (const int i : {32, 35, 38}) conv(i, w[3], w[3]);
+  pool();
+  conv(42, w[3], w[4], 5);
+}
+
+Tensor VggEncoder::encode(engine::Recorder& rec, const Tensor& rgb, int level) const {
+  if (level < 1 || level > levels_)
+    throw std::invalid_argument("VggEncoder: level " + std::to_string(level) + " is not 1.." + std::to_string(levels_));
+  if (rgb.c != 3) throw std::invalid_argument("VggEncoder: expects an RGB image [3, H, W], got " + rgb.shape());
+  Tensor x = conv1x1(rec, rgb, steps_.front().conv, false);
+  for (size_t i = 1; i < steps_.size(); ++i) {
+    const Step& s = steps_[i];
+    x = s.conv.name.empty() ? maxpool2(rec, x) : conv3x3(rec, x, s.conv, true);
+    if (s.ends_level == level) break;
+  }
+  return x;
+}
+
+VggDecoder::VggDecoder(engine::Context& ctx, const io::SafetensorsFile& file, const VggWidths& widths) {
+  const auto& w = widths.level;
+  auto conv = [&](int index, uint32_t cin, uint32_t cout, bool upsample_after = false, bool relu = true) {
+    steps_.push_back({load_conv(ctx, file, std::to_string(index), cin, cout, 3), relu, upsample_after});
+  };
+  conv(1, w[3], w[2], true);
+  for (const int i : {5, 8, 11}) conv(i, w[2], w[2]);
+  conv(14, w[2], w[1], true);
+  conv(18, w[1], w[1]);
+  conv(21, w[1], w[0], true);
+  conv(25, w[0], w[0]);
+  conv(28, w[0], 3, false, false);
+}
+
+Tensor VggDecoder::decode(engine::Recorder& rec, const Tensor& features) const {
+  const Tensor* x = &features;
+  Tensor y;
+  for (const Step& s : steps_) {
+    y = conv3x3(rec, *x, s.conv, s.relu);
+    if (s.upsample_after) y = upsample2(rec, y);
+    x = &y;
+  }
+  return y;
+}
+
+}  // namespace s4d::nn

@@ -1,0 +1,158 @@
+// CPU twins of the network layers in shaders/nn (layouts in shaders/shared/s4d_nn.h), written from
+// the PyTorch definitions: one image, [C, H, W] row-major, weights [Cout, Cin, k, k]. Templated on
+// the scalar type; tests run them in double against the float kernels.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace s4d::ref {
+
+template <class T>
+struct Chw {
+  uint32_t c = 0, h = 0, w = 0;
+  std::vector<T> v;  // [c, h, w]
+
+  Chw() = default;
+  Chw(uint32_t channels, uint32_t height, uint32_t width)
+      : c(channels), h(height), w(width), v(size_t{channels} * height * width, T(0)) {}
+  T& at(uint32_t ch, uint32_t y, uint32_t x) { return v[(size_t{ch} * h + y) * w + x]; }
+  const T& at(uint32_t ch, uint32_t y, uint32_t x) const { return v[(size_t{ch} * h + y) * w + x]; }
+};
+
+// ReflectionPad2d(1): -1 -> 1, n -> n - 2.
+inline uint32_t reflect1(int64_t i, uint32_t n) {
+  return static_cast<uint32_t>(i < 0 ? -i : (i >= n ? 2 * int64_t{n} - 2 - i : i));
+}
+
+template <class T>
+Chw<T> relu(Chw<T> x) {
+  for (T& e : x.v) e = std::max(e, T(0));
+  return x;
+}
+
+// ReflectionPad2d(1) + Conv2d(cin, cout, 3): weight [cout, cin, 3, 3], bias [cout].
+template <class T>
+Chw<T> conv3x3(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
+               bool with_relu) {
+  Chw<T> y(cout, x.h, x.w);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+              acc += weight[((size_t{o} * x.c + i) * 3 + (dy + 1)) * 3 + (dx + 1)] *
+                     x.at(i, reflect1(int64_t{py} + dy, x.h), reflect1(int64_t{px} + dx, x.w));
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
+// Conv2d(cin, cout, 1), or Linear(cin, cout) on a [cin, 1, 1] tensor: weight [cout, cin].
+template <class T>
+Chw<T> conv1x1(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
+               bool with_relu) {
+  Chw<T> y(cout, x.h, x.w);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i) acc += weight[size_t{o} * x.c + i] * x.at(i, py, px);
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
+// MaxPool2d(2, 2, 0, ceil_mode=True): windows past the last row or column take what they cover.
+template <class T>
+Chw<T> maxpool2_ceil(const Chw<T>& x) {
+  Chw<T> y(x.c, (x.h + 1) / 2, (x.w + 1) / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T m = x.at(ch, 2 * py, 2 * px);
+        for (uint32_t yy = 2 * py; yy < std::min(2 * py + 2, x.h); ++yy)
+          for (uint32_t xx = 2 * px; xx < std::min(2 * px + 2, x.w); ++xx) m = std::max(m, x.at(ch, yy, xx));
+        y.at(ch, py, px) = m;
+      }
+  return y;
+}
+
+// Upsample(scale_factor=2, mode='nearest').
+template <class T>
+Chw<T> upsample2(const Chw<T>& x) {
+  Chw<T> y(x.c, 2 * x.h, 2 * x.w);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) y.at(ch, py, px) = x.at(ch, py / 2, px / 2);
+  return y;
+}
+
+// AdaIN's calc_mean_std: [2, c] = per-channel means, then sqrt(unbiased variance + eps).
+template <class T>
+std::vector<T> mean_std(const Chw<T>& x, T eps) {
+  const size_t n = size_t{x.h} * x.w;
+  std::vector<T> stats(2 * size_t{x.c});
+  for (uint32_t ch = 0; ch < x.c; ++ch) {
+    const T* v = x.v.data() + ch * n;
+    T sum = 0, centred = 0;
+    for (size_t i = 0; i < n; ++i) sum += v[i];
+    const T mean = sum / T(n);
+    for (size_t i = 0; i < n; ++i) centred += (v[i] - mean) * (v[i] - mean);
+    stats[ch] = mean;
+    stats[x.c + ch] = std::sqrt(centred / T(n - 1) + eps);
+  }
+  return stats;
+}
+
+// MCC's style weights per channel: sum(x^2) / sum(x) over the pixels (ALGORITHMS.md 4.2).
+template <class T>
+std::vector<T> squares_over_sum(const Chw<T>& x) {
+  const size_t n = size_t{x.h} * x.w;
+  std::vector<T> a(x.c);
+  for (uint32_t ch = 0; ch < x.c; ++ch) {
+    T sum = 0, squares = 0;
+    for (size_t i = 0; i < n; ++i) {
+      sum += x.v[ch * n + i];
+      squares += x.v[ch * n + i] * x.v[ch * n + i];
+    }
+    a[ch] = squares / sum;
+  }
+  return a;
+}
+
+// AdaIN blended with the content: alpha (sigma_s (x - mu_c) / sigma_c + mu_s) + (1 - alpha) x.
+template <class T>
+Chw<T> adain(Chw<T> x, const std::vector<T>& content_stats, const std::vector<T>& style_stats, T alpha) {
+  const size_t n = size_t{x.h} * x.w;
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (size_t i = 0; i < n; ++i) {
+      T& v = x.v[ch * n + i];
+      const T styled = (v - content_stats[ch]) / content_stats[x.c + ch] * style_stats[x.c + ch] + style_stats[ch];
+      v = alpha * styled + (T(1) - alpha) * v;
+    }
+  return x;
+}
+
+// MCC's normal(): (x - mu) / sigma with the stats of mean_std.
+template <class T>
+Chw<T> normalise(Chw<T> x, const std::vector<T>& stats) {
+  const size_t n = size_t{x.h} * x.w;
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (size_t i = 0; i < n; ++i) x.v[ch * n + i] = (x.v[ch * n + i] - stats[ch]) / stats[x.c + ch];
+  return x;
+}
+
+// x[c, :] *= s[c].
+template <class T>
+Chw<T> scale_channels(Chw<T> x, const std::vector<T>& s) {
+  const size_t n = size_t{x.h} * x.w;
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (size_t i = 0; i < n; ++i) x.v[ch * n + i] *= s[ch];
+  return x;
+}
+
+}  // namespace s4d::ref
