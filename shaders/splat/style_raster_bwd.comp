@@ -17,8 +17,8 @@
 #endif
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
-#if S4D_BLEND_UNROLL != 8
-#error "main() calls accumulate() eight times per iteration"
+#if S4D_STYLE_UNROLL != 4
+#error "main() calls accumulate() four times per iteration"
 #endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
@@ -84,7 +84,7 @@ void mlp_bwd(uint j, StyleMlp m, vec4 dz) {
 }
 
 // The cotangents of slot j of the batch (list position `end - 1 - j`), reduced over the subgroup
-// and added by one lane. No loops inside: see S4D_BLEND_UNROLL.
+// and added by one lane. No loops inside: see S4D_STYLE_UNROLL.
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
@@ -180,12 +180,10 @@ void main() {
     barrier();
     style_load_batch(lid, range_begin + end - 1u, true, batch);  // slot j: list position end - 1 - j
     barrier();
-    // S4D_BLEND_UNROLL entries per iteration, written out (llvmpipe's loop cap, s4d_splat.h).
-    for (uint j = 0u; j < batch; j += S4D_BLEND_UNROLL) {
+    // S4D_STYLE_UNROLL entries per iteration, written out (llvmpipe's loop cap, s4d_style_splat.h).
+    for (uint j = 0u; j < batch; j += S4D_STYLE_UNROLL) {
       accumulate(j, batch, end), accumulate(j + 1u, batch, end);
       accumulate(j + 2u, batch, end), accumulate(j + 3u, batch, end);
-      accumulate(j + 4u, batch, end), accumulate(j + 5u, batch, end);
-      accumulate(j + 6u, batch, end), accumulate(j + 7u, batch, end);
     }
   }
 }

@@ -8,8 +8,8 @@
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
-#if S4D_BLEND_UNROLL != 8
-#error "main() calls blend() eight times per iteration"
+#if S4D_STYLE_UNROLL != 4
+#error "main() calls blend() four times per iteration"
 #endif
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
@@ -70,12 +70,10 @@ void main() {
     style_load_batch(lid, base, false, batch);
     barrier();
     uint position0 = base - range.x;
-    // S4D_BLEND_UNROLL entries per iteration, written out (llvmpipe's loop cap, s4d_splat.h).
-    for (uint j = 0u; !done && j < batch; j += S4D_BLEND_UNROLL) {
+    // S4D_STYLE_UNROLL entries per iteration, written out (llvmpipe's loop cap, s4d_style_splat.h).
+    for (uint j = 0u; !done && j < batch; j += S4D_STYLE_UNROLL) {
       blend(j, batch, position0), blend(j + 1u, batch, position0);
       blend(j + 2u, batch, position0), blend(j + 3u, batch, position0);
-      blend(j + 4u, batch, position0), blend(j + 5u, batch, position0);
-      blend(j + 6u, batch, position0), blend(j + 7u, batch, position0);
     }
   }
   if (!inside) return;

@@ -49,6 +49,23 @@ ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool
   return v;
 }
 
+Cam tile_camera() {
+  Cam cam;
+  cam.world_to_cam = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  cam.fx = cam.fy = 16, cam.cx = cam.cy = 8, cam.width = cam.height = 16;
+  return cam;
+}
+
+void add_gaussian(Scene& g, const Cam& cam, float u, float v, float z, float sigma_px, float opacity,
+                  std::mt19937& rng) {
+  std::uniform_real_distribution<float> u01(0, 1);
+  for (float m : {(u - cam.cx) * z / cam.fx, (v - cam.cy) * z / cam.fy, z}) g.means.push_back(m);
+  for (int k = 0; k < 3; ++k) g.log_scales.push_back(std::log(sigma_px * z / cam.fx));
+  for (float q : {1.0f, 0.0f, 0.0f, 0.0f}) g.quats.push_back(q);
+  g.opacity_logits.push_back(std::log(opacity / (1 - opacity)));
+  for (int ch = 0; ch < 3; ++ch) g.sh.push_back(u01(rng));
+}
+
 ref::StyleMlp<float> random_mlp(size_t n, ref::StyleDepth depth, bool input_sigmoid, std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-1, 1);
   ref::StyleMlp<float> mlp;

@@ -32,6 +32,14 @@ double max_abs(const std::vector<float>& a, const std::vector<float>& b);
 // Random cotangents on rgb, and on alpha and depth when `alpha_depth`.
 ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool alpha_depth);
 
+// One 16x16 tile looking down +z, fx = fy = 16.
+Cam tile_camera();
+
+// Appends an isotropic Gaussian at pixel (u, v) and depth z with a pixel-space sigma, an opacity and
+// a random degree-0 colour.
+void add_gaussian(Scene& g, const Cam& cam, float u, float v, float z, float sigma_px, float opacity,
+                  std::mt19937& rng);
+
 // n MLPs with weights and biases uniform in (-1, 1) (every gradient is exercised), time 0.37.
 ref::StyleMlp<float> random_mlp(size_t n, ref::StyleDepth depth, bool input_sigmoid, std::mt19937& rng);
 

@@ -67,8 +67,9 @@ TEST_CASE("a zeroed last layer renders and differentiates like the plain rasteri
   CHECK(style.f.img.alpha == plain.f.img.alpha);
   CHECK(style.f.img.depth == plain.f.img.depth);
   CHECK(style.f.img.count == plain.f.img.count);
-  // Also bit-exact on lavapipe: the same per-entry subgroup sums added in the same order (the
-  // batches are smaller, but walk the list in the same order). Other devices may reorder atomics.
+  // Equal to float rounding only (measured 2.8e-7, log-scales): a Gaussian spanning several tiles
+  // gets its atomics from workgroups running concurrently, so the order of its sums follows the two
+  // kernels' different timing.
   CHECK(test::rel_err(style.b.grads.v_means, plain.b.grads.v_means) <= 1e-6);
   CHECK(test::rel_err(style.b.grads.v_log_scales, plain.b.grads.v_log_scales) <= 1e-6);
   CHECK(test::rel_err(style.b.grads.v_quats, plain.b.grads.v_quats) <= 1e-6);
@@ -123,7 +124,8 @@ TEST_CASE("style rendering twice is bit-identical") {
   const std::vector<float> wa = style.download_v_mlp(test::context());
   const auto gb = test::gpu_backward(r, dev, v, a.img.alpha.size());
   const std::vector<float> wb = style.download_v_mlp(test::context());
-  // Float atomics may sum in another order on other devices; lavapipe measured 0.
+  // Concurrent workgroups' atomics may sum in another order: lavapipe measured 3.8e-8 (MLP weights)
+  // and 0 (means, SH).
   CHECK(test::rel_err(wa, wb) <= 1e-6);
   CHECK(test::rel_err(ga.grads.v_means, gb.grads.v_means) <= 1e-6);
   CHECK(test::rel_err(ga.grads.v_sh, gb.grads.v_sh) <= 1e-6);
