@@ -62,7 +62,9 @@ StyleSample style_sample(uint j) {
   StyleSample s;
   vec4 co = s_conic_opacity[j];
   // dO < 0.5 and float rounding is monotone, so (o + 0.5) G < 1/255 already implies o' G < 1/255:
-  // the same skip decision without running the MLP on pairs outside the footprint.
+  // the same skip decision without running the MLP on pairs outside the footprint. (A saving on
+  // GPUs, where a subgroup whose lanes all skip branches over it; llvmpipe's ifs are masks, so it
+  // runs the MLP for every listed pair.)
   s.b = splat_sample(s_xy[j], vec4(co.xyz, co.w + 0.5), centre);
   if (s.b.skip) return s;
   precise vec2 x = vec2(p.time, style_depth_feature(j));

@@ -7,6 +7,11 @@
 // workgroup visits the same list position at the same step, so the 10 grad2d and 52 weight
 // cotangents are summed over the subgroup first and one lane adds them to global memory: with float
 // atomics when the device has them (S4D_FLOAT_ATOMICS=1), else with compare-and-swap loops.
+// Measured on lavapipe (128x128, 2,000 Gaussians, 2 loaded cores): this backward 1.26-1.39 s; the
+// weight sums accumulated in shared memory with shared float atomics and flushed once per batch,
+// 1.32-1.33 s; the atomics spread over the subgroup's lanes, 1.29-1.31 s. No difference beyond the
+// noise (llvmpipe runs masked-off code anyway, so the per-pair MLP work dominates); this is the
+// simplest.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
