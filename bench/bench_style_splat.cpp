@@ -210,7 +210,8 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint
       const auto t = ref::render_style_fwd(scene.gaussians, mlp, scene.camera, kBackground);
       const std::vector<float> rgb = ctx.download<float>(styled.rgb(), 3 * pixels);
       double worst = 0;
-      for (size_t k = 0; k < rgb.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(rgb[k]) - t.img.rgb[k]));
+      for (size_t k = 0; k < rgb.size(); ++k)
+        worst = std::max(worst, std::abs(static_cast<double>(rgb[k]) - t.img.rgb[k]));
       ok = worst <= bench::kTwinTolerance;  // not finite compares false
       line.update({{"matches_twin", ok}, {"twin_max_abs_diff", worst}});
     }
@@ -247,11 +248,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "device: %s (%s)\n%-11s %7s %9s %9s %9s %6s %9s %9s %6s %s\n", info.name.c_str(),
                  info.driver_info.c_str(), "size", "N", "instances", "plain fwd", "style fwd", "ratio", "plain bwd",
                  "style bwd", "ratio", "load");
-    size_t twin_at = 0;
+    auto pixels = [](const bench::SplatPoint& p) { return uint64_t{p.width} * p.height; };
+    size_t twin_at = 0;  // the twin check runs at the fewest pixels
     for (size_t i = 1; i < o.points.size(); ++i)
-      if (uint64_t{o.points[i].width} * o.points[i].height < uint64_t{o.points[twin_at].width} * o.points[twin_at].height)
-        twin_at = i;
-    for (size_t i = 0; i < o.points.size(); ++i) all_ok = run_point(ctx, device, o.points[i], o, i == twin_at) && all_ok;
+      if (pixels(o.points[i]) < pixels(o.points[twin_at])) twin_at = i;
+    for (size_t i = 0; i < o.points.size(); ++i)
+      all_ok = run_point(ctx, device, o.points[i], o, i == twin_at) && all_ok;
   } catch (const std::exception& e) {
     std::cerr << "s4d_bench_style_splat: error: " << e.what() << "\n";
     return 1;

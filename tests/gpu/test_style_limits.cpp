@@ -32,7 +32,8 @@ TEST_CASE("a tile list at the compare-and-swap limit differentiates every entry;
   std::uniform_real_distribution<float> u(-1, 1);
   Scene g;
   const size_t n = S4D_LLVMPIPE_MAX_STYLE_LIST_CAS;
-  for (size_t i = 0; i < n + 1; ++i) test::add_gaussian(g, cam, 8 + 2 * u(rng), 8 + 2 * u(rng), 3 + u(rng), 100, 0.0075f, rng);
+  for (size_t i = 0; i < n + 1; ++i)
+    test::add_gaussian(g, cam, 8 + 2 * u(rng), 8 + 2 * u(rng), 3 + u(rng), 100, 0.0075f, rng);
   ref::StyleMlp<float> mlp = test::random_mlp(n + 1, ref::StyleDepth::ndc, true, rng);
   for (size_t i = 0; i < n + 1; ++i)
     for (size_t c = 0; c < 5; ++c) mlp.weights[ref::kStyleMlpStride * i + S4D_STYLE_MLP_W3 + 4 * c + 3] *= 0.002f;

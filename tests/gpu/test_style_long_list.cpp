@@ -2,7 +2,7 @@
 // s4d_style_splat.h): a list that long renders and differentiates every entry, so the limit is
 // honest (llvmpipe would stop the loops silently, dropping the entries at the end). Slow: llvmpipe
 // runs every pair's MLP, skipped or not (its ifs are masks, not branches), 2 x 59M pairs here:
-// ~25 s on the shared 2-core machine.
+// 25-50 s on the shared 2-core machine.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -40,7 +40,8 @@ TEST_CASE("a tile list at the float-atomic limit renders and differentiates ever
     test::add_gaussian(g, cam, 8 + 4 * u(rng), 8 + 4 * u(rng), z, 20, 0.1f, rng);
   }
   reference = g;
-  for (size_t i = visible; i < n; ++i) test::add_gaussian(g, cam, 18, 2 + 12 * u01(rng), 3 + 6 * u01(rng), 0.2f, 1e-4f, rng);
+  for (size_t i = visible; i < n; ++i)
+    test::add_gaussian(g, cam, 18, 2 + 12 * u01(rng), 3 + 6 * u01(rng), 0.2f, 1e-4f, rng);
   ref::StyleMlp<float> mlp = test::random_mlp(n, ref::StyleDepth::relative, false, rng);
   for (size_t i = 0; i < visible; ++i)  // |dO| < 0.06: W3's opacity row and b3's opacity entry scaled down
     for (size_t c = 0; c < 5; ++c) mlp.weights[ref::kStyleMlpStride * i + S4D_STYLE_MLP_W3 + 4 * c + 3] *= 0.05f;

@@ -90,10 +90,12 @@ double weighted_loss(const Image<double>& img, const ImageGrads<double>& w) {
   return loss;
 }
 
-// FD of the full style render for the appearance parameters (and the geometry when `geometry`:
-// only valid where the MLP ignores the depth feature, since t* is detached).
+// FD of the full style render for the MLP weights and opacities, the SH or colours when `colours`,
+// and the geometry when `geometry` (only valid where the MLP ignores the depth feature, since t* is
+// detached).
 template <Cutoff kCutoff = Cutoff::smooth>
-FdChecker check_style_gradients(Gaussians<double> g, StyleMlp<double> mlp, bool geometry = false) {
+FdChecker check_style_gradients(Gaussians<double> g, StyleMlp<double> mlp, bool colours = true,
+                                bool geometry = false) {
   const Camera<double> cam = test_camera();
   const ImageGrads<double> w = test_weights(cam.width * cam.height);
   const auto fwd = s4d::ref::render_style_fwd<kCutoff>(g, mlp, cam, kBackground);
@@ -107,8 +109,8 @@ FdChecker check_style_gradients(Gaussians<double> g, StyleMlp<double> mlp, bool 
   FdChecker fd;
   fd.check_all(mlp.weights, grads.v_mlp, loss, "mlp");
   fd.check_all(g.opacity_logits, grads.g.v_opacity_logits, loss, "opacity_logits");
-  if (g.colors.empty()) fd.check_all(g.sh, grads.g.v_sh, loss, "sh");
-  else fd.check_all(g.colors, grads.g.v_colors, loss, "colors");
+  if (colours && g.colors.empty()) fd.check_all(g.sh, grads.g.v_sh, loss, "sh");
+  if (colours && !g.colors.empty()) fd.check_all(g.colors, grads.g.v_colors, loss, "colors");
   if (geometry) {
     fd.check_all(g.means, grads.g.v_means, loss, "means");
     fd.check_all(g.log_scales, grads.g.v_log_scales, loss, "log_scales");
@@ -127,7 +129,8 @@ template <class T>
 double max_abs_diff(const std::vector<T>& a, const std::vector<T>& b) {
   REQUIRE(a.size() == b.size());
   double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - static_cast<double>(b[k])));
+  for (size_t k = 0; k < a.size(); ++k)
+    worst = std::max(worst, std::abs(static_cast<double>(a[k]) - static_cast<double>(b[k])));
   return worst;
 }
 
@@ -138,7 +141,9 @@ TEST_CASE("style backward matches finite differences for MLP weights, SH and opa
     for (const bool sigmoid : {false, true}) {
       CAPTURE(static_cast<int>(depth));
       CAPTURE(sigmoid);
-      const FdChecker fd = check_style_gradients(test_scene(false), test_mlp(6, depth, sigmoid));
+      // The SH path does not depend on the depth mode or the sigmoid: checked once.
+      const bool sh = depth == StyleDepth::ndc && !sigmoid;
+      const FdChecker fd = check_style_gradients(test_scene(false), test_mlp(6, depth, sigmoid), sh);
       MESSAGE("worst |an - num| = " << fd.worst_abs << ", worst error / tolerance = " << fd.worst_ratio);
     }
 }
@@ -152,7 +157,7 @@ TEST_CASE("style geometry gradients match finite differences where the depth fea
   StyleMlp<double> mlp = test_mlp(6, StyleDepth::ndc, false);
   for (size_t i = 0; i < 6; ++i)  // W1's second column: the depth feature's weights
     for (size_t r = 0; r < 4; ++r) mlp.weights[s4d::ref::kStyleMlpStride * i + S4D_STYLE_MLP_W1 + 4 + r] = 0;
-  const FdChecker fd = check_style_gradients(test_scene(false), mlp, true);
+  const FdChecker fd = check_style_gradients(test_scene(false), mlp, false, true);
   MESSAGE("worst |an - num| = " << fd.worst_abs << ", worst error / tolerance = " << fd.worst_ratio);
 }
 
@@ -160,11 +165,22 @@ TEST_CASE("hard-variant style backward is the true gradient where alpha is cappe
   Gaussians<double> g = test_scene(false);
   for (double& logit : g.opacity_logits) logit += 6;  // o' ~ 1 +- 0.5: centres hit the 0.99 cap
   const StyleMlp<double> mlp = test_mlp(6, StyleDepth::ndc, true);
-  const auto fwd = s4d::ref::render_style_fwd(g, mlp, test_camera(), kBackground);
+  const Camera<double> cam = test_camera();
+  const auto fwd = s4d::ref::render_style_fwd(g, mlp, cam, kBackground);
   CHECK(std::any_of(fwd.img.count.begin(), fwd.img.count.end(), [](int c) { return c < 6; }));  // stops early
-  const auto smooth = s4d::ref::render_style_fwd<Cutoff::smooth>(g, mlp, test_camera(), kBackground);
+  int capped = 0;  // (pixel, Gaussian) samples with o' G > 0.99
+  for (size_t i = 0; i < g.size(); ++i)
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const double px = x + 0.5, py = y + 0.5;
+        capped += s4d::ref::detail::style_sample<Cutoff::hard>(fwd.proj, fwd.quadric, mlp, i, px, py,
+                                                               (px - cam.cx) / cam.fx, (py - cam.cy) / cam.fy)
+                          .s.clamped;
+      }
+  CHECK(capped > 0);
+  const auto smooth = s4d::ref::render_style_fwd<Cutoff::smooth>(g, mlp, cam, kBackground);
   CHECK(max_abs_diff(fwd.img.rgb, smooth.img.rgb) > 1e-3);  // the cap and the stop changed the image
-  const FdChecker fd = check_style_gradients<Cutoff::hard>(g, mlp);
+  const FdChecker fd = check_style_gradients<Cutoff::hard>(g, mlp, false);
   MESSAGE("worst |an - num| = " << fd.worst_abs << ", worst error / tolerance = " << fd.worst_ratio);
 }
 
@@ -218,8 +234,8 @@ TEST_CASE("t* maximises the Gaussian's density along the pixel ray") {
           for (size_t c = 0; c < 3; ++c) m += d[r] * cof[3 * r + c] / det * d[c];
         return m;
       };
-      const double t_star =
-          p.t[2] + s4d::ref::detail::style_depth_feature(&quadric[s4d::ref::kStyleQuadricStride * i], p.t[2], rx, ry, rel);
+      const double* qi = &quadric[s4d::ref::kStyleQuadricStride * i];
+      const double t_star = p.t[2] + s4d::ref::detail::style_depth_feature(qi, p.t[2], rx, ry, rel);
       // The minimum of a quadratic with curvature ~1/s^2 ~ 1: a 1e-3 step raises it by ~1e-6.
       CHECK(mahalanobis(t_star) < mahalanobis(t_star + 1e-3));
       CHECK(mahalanobis(t_star) < mahalanobis(t_star - 1e-3));

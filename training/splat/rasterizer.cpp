@@ -313,7 +313,8 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
   rec.barrier();
   if (style_last_) {
-    rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas),
+    const shaders::Id id = float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas;
+    rec.dispatch(shader_pipeline(*ctx_, id),
                  {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, quadric_, *g.style->weights, final_t_,
                   last_, *v.v_rgb, v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_,
                   *out.v_style_mlp},

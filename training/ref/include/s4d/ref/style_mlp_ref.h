@@ -91,7 +91,8 @@ MlpEval<T> style_mlp_fwd(const T* w, T x0, T x1, bool input_sigmoid) {
   MlpEval<T> m;
   m.x = input_sigmoid ? std::array<T, 2>{sigmoid(x0), sigmoid(x1)} : std::array<T, 2>{x0, x1};
   for (size_t r = 0; r < 4; ++r)
-    m.h1[r] = sigmoid(w[S4D_STYLE_MLP_W1 + r] * m.x[0] + w[S4D_STYLE_MLP_W1 + 4 + r] * m.x[1] + w[S4D_STYLE_MLP_B1 + r]);
+    m.h1[r] = sigmoid(w[S4D_STYLE_MLP_W1 + r] * m.x[0] + w[S4D_STYLE_MLP_W1 + 4 + r] * m.x[1] +
+                      w[S4D_STYLE_MLP_B1 + r]);
   auto layer = [&](size_t W, size_t b, const std::array<T, 4>& in, size_t r) {
     T acc = 0;
     for (size_t c = 0; c < 4; ++c) acc += w[W + 4 * c + r] * in[c];
