@@ -136,6 +136,9 @@ double max_abs_diff(const std::vector<T>& a, const std::vector<T>& b) {
 
 }  // namespace
 
+// The FD rule is FdChecker's (fd_check.h): |an - num| <= 1e-6 + 1e-5 max(|an|, |num|), central
+// differences in double with step 1e-6 max(1, |x|). Measured worst over the cases below (GCC -O3,
+// x86-64): |an - num| = 3.9e-8, 0.035 of the allowance; a wrong term gives O(1) errors.
 TEST_CASE("style backward matches finite differences for MLP weights, SH and opacity") {
   for (const StyleDepth depth : {StyleDepth::ndc, StyleDepth::relative})
     for (const bool sigmoid : {false, true}) {
