@@ -13,14 +13,14 @@ vec2 ray;     // its camera-space ray (x, y) at z = 1
 
 // The MLP's activations on one pair: inputs (after the optional sigmoid), both hidden layers and
 // s = sigmoid(z) of the outputs.
-struct StyleMlp {
+struct StyleMlpEval {
   vec2 x;
   vec4 h1, h2, s;
 };
 
-StyleMlp style_mlp_fwd(uint j, vec2 x) {
+StyleMlpEval style_mlp_fwd(uint j, vec2 x) {
   uint w = uint(S4D_STYLE_MLP_VEC4S) * j;
-  StyleMlp m;
+  StyleMlpEval m;
   m.x = x;
   precise vec4 a1 = s_mlp[w] * x.x + s_mlp[w + 1u] * x.y + s_mlp[w + 2u];
   precise vec4 h1 = 1.0 / (1.0 + exp(-a1));
@@ -55,7 +55,7 @@ struct StyleSample {
   SplatSample b;  // the standard sample with opacity o' (skip, clamped, alpha, G, d)
   float opacity;  // o' = o + dO
   vec3 drgb;      // colour offset in (-1, 1)
-  StyleMlp m;
+  StyleMlpEval m;
 };
 
 StyleSample style_sample(uint j) {

@@ -77,7 +77,7 @@ float behind_depth = 0.0;
 vec4 v_w[S4D_STYLE_MLP_VEC4S];  // the current pair's weight cotangents, in the weights' vec4 layout
 
 // Backward of style_mlp_fwd for output cotangent dz into v_w.
-void mlp_bwd(uint j, StyleMlp m, vec4 dz) {
+void mlp_bwd(uint j, StyleMlpEval m, vec4 dz) {
   uint w = uint(S4D_STYLE_MLP_VEC4S) * j;
   vec4 dh2 = vec4(dot(s_mlp[w + 8u], dz), dot(s_mlp[w + 9u], dz), dot(s_mlp[w + 10u], dz), dot(s_mlp[w + 11u], dz));
   vec4 da2 = dh2 * m.h2 * (1.0 - m.h2);
@@ -97,7 +97,7 @@ void accumulate(uint j, uint batch, uint end) {
   vec2 g_xy = vec2(0.0);
   vec3 g_conic = vec3(0.0), g_rgb = vec3(0.0);
   float g_opacity = 0.0, g_depth = 0.0;
-  StyleMlp m = StyleMlp(vec2(0.0), vec4(0.0), vec4(0.0), vec4(0.0));  // with dz = 0: zero cotangents
+  StyleMlpEval m = StyleMlpEval(vec2(0.0), vec4(0.0), vec4(0.0), vec4(0.0));  // with dz = 0: zero cotangents
   vec4 dz = vec4(0.0);
   if (position < last) {
     StyleSample s = style_sample(j);
