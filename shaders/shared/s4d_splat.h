@@ -20,13 +20,14 @@
 
 #define S4D_SPLAT_WG 256                 // per-Gaussian and per-instance kernels
 // The blend loops visit S4D_BLEND_UNROLL list entries per loop iteration, written out without a
-// loop. llvmpipe (lavapipe) stops any invocation after 65535 loop iterations in total, so this sets
-// the longest tile list it renders correctly: 65535 / (1 + 256 / 8) batches of 256 = 508,000
-// entries (S4D_LLVMPIPE_MAX_TILE_LIST); the host checks it.
-// The compare-and-swap gradient path loops once per atomic (10 per list entry):
-// 65535 / (33 + 2560) batches = 25 batches, 6400 entries; S4D_LLVMPIPE_MAX_TILE_LIST_CAS keeps a margin.
+// loop. llvmpipe (lavapipe) stops any invocation after 65535 loop iterations in total, counting each
+// loop's final, exiting condition check too, so this sets the longest tile list it renders
+// correctly: 65534 / (1 + (256 / 8 + 1)) = 1927 batches of 256 = 493,312 entries
+// (S4D_LLVMPIPE_MAX_TILE_LIST; measured: 490,000 render whole, 496,000 lose the end); the host
+// checks it. The compare-and-swap gradient path loops once per atomic (10 per list entry):
+// 65534 / (34 + 2560) = 25 batches, 6400 entries; S4D_LLVMPIPE_MAX_TILE_LIST_CAS keeps a margin.
 #define S4D_BLEND_UNROLL 8
-#define S4D_LLVMPIPE_MAX_TILE_LIST 508000u
+#define S4D_LLVMPIPE_MAX_TILE_LIST 493000u
 #define S4D_LLVMPIPE_MAX_TILE_LIST_CAS 5000u  // 1,300 iterations of headroom for contended retries
 #define S4D_CULLED_DEPTH_KEY 0xFFFFFFFFu // depth sort key of a culled Gaussian: sorts after every visible one
 

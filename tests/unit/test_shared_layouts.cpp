@@ -19,6 +19,7 @@
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
+#include "s4d_style_splat.h"
 #include "s4d_viewer.h"
 
 using s4d::engine::CppStructLayout;
@@ -51,6 +52,32 @@ static_assert(sizeof(FlowDisplaceParams) == 16);
 static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
+static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+
+// The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
+// kernels read them as 13 vec4s), and the quadric is whole vec4s with room for Q and b.
+static_assert(S4D_STYLE_MLP_W1 == 0 && S4D_STYLE_MLP_B1 == S4D_STYLE_MLP_W1 + 8 &&
+              S4D_STYLE_MLP_W2 == S4D_STYLE_MLP_B1 + 4 && S4D_STYLE_MLP_B2 == S4D_STYLE_MLP_W2 + 16 &&
+              S4D_STYLE_MLP_W3 == S4D_STYLE_MLP_B2 + 4 && S4D_STYLE_MLP_B3 == S4D_STYLE_MLP_W3 + 16 &&
+              S4D_STYLE_MLP_STRIDE == S4D_STYLE_MLP_B3 + 4 && S4D_STYLE_MLP_STRIDE == 52);
+static_assert(S4D_STYLE_MLP_STRIDE == 4 * S4D_STYLE_MLP_VEC4S);
+static_assert(S4D_STYLE_QUADRIC_B == S4D_STYLE_QUADRIC_Q + 6 && S4D_STYLE_QUADRIC_B + 3 <= S4D_STYLE_QUADRIC_STRIDE &&
+              S4D_STYLE_QUADRIC_STRIDE % 4 == 0);
+// A style batch in shared memory (style_batch.glsl: id, xy, conic/opacity, colour/depth, quadric,
+// MLP, plus a counter) fits lavapipe's 32 KiB.
+static_assert(S4D_STYLE_BATCH * (4 + 8 + 16 + 16 + 4 * S4D_STYLE_QUADRIC_STRIDE + 4 * S4D_STYLE_MLP_STRIDE) + 64 <=
+              32768);
+// llvmpipe's loop cap, counting each loop's exiting check: 1 + (64 / S4D_STYLE_UNROLL + 1) loop
+// iterations per batch forward and backward, plus one compare-and-swap loop per atomic (62 per
+// entry) on the fallback path.
+static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
+                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) <=
+              65535);
+static_assert(1 +
+                  (S4D_LLVMPIPE_MAX_STYLE_LIST_CAS + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
+                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) +
+                  S4D_LLVMPIPE_MAX_STYLE_LIST_CAS * (S4D_STYLE_MLP_STRIDE + S4D_G2D_STRIDE) <=
+              65535);
 
 // The C++ side of every shared struct. Adding a struct to a shared header means adding it here;
 // a member added in one language only shows up as a member-count mismatch.
@@ -139,6 +166,10 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(NnAdainParams, alpha), S4D_MEMBER(NnAdainParams, mode)),
       S4D_STRUCT(NnBlendParams, S4D_MEMBER(NnBlendParams, n), S4D_MEMBER(NnBlendParams, alpha),
                  S4D_MEMBER(NnBlendParams, _pad0), S4D_MEMBER(NnBlendParams, _pad1)),
+      S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
+                 S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
+                 S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),
+                 S4D_MEMBER(StyleRasterParams, depth_scale)),
   };
 }
 

@@ -14,6 +14,7 @@
 #include "s4d/primitives/shader_pipeline.h"
 #include "gpu_camera.h"
 #include "s4d_splat.h"
+#include "style_raster.h"
 
 namespace s4d::splat {
 namespace {
@@ -73,10 +74,12 @@ gpu::ProjectParams project_params(const GaussianParams& g, const Camera& cam) {
 
 // llvmpipe ends any invocation after 65535 loop iterations in total (Mesa's
 // LP_MAX_TGSI_LOOP_ITERATIONS), silently; the blend loops are unrolled so this allows long lists,
-// and longer ones are refused rather than rendered wrong.
-void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool cas, const char* pass) {
+// and longer ones are refused rather than rendered wrong. The style kernels' smaller batches and
+// 62 atomics per entry give them their own limits (s4d_style_splat.h).
+void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool style, bool cas, const char* pass) {
   if (info.driver_name != "llvmpipe") return;
-  const uint32_t limit = cas ? S4D_LLVMPIPE_MAX_TILE_LIST_CAS : S4D_LLVMPIPE_MAX_TILE_LIST;
+  const uint32_t limit = style ? (cas ? S4D_LLVMPIPE_MAX_STYLE_LIST_CAS : S4D_LLVMPIPE_MAX_STYLE_LIST)
+                               : (cas ? S4D_LLVMPIPE_MAX_TILE_LIST_CAS : S4D_LLVMPIPE_MAX_TILE_LIST);
   if (longest > limit)
     throw std::runtime_error(std::string("rasterizer: a tile holds ") + std::to_string(longest) +
                              " Gaussians, more than lavapipe can " + pass + " correctly (" + std::to_string(limit) +
@@ -99,7 +102,8 @@ size_t Rasterizer::device_bytes() const {
   size_t total = 0;
   for (const engine::Buffer* b : {&xy_, &conic_opacity_, &color_depth_, &info_, &depth_keys_, &tiles_touched_,
                                   &sorted_ids_, &offsets_, &tile_keys_, &gaussian_ids_, &ranges_, &rgb_, &alpha_,
-                                  &depth_, &count_, &last_, &final_t_, &grad2d_, &scan_scratch_, &list_stats_})
+                                  &depth_, &count_, &last_, &final_t_, &grad2d_, &scan_scratch_, &list_stats_,
+                                  &quadric_})
     total += b->size();
   for (const primitives::RadixSortScratch* s : {&depth_sort_, &tile_sort_})
     total += s->temp_keys.size() + s->temp_values.size() + s->histogram.size() + s->scan_scratch.size();
@@ -126,6 +130,13 @@ void Rasterizer::reserve_gaussians(uint32_t n) {
   scan_scratch_ = buffer("offsets scan scratch", primitives::scan_scratch_bytes(cap + 1));
   depth_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " depth sort");
   gaussian_capacity_ = cap;
+}
+
+void Rasterizer::reserve_quadrics(uint32_t n) {
+  if (n <= quadric_capacity_ && quadric_.valid()) return;
+  const uint32_t cap = grown(n);
+  quadric_ = buffer("style quadric", size_t{cap} * S4D_STYLE_QUADRIC_STRIDE * 4);
+  quadric_capacity_ = cap;
 }
 
 void Rasterizer::reserve_instances(uint32_t n) {
@@ -163,12 +174,14 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   have_forward_ = false;  // until this one completes: a failed forward leaves nothing to differentiate
   check_params(g);
   check_camera(cam);
+  if (g.style != nullptr) check_style(*g.style, g.count);
   if (uint64_t{cam.width} * cam.height * 12 > ctx_->info().max_storage_buffer_range)
     throw std::invalid_argument("rasterizer: a " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
                                 " RGB image exceeds the storage-buffer range of " + ctx_->info().name);
   const uint32_t n = g.count;
   reserve_gaussians(n);
   reserve_pixels(cam.width, cam.height);
+  if (g.style != nullptr) reserve_quadrics(n);
   const gpu::ProjectParams pp = project_params(g, cam);
   const uint32_t tiles_x = pp.cam.size.z, num_tiles = pp.cam.size.z * pp.cam.size.w;
   const engine::Buffer& colors = g.colors != nullptr ? *g.colors : *g.sh;
@@ -180,6 +193,9 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
                  {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, xy_,
                   conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_},
                  pp, ceil_div(n, S4D_SPLAT_WG));
+    if (g.style != nullptr)
+      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric), {*g.means, *g.log_scales, *g.quats, quadric_},
+                   pp, ceil_div(n, S4D_SPLAT_WG));
     primitives::cmd_iota(rec, sorted_ids_, n);
     rec.barrier();
     primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
@@ -228,24 +244,33 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     const gpu::BinningParams sp{.n = num_tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats), {ranges_, list_stats_}, sp,
                  ceil_div(num_tiles, S4D_SPLAT_WG));
-    gpu::RasterParams raster{};
-    raster.size = pp.cam.size;
-    raster.background = {background[0], background[1], background[2], 0.0f};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::raster_fwd),
-                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, rgb_, alpha_, depth_, count_, last_,
-                  final_t_},
-                 raster, num_tiles);
+    if (g.style != nullptr) {
+      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_raster_fwd),
+                   {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, quadric_, *g.style->weights, rgb_,
+                    alpha_, depth_, count_, last_, final_t_},
+                   style_raster_params(*g.style, pp.cam, background, 0u), num_tiles);
+    } else {
+      gpu::RasterParams raster{};
+      raster.size = pp.cam.size;
+      raster.background = {background[0], background[1], background[2], 0.0f};
+      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::raster_fwd),
+                   {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, rgb_, alpha_, depth_, count_, last_,
+                    final_t_},
+                   raster, num_tiles);
+    }
     ctx_->run(std::move(rec));
   }
   RenderStats stats{.instances = instances, .longest_tile_list = 0};
   ctx_->download(list_stats_, &stats.longest_tile_list, 4);
-  check_list_length(ctx_->info(), stats.longest_tile_list, false, "blend");
+  check_list_length(ctx_->info(), stats.longest_tile_list, g.style != nullptr, false, "blend");
   cam_ = cam;
   background_ = background;
   count_last_ = n;
   colors_last_ = g.colors != nullptr;
   sh_degree_last_ = g.sh_degree;
   sh_coeffs_last_ = g.sh_coeffs;
+  style_last_ = g.style != nullptr;
+  if (style_last_) style_settings_last_ = *g.style;
   longest_last_ = stats.longest_tile_list;
   have_forward_ = true;
   return stats;
@@ -255,8 +280,10 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
   check_params(g);
   if (g.count != count_last_ || (g.colors != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
-      g.sh_coeffs != sh_coeffs_last_)
+      g.sh_coeffs != sh_coeffs_last_ || (g.style != nullptr) != style_last_ ||
+      (style_last_ && !same_style_settings(*g.style, style_settings_last_)))
     throw std::invalid_argument("rasterizer: backward() parameters differ from the last forward()");
+  if (style_last_) check_style(*g.style, g.count);
   const uint32_t n = g.count;
   const size_t pixels = size_t{cam_.width} * cam_.height;
   require(v.v_rgb, "v_rgb", pixels * 12);
@@ -268,6 +295,7 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   require(out.v_opacity_logits, "v_opacity_logits", size_t{n} * 4);
   if (colors_last_) require(out.v_colors, "v_colors", size_t{n} * 12);
   else require(out.v_sh, "v_sh", size_t{n} * g.sh_coeffs * 12);
+  if (style_last_) require(out.v_style_mlp, "v_style_mlp", size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
 
   const gpu::ProjectParams pp = project_params(g, cam_);
   const uint32_t num_tiles = pp.cam.size.z * pp.cam.size.w;
@@ -276,17 +304,27 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   raster.background = {background_[0], background_[1], background_[2], 0.0f};
   raster.flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
   const bool float_atomics = ctx_->info().float_atomic_add_buffer && !options_.force_cas_atomics;
-  check_list_length(ctx_->info(), longest_last_, !float_atomics, "differentiate");
+  check_list_length(ctx_->info(), longest_last_, style_last_, !float_atomics, "differentiate");
   const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
   engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
 
   engine::Recorder rec(*ctx_, name_ + " backward");
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
+  if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
   rec.barrier();
-  rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas),
-               {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, final_t_, last_, *v.v_rgb,
-                v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_},
-               raster, num_tiles);
+  if (style_last_) {
+    const shaders::Id id = float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas;
+    rec.dispatch(shader_pipeline(*ctx_, id),
+                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, quadric_, *g.style->weights, final_t_,
+                  last_, *v.v_rgb, v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_,
+                  *out.v_style_mlp},
+                 style_raster_params(*g.style, pp.cam, background_, raster.flags), num_tiles);
+  } else {
+    rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas),
+                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, final_t_, last_, *v.v_rgb,
+                  v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_},
+                 raster, num_tiles);
+  }
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
                {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, info_,

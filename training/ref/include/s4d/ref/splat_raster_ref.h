@@ -73,14 +73,15 @@ struct Sample {
   T alpha{}, G{}, dx{}, dy{};
 };
 
+// With opacity `opacity` in place of proj.opacity[i] (the style rasterizer's o + dO).
 template <Cutoff kCutoff, class T>
-Sample<T> sample(const Projected<T>& proj, size_t i, T px, T py) {
+Sample<T> sample(const Projected<T>& proj, size_t i, T px, T py, T opacity) {
   Sample<T> s;
   s.dx = proj.mean2d[2 * i] - px, s.dy = proj.mean2d[2 * i + 1] - py;
   const T A = proj.conic[3 * i], B = proj.conic[3 * i + 1], C = proj.conic[3 * i + 2];
   const T power = -(A * s.dx * s.dx + C * s.dy * s.dy) / 2 - B * s.dx * s.dy;
   s.G = std::exp(power);
-  s.alpha = proj.opacity[i] * s.G;
+  s.alpha = opacity * s.G;
   if constexpr (kCutoff == Cutoff::hard) {
     if (power > 0) return s;
     s.clamped = s.alpha > lit<T>(kMaxAlpha);
@@ -89,6 +90,11 @@ Sample<T> sample(const Projected<T>& proj, size_t i, T px, T py) {
   }
   s.skip = false;
   return s;
+}
+
+template <Cutoff kCutoff, class T>
+Sample<T> sample(const Projected<T>& proj, size_t i, T px, T py) {
+  return sample<kCutoff>(proj, i, px, py, proj.opacity[i]);
 }
 
 template <class T>

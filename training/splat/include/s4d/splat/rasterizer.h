@@ -1,6 +1,8 @@
 // The tile-sorted Gaussian rasterizer on the GPU (ALGORITHMS.md 1): forward render to RGB, alpha,
 // expected depth and per-pixel contributor counts, and the backward pass to every Gaussian
-// parameter. Its CPU twin is training/ref/include/s4d/ref/splat_raster_ref.h.
+// parameter. Its CPU twin is training/ref/include/s4d/ref/splat_raster_ref.h. With per-Gaussian
+// style MLPs (GaussianParams::style) it runs the fused style kernels instead, whose twin is
+// training/ref/include/s4d/ref/style_raster_ref.h.
 //
 // forward() runs in two submissions: projection, depth sort and tile counting first, then the
 // host reads the number of tile instances (4 bytes), sizes the instance buffers and records
@@ -25,6 +27,27 @@ struct Camera {
   uint32_t width = 0, height = 0;
 };
 
+// The depth input of the style MLPs, from t*, the depth of maximum response along the pixel ray
+// (GOF; ALGORITHMS.md 4.4).
+enum class StyleDepth : uint32_t {
+  ndc = 0,       // far/(far - near) (1 - near/t*), near 0.2, far 100, t* clamped to [near, far]: in [0, 1]
+  relative = 1,  // (t* - z_i) * depth_scale, z_i the Gaussian's camera-space centre depth
+};
+
+// Per-Gaussian style MLPs ("Style Gaussians", ALGORITHMS.md 4.3; layout in
+// shaders/shared/s4d_style_splat.h). With GaussianParams::style set, every (pixel, Gaussian) pair
+// evaluates Gaussian i's MLP on x = (time, depth feature) inside the blend loop and blends colour
+// c_i + dRGB with alpha min(0.99, (o_i + dO) G). Zero W3 and b3 render exactly as without.
+struct StyleMlp {
+  const engine::Buffer* weights = nullptr;  // [N*52] f32: W1 4x2, b1, W2 4x4, b2, W3 4x4, b3 (column-major)
+  float time = 0;                           // x0, the normalised time in [0, 1)
+  StyleDepth depth = StyleDepth::ndc;
+  // StyleDepth::relative only. The default 1 keeps world units; a caller that wants the feature in
+  // [-1, 1] over a Gaussian's 3-sigma extent sets 1 / (3 * its typical scale).
+  float depth_scale = 1;
+  bool input_sigmoid = false;  // x = sigmoid(x) before the first layer (SuperGaussians does)
+};
+
 // Device-resident Gaussian parameters, flat float arrays (layouts in shaders/shared/s4d_splat.h).
 struct GaussianParams {
   const engine::Buffer* means = nullptr;           // [N*3]
@@ -36,6 +59,7 @@ struct GaussianParams {
   uint32_t count = 0;
   uint32_t sh_degree = 0;  // active degree 0..3
   uint32_t sh_coeffs = 1;  // K stored per Gaussian and channel, >= (sh_degree + 1)^2
+  const StyleMlp* style = nullptr;  // nullptr: the plain rasterizer
 };
 
 // Gradient outputs, same layouts as the parameters; assigned (not accumulated) by backward().
@@ -46,6 +70,7 @@ struct GaussianGrads {
   engine::Buffer* v_opacity_logits = nullptr;
   engine::Buffer* v_sh = nullptr;      // required unless colours were used
   engine::Buffer* v_colors = nullptr;  // required when colours were used
+  engine::Buffer* v_style_mlp = nullptr;  // [N*52], required when the forward used style MLPs
 };
 
 // Cotangents of the forward images. v_rgb is required; v_alpha and v_depth are optional.
@@ -85,6 +110,8 @@ class Rasterizer {
   const engine::Buffer& conic_opacity() const { return conic_opacity_; }
   const engine::Buffer& color_depth() const { return color_depth_; }
   const engine::Buffer& info() const { return info_; }
+  // Style forwards only: GOF quadrics, [N * S4D_STYLE_QUADRIC_STRIDE] (s4d_style_splat.h).
+  const engine::Buffer& quadric() const { return quadric_; }
   // The last forward's blend lists: per tile a (begin, end) range into the instance ids.
   const engine::Buffer& tile_ranges() const { return ranges_; }    // uvec2 [tiles]
   const engine::Buffer& instance_ids() const { return gaussian_ids_; }  // u32 [instances]
@@ -100,6 +127,7 @@ class Rasterizer {
   void reserve_gaussians(uint32_t n);
   void reserve_instances(uint32_t n);
   void reserve_pixels(uint32_t width, uint32_t height);
+  void reserve_quadrics(uint32_t n);
 
   engine::Context* ctx_;
   std::string name_;
@@ -113,12 +141,16 @@ class Rasterizer {
   uint32_t longest_last_ = 0;
   bool colors_last_ = false;
   uint32_t sh_degree_last_ = 0, sh_coeffs_last_ = 0;
+  bool style_last_ = false;
+  StyleMlp style_settings_last_{};  // the last forward's style settings (weights pointer unused)
   bool have_forward_ = false;
 
   engine::Buffer xy_, conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_, sorted_ids_, offsets_;
   engine::Buffer tile_keys_, gaussian_ids_, ranges_;
   engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
   engine::Buffer grad2d_, scan_scratch_, list_stats_, totals_;
+  engine::Buffer quadric_;  // style MLP inputs, [N*S4D_STYLE_QUADRIC_STRIDE]; allocated on first use
+  uint32_t quadric_capacity_ = 0;
   primitives::RadixSortScratch depth_sort_, tile_sort_;
 };
 

@@ -1,0 +1,262 @@
+// The fused style-MLP rasterizer (GaussianParams::style) against the plain rasterizer on the same
+// random scene (splat_scene.h) and device: wall-clock forward() and backward() of each, measured
+// alternately so load changes on a shared machine hit both alike. One JSON line per (size,
+// variant) on stdout, with the 1-minute load average around the point; a table on stderr. The
+// smallest size's style image is checked against the CPU twin. Timings are never pass/fail.
+//
+//   s4d_bench_style_splat [--sizes 128x128:1000,...] [--repeats 5] [--depth ndc|relative] [--cas]
+//
+// The MLPs are SuperGaussians' initialisation: weights uniform in (-0.5, 0.5), biases zero.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "s4d/engine/buffer_from.h"
+#include "s4d/engine/context.h"
+#include "s4d/ref/style_raster_ref.h"
+#include "s4d/splat/rasterizer.h"
+#include "splat_bench.h"
+#include "splat_scene.h"
+
+namespace {
+
+using nlohmann::json;
+using namespace s4d;
+
+constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
+
+struct Options {
+  std::vector<bench::SplatPoint> points = {{128, 128, 1000}, {256, 256, 10000}};
+  int repeats = 5;
+  ref::StyleDepth depth = ref::StyleDepth::ndc;
+  bool cas = false;
+};
+
+bench::SplatPoint parse_point(const std::string& s) {
+  const size_t x = s.find('x'), colon = s.find(':');
+  if (x == std::string::npos || colon == std::string::npos || colon < x)
+    throw std::invalid_argument("size '" + s + "' is not WxH:N");
+  return {.width = static_cast<uint32_t>(std::stoul(s.substr(0, x))),
+          .height = static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
+          .gaussians = static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
+}
+
+std::optional<Options> parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i], value = i + 1 < argc ? argv[i + 1] : "";
+    if (a == "--sizes" && !value.empty()) {
+      o.points.clear();
+      std::stringstream ss(argv[++i]);
+      for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
+    } else if (a == "--repeats" && !value.empty()) {
+      o.repeats = std::stoi(argv[++i]);
+    } else if (a == "--depth" && (value == "ndc" || value == "relative")) {
+      o.depth = value == "ndc" ? ref::StyleDepth::ndc : ref::StyleDepth::relative;
+      ++i;
+    } else if (a == "--cas") {
+      o.cas = true;
+    } else if (a == "--help") {
+      return std::nullopt;
+    } else {
+      throw std::invalid_argument("unknown or incomplete option '" + a + "'");
+    }
+  }
+  if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
+  return o;
+}
+
+double load_average() {
+  std::ifstream f("/proc/loadavg");
+  double load = -1;
+  f >> load;
+  return load;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+// A scene's parameters, gradient buffers and a random RGB cotangent on the device, with and without
+// style MLPs.
+struct Device {
+  engine::Buffer means, log_scales, quats, opacity_logits, sh, weights;
+  engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_weights, v_rgb;
+  splat::StyleMlp style;
+  splat::GaussianParams plain, styled;
+  splat::GaussianGrads grads;
+
+  Device(engine::Context& ctx, const ref::Gaussians<float>& g, const ref::StyleMlp<float>& mlp, size_t pixels)
+      : means(engine::buffer_from(ctx, "means", g.means)),
+        log_scales(engine::buffer_from(ctx, "log_scales", g.log_scales)),
+        quats(engine::buffer_from(ctx, "quats", g.quats)),
+        opacity_logits(engine::buffer_from(ctx, "opacity_logits", g.opacity_logits)),
+        sh(engine::buffer_from(ctx, "sh", g.sh)),
+        weights(engine::buffer_from(ctx, "style weights", mlp.weights)),
+        v_means(ctx, "v_means", g.means.size() * 4),
+        v_log_scales(ctx, "v_log_scales", g.log_scales.size() * 4),
+        v_quats(ctx, "v_quats", g.quats.size() * 4),
+        v_opacity_logits(ctx, "v_opacity_logits", g.opacity_logits.size() * 4),
+        v_sh(ctx, "v_sh", g.sh.size() * 4),
+        v_weights(ctx, "v_style_mlp", mlp.weights.size() * 4) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<float> v(3 * pixels);
+    for (float& x : v) x = u(rng);
+    v_rgb = engine::buffer_from(ctx, "v_rgb", v);
+    style = {.weights = &weights,
+             .time = mlp.time,
+             .depth = static_cast<splat::StyleDepth>(mlp.depth),
+             .depth_scale = mlp.depth_scale,
+             .input_sigmoid = mlp.input_sigmoid};
+    plain = {.means = &means,
+             .log_scales = &log_scales,
+             .quats = &quats,
+             .opacity_logits = &opacity_logits,
+             .sh = &sh,
+             .count = static_cast<uint32_t>(g.size()),
+             .sh_degree = static_cast<uint32_t>(g.sh_degree),
+             .sh_coeffs = bench::kSceneShCoeffs};
+    styled = plain;
+    styled.style = &style;
+    grads = {.v_means = &v_means,
+             .v_log_scales = &v_log_scales,
+             .v_quats = &v_quats,
+             .v_opacity_logits = &v_opacity_logits,
+             .v_sh = &v_sh,
+             .v_style_mlp = &v_weights};
+  }
+};
+
+struct Measured {
+  std::vector<double> fwd, bwd;
+  splat::RenderStats stats;
+};
+
+void run_once(splat::Rasterizer& r, const splat::GaussianParams& p, Device& d, const splat::Camera& cam,
+              Measured& m, bool record) {
+  const auto t0 = std::chrono::steady_clock::now();
+  m.stats = r.forward(p, cam, kBackground);
+  const double fwd = ms_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  r.backward(p, {.v_rgb = &d.v_rgb}, d.grads);
+  const double bwd = ms_since(t1);
+  if (record) m.fwd.push_back(fwd), m.bwd.push_back(bwd);
+}
+
+// Measures one point; false when the twin check fails.
+bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint& pt, const Options& o, bool twin) {
+  const bench::SplatScene scene = bench::make_splat_scene(pt.width, pt.height, pt.gaussians, 1);
+  ref::StyleMlp<float> mlp;
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+  for (uint32_t i = 0; i < pt.gaussians; ++i)
+    for (size_t k = 0; k < ref::kStyleMlpStride; ++k) {
+      const bool bias = (k >= S4D_STYLE_MLP_B1 && k < S4D_STYLE_MLP_W2) ||
+                        (k >= S4D_STYLE_MLP_B2 && k < S4D_STYLE_MLP_W3) || k >= S4D_STYLE_MLP_B3;
+      mlp.weights.push_back(bias ? 0.0f : u(rng));
+    }
+  mlp.time = 0.25f, mlp.depth = o.depth, mlp.depth_scale = 1.0f;
+  const size_t pixels = size_t{pt.width} * pt.height;
+  Device d(ctx, scene.gaussians, mlp, pixels);
+  const splat::Camera cam = bench::to_gpu_camera(scene.camera);
+  splat::Rasterizer plain(ctx, "bench plain", {.force_cas_atomics = o.cas});
+  splat::Rasterizer styled(ctx, "bench style", {.force_cas_atomics = o.cas});
+
+  const double load_before = load_average();
+  Measured mp, ms;
+  for (int r = -1; r < o.repeats; ++r) {  // run -1 grows buffers and compiles pipelines
+    run_once(plain, d.plain, d, cam, mp, r >= 0);
+    run_once(styled, d.styled, d, cam, ms, r >= 0);
+  }
+  const double load_after = load_average();
+  const bench::Timing pf = bench::summarise_ms(mp.fwd), pb = bench::summarise_ms(mp.bwd);
+  const bench::Timing sf = bench::summarise_ms(ms.fwd), sb = bench::summarise_ms(ms.bwd);
+
+  bool ok = true;
+  json base = device;
+  base.update({{"bench", "style_splat"},
+               {"width", pt.width},
+               {"height", pt.height},
+               {"n_gaussians", pt.gaussians},
+               {"depth_mode", o.depth == ref::StyleDepth::ndc ? "ndc" : "relative"},
+               {"atomics", o.cas ? "cas" : "float"},
+               {"instances", ms.stats.instances},
+               {"longest_tile_list", ms.stats.longest_tile_list},
+               {"timing", "wall clock around forward() and backward(), which submit and wait"},
+               {"repeats", o.repeats},
+               {"loadavg_1m_before", load_before},
+               {"loadavg_1m_after", load_after}});
+  for (const bool style : {false, true}) {
+    const bench::Timing& f = style ? sf : pf;
+    const bench::Timing& b = style ? sb : pb;
+    json line = base;
+    line.update({{"variant", style ? "style" : "plain"},
+                 {"ms_fwd_p50", f.ms_p50}, {"ms_fwd_min", f.ms_min}, {"ms_fwd_max", f.ms_max},
+                 {"ms_bwd_p50", b.ms_p50}, {"ms_bwd_min", b.ms_min}, {"ms_bwd_max", b.ms_max},
+                 {"fwd_ratio_to_plain", f.ms_p50 / pf.ms_p50}, {"bwd_ratio_to_plain", b.ms_p50 / pb.ms_p50}});
+    if (style && twin) {
+      const auto t = ref::render_style_fwd(scene.gaussians, mlp, scene.camera, kBackground);
+      const std::vector<float> rgb = ctx.download<float>(styled.rgb(), 3 * pixels);
+      double worst = 0;
+      for (size_t k = 0; k < rgb.size(); ++k)
+        worst = std::max(worst, std::abs(static_cast<double>(rgb[k]) - t.img.rgb[k]));
+      ok = worst <= bench::kTwinTolerance;  // not finite compares false
+      line.update({{"matches_twin", ok}, {"twin_max_abs_diff", worst}});
+    }
+    std::cout << line.dump() << std::endl;
+  }
+  std::fprintf(stderr, "%5ux%-5u %7u %9u %9.1f %9.1f %6.2f %9.1f %9.1f %6.2f %5.2f-%.2f\n", pt.width, pt.height,
+               pt.gaussians, ms.stats.instances, pf.ms_p50, sf.ms_p50, sf.ms_p50 / pf.ms_p50, pb.ms_p50, sb.ms_p50,
+               sb.ms_p50 / pb.ms_p50, load_before, load_after);
+  return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* usage =
+      "usage: s4d_bench_style_splat [--sizes WxH:N,...] [--repeats R] [--depth ndc|relative] [--cas]\n";
+  std::optional<Options> parsed;
+  try {
+    parsed = parse(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "s4d_bench_style_splat: " << e.what() << "\n" << usage;
+    return 2;
+  }
+  if (!parsed) {
+    std::cout << usage;
+    return 0;
+  }
+  const Options& o = *parsed;
+  bool all_ok = true;
+  try {
+    engine::Context ctx;
+    const auto& info = ctx.info();
+    const json device = {{"device", info.name}, {"driver", info.driver_name + " " + info.driver_info}};
+    std::fprintf(stderr, "device: %s (%s)\n%-11s %7s %9s %9s %9s %6s %9s %9s %6s %s\n", info.name.c_str(),
+                 info.driver_info.c_str(), "size", "N", "instances", "plain fwd", "style fwd", "ratio", "plain bwd",
+                 "style bwd", "ratio", "load");
+    auto pixels = [](const bench::SplatPoint& p) { return uint64_t{p.width} * p.height; };
+    size_t twin_at = 0;  // the twin check runs at the fewest pixels
+    for (size_t i = 1; i < o.points.size(); ++i)
+      if (pixels(o.points[i]) < pixels(o.points[twin_at])) twin_at = i;
+    for (size_t i = 0; i < o.points.size(); ++i)
+      all_ok = run_point(ctx, device, o.points[i], o, i == twin_at) && all_ok;
+  } catch (const std::exception& e) {
+    std::cerr << "s4d_bench_style_splat: error: " << e.what() << "\n";
+    return 1;
+  }
+  return all_ok ? 0 : 1;
+}
