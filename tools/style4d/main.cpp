@@ -26,6 +26,8 @@ const std::vector<Command>& commands() {
       {"render", "render a trained run along a protocol, or a 3DGS PLY from NeRF-style cameras", s4d::cli::cmd_render},
       {"export-ply", "a trained run's Gaussians at time t (4DGS: deformed) as a standard 3DGS PLY",
        s4d::cli::cmd_export_ply},
+      {"stylize", "stages 3 and 4: stylize a trained run after a style image (Style Gaussians), with --method ablations",
+       s4d::cli::cmd_stylize},
       {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
       {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
       {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",

@@ -2,12 +2,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <stdexcept>
 
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/scene/deformed_scene.h"
 #include "s4d/scene/static_scene.h"
+#include "s4d/scene/style_file.h"
+#include "s4d/scene/styled_scene.h"
 #include "s4d/scene/trained_field.h"
 #include "s4d/train/run_dir.h"
 
@@ -81,15 +84,22 @@ TrainedRun read_trained_run(const fs::path& root) {
                                               : "finish it with `style4d train --resume " + root.string() + "`");
   out.dataset = data::load_dataset(data_path, {.downscale = out.config.downscale, .background = out.config.background});
   if (out.dataset.views.empty()) throw std::runtime_error(data_path.string() + ": the dataset has no views");
+  for (const std::string& name : list_styles(root)) out.styles.push_back(name);
   return out;
 }
 
 std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style) {
   if (style != "original") {
-    std::string known;
-    for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
-    throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
-                             " (styles are trained with style4d stylize, not built yet)");
+    if (std::find(run.styles.begin(), run.styles.end(), style) == run.styles.end()) {
+      std::string known;
+      for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
+      throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
+                               " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
+    }
+    const StyleFile file = read_style_file(style_file_path(run.root, style));
+    if (file.method == "scratch")  // the ablation's own 4DGS run, trained on the stylized frames
+      return open_scene(ctx, read_trained_run(style_dir(run.root, style) / "run"), "original");
+    return std::make_unique<StyledScene>(ctx, open_scene(ctx, run, "original"), file, style);
   }
   const train::RunDir dir{run.root};
   const train::TrainConfig& c = run.config;

@@ -1,0 +1,114 @@
+// The style file (training/scene/style_file.h) and stage 4's settings: round trips, and the clear
+// errors for files that are missing, truncated, of the wrong sizes or hold NaN.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include "s4d/scene/style_file.h"
+#include "s4d/style/style_config.h"
+#include "s4d_style_splat.h"
+
+namespace {
+
+using namespace s4d;
+namespace fs = std::filesystem;
+
+scene::StyleFile sample(const std::string& method) {
+  scene::StyleFile s;
+  s.method = method;
+  s.settings = {{"note", "test"}};
+  s.count = 3, s.sh_coeffs = 4;
+  s.sh_delta.assign(3 * 4 * 3, 0.25f);
+  s.opacity_delta = {0.1f, -0.2f, 0.3f};
+  if (method == "full") s.mlp.assign(3 * S4D_STYLE_MLP_STRIDE, -0.5f);
+  s.depth_input = scene::DepthInput::ndc, s.depth_scale = 2.5f, s.input_sigmoid = true;
+  return s;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("s4d_style_file_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string error_of(const fs::path& file) {
+  try {
+    scene::read_style_file(file);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a style file round-trips every array and setting; list_styles finds finished styles only") {
+  const fs::path run = scratch("roundtrip");
+  for (const std::string method : {"full", "colors", "scratch"}) {
+    CAPTURE(method);
+    scene::StyleFile s = method == "scratch" ? scene::StyleFile{} : sample(method);
+    s.method = method;
+    fs::create_directories(scene::style_dir(run, method));
+    scene::write_style_file(scene::style_file_path(run, method), s);
+    const scene::StyleFile r = scene::read_style_file(scene::style_file_path(run, method));
+    CHECK(r.method == method);
+    CHECK(r.count == s.count);
+    CHECK(r.sh_delta == s.sh_delta);
+    CHECK(r.opacity_delta == s.opacity_delta);
+    CHECK(r.mlp == s.mlp);
+    CHECK(r.depth_input == s.depth_input);
+    CHECK(r.depth_scale == s.depth_scale);
+    CHECK(r.input_sigmoid == s.input_sigmoid);
+  }
+  fs::create_directories(run / "style" / "unfinished");
+  CHECK(scene::list_styles(run) == std::vector<std::string>{"colors", "full", "scratch"});
+  CHECK(scene::list_styles(run / "nothing").empty());
+}
+
+TEST_CASE("bad style files are refused with the file and the problem named; nothing is written for bad input") {
+  const fs::path dir = scratch("errors");
+  const fs::path file = dir / "style.s4dstyle";
+  CHECK(error_of(file).find("missing") != std::string::npos);
+
+  scene::StyleFile wrong = sample("full");
+  wrong.mlp.pop_back();
+  CHECK_THROWS_AS(scene::write_style_file(file, wrong), std::invalid_argument);
+  CHECK_FALSE(fs::exists(file));
+  scene::StyleFile nan = sample("full");
+  nan.opacity_delta[1] = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_AS(scene::write_style_file(file, nan), std::invalid_argument);
+  CHECK_FALSE(fs::exists(file));
+
+  scene::write_style_file(file, sample("full"));
+  const auto size = fs::file_size(file);
+  fs::resize_file(file, size - 8);
+  const std::string truncated = error_of(file);
+  CHECK(truncated.find(file.string()) != std::string::npos);
+  CHECK(truncated.find("truncated") != std::string::npos);
+  std::ofstream(file) << "not a style";
+  CHECK(error_of(file).find("not a style4d checkpoint") != std::string::npos);
+}
+
+TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
+  style::StyleConfig c;
+  c.method = "colors", c.iterations = 123, c.depth_input = scene::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
+  const style::StyleConfig r = style::style_config_from_json(style::to_json(c));
+  CHECK(style::to_json(r) == style::to_json(c));
+  auto message = [](const nlohmann::json& j) {
+    try {
+      style::style_config_from_json(j);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(message({{"methd", "full"}}).find("unknown field 'methd'") != std::string::npos);
+  CHECK(message({{"method", "paint"}}).find("method 'paint'") != std::string::npos);
+  CHECK(message({{"iterations", "many"}}).find("'iterations' has the wrong type") != std::string::npos);
+  CHECK(message({{"depth_input", "far"}}).find("depth_input 'far'") != std::string::npos);
+  CHECK(message({{"tv_weight", -1}}).find("tv_weight") != std::string::npos);
+}

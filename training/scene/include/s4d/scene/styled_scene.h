@@ -1,0 +1,49 @@
+// A run's scene in one of its trained styles: the run's own Gaussians at time t (any SceneSource)
+// with the style's colour and opacity changes added and, for method "full", the per-Gaussian style
+// MLPs handed to the rasterizer's fused kernels. The geometry is the run's, untouched.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+#include "s4d/engine/recorder.h"
+#include "s4d/scene/scene_source.h"
+#include "s4d/scene/style_file.h"
+
+namespace s4d::scene {
+
+// Records out_sh = g.sh + sh_delta and out_opacity = g.opacity_logits + opacity_delta and returns g
+// pointing at the outputs: the one place where a style's deltas meet the run's values, shared by
+// rendering and stage-4 training. Buffers hold g.count entries in g's layouts.
+splat::GaussianParams record_style_deltas(engine::Recorder& rec, const splat::GaussianParams& g,
+                                          const engine::Buffer& sh_delta, const engine::Buffer& opacity_delta,
+                                          const engine::Buffer& out_sh, const engine::Buffer& out_opacity);
+
+// The rasterizer's description of a style's MLPs at `time` (weights [count * S4D_STYLE_MLP_STRIDE]).
+splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, DepthInput depth, float depth_scale,
+                          bool input_sigmoid);
+
+class StyledScene final : public SceneSource {
+ public:
+  // Throws std::invalid_argument when the style was trained for another Gaussian count or SH layout.
+  StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const StyleFile& style, std::string name);
+
+  splat::GaussianParams at(double time, const splat::Camera& camera) override;
+  uint32_t size() const override { return base_->size(); }
+  bool dynamic() const override { return true; }  // the MLPs read the time even where nothing moves
+  std::string describe() const override;
+
+ private:
+  engine::Context* ctx_;
+  std::unique_ptr<SceneSource> base_;
+  std::string name_, method_;
+  uint32_t sh_coeffs_;
+  DepthInput depth_;
+  float depth_scale_;
+  bool input_sigmoid_;
+  engine::Buffer sh_delta_, opacity_delta_, mlp_, sh_, opacity_;
+  splat::StyleMlp mlp_desc_{};
+};
+
+}  // namespace s4d::scene

@@ -1,0 +1,44 @@
+// Settings of stage 4 (`style4d stylize`): which ablation, how long, the learning rates, the loss,
+// and the open choices of the per-Gaussian MLP (ALGORITHMS.md 4.3), each a flag with a default.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "s4d/scene/style_file.h"
+
+namespace s4d::style {
+
+struct StyleConfig {
+  // "full": per-Gaussian MLPs + colours and opacities (the paper's method); "colors": the two-stage
+  // scheme without MLPs (only colours and opacities retrained); "scratch": 4DGS trained from scratch
+  // on the stylized frames.
+  std::string method = "full";
+  std::string stylizer = "patch";
+  float strength = 1.0f;            // of the 2D stylizer
+  uint32_t iterations = 3000;
+  uint32_t seed = 0;
+  bool train_colors = true;         // "full": also update the base colours (SH) and opacities
+  // Learning rates: the 4DGaussians feature rates and SuperGaussians' MLP rate (ALGORITHMS.md 4.3).
+  double sh_dc_lr = 0.0025, sh_rest_lr = 0.000125, opacity_lr = 0.05, mlp_lr = 2.5e-4;
+  float ssim_weight = 0.0f;         // 0: plain L1, as the paper
+  float tv_weight = 0.05f;          // squared image TV on the render (tv_loss.h)
+  scene::DepthInput depth_input = scene::DepthInput::relative;
+  float depth_scale = 0;            // relative depth: t* - z times this; 0 = 1 / (3 x median Gaussian scale)
+  bool input_sigmoid = false;       // SuperGaussians squashes the MLP inputs with a sigmoid
+  std::string mlp_init = "uniform"; // "uniform": SuperGaussians' U(-0.5, 0.5) weights, zero biases;
+                                    // "identity": the same with a zero last layer (starts as the original look)
+  // Stylize only a region: empty, or a world-space box (min x, y, z, max x, y, z); Gaussians whose
+  // centre at the first frame lies outside keep the run's look exactly.
+  std::vector<float> region;
+  uint32_t test_every = 500, checkpoint_every = 500;
+};
+
+nlohmann::json to_json(const StyleConfig& c);
+// Throws std::invalid_argument naming the field for unknown keys, wrong types or values out of range.
+StyleConfig style_config_from_json(const nlohmann::json& j);
+void validate(const StyleConfig& c);
+
+}  // namespace s4d::style
