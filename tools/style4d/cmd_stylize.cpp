@@ -35,6 +35,7 @@ style::StyleConfig config_from_args(const Args& args) {
   if (auto v = args.get("stylizer")) c.stylizer = *v;
   if (auto v = args.get("strength")) c.strength = parse_float("strength", *v);
   if (auto v = args.get("iters")) c.iterations = parse_number<uint32_t>("iters", *v);
+  if (auto v = args.get("mlp-iters")) c.mlp_iterations = parse_number<uint32_t>("mlp-iters", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
   if (auto v = args.get("tv-weight")) c.tv_weight = parse_float("tv-weight", *v);
   if (auto v = args.get("mlp-lr")) c.mlp_lr = parse_float("mlp-lr", *v);
@@ -71,13 +72,15 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"strength", "stage 3: 0 keeps the content, 1 the full stylization (default 1)", true, "S"},
       {"method", "full (per-Gaussian MLPs, the paper), colors (no MLPs), scratch (4DGS retrained on the "
                  "stylized frames) (default full)", true, "M"},
-      {"iters", "stage 4 iterations (default 3000)", true, "N"},
+      {"iters", "stage 4 iterations (default 1500)", true, "N"},
+      {"mlp-iters", "method full: the last N iterations also train the MLPs (default 300; the others train "
+                    "colours and opacities only, on the plain rasterizer)", true, "N"},
       {"seed", "seed of the stylizer and of stage 4 (default 0)", true, "N"},
       {"tv-weight", "weight of the image TV term (default 0.05)", true, "W"},
       {"mlp-lr", "learning rate of the style MLPs (default 2.5e-4)", true, "LR"},
       {"depth-input", "how the MLP reads the ray-hit depth: relative (t* - centre depth) or ndc (default relative)", true, "D"},
       {"depth-scale", "relative depth scale (default 0: 1 / (3 x median Gaussian scale))", true, "S"},
-      {"mlp-init", "uniform (SuperGaussians) or identity (zero last layer) (default uniform)", true, "I"},
+      {"mlp-init", "identity (SuperGaussians' with a zero last layer: adds nothing at first) or uniform (SuperGaussians) (default identity)", true, "I"},
       {"input-sigmoid", "squash the MLP inputs with a sigmoid (SuperGaussians)", false, ""},
       {"region", "stylize only the Gaussians whose centre lies in this world box (min then max corner); "
                  "the rest keep the original look", true, "x0,y0,z0,x1,y1,z1"},

@@ -53,6 +53,11 @@ train::TrainConfig config_from_args(const Args& args) {
     if (!(in >> c.max_time) || !in.eof() || c.max_time < 0 || c.max_time > 1)
       throw std::invalid_argument("--max-time: expected a time in [0, 1], got '" + *v + "'");
   }
+  if (auto v = args.get("static-max-time")) {
+    std::istringstream in(*v);
+    if (!(in >> c.static_max_time) || !in.eof() || c.static_max_time < 0 || c.static_max_time > 1)
+      throw std::invalid_argument("--static-max-time: expected a time in [0, 1], got '" + *v + "'");
+  }
   if (auto v = args.get("background")) c.background = parse_colour("background", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
   if (auto v = args.get("budget")) c.budget = parse_number<uint32_t>("budget", *v);
@@ -84,6 +89,8 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
       {"downscale", "integer image downscale factor (default 1)", true, "K"},
       {"max-time", "use only views with time <= T, e.g. 0 for the first frame (default 1)", true, "T"},
+      {"static-max-time", "the static stage uses only views with time <= T; 0 makes the first frame the "
+                          "canonical scene (preset's default: fast 0, others 1)", true, "T"},
       {"background", "render and compositing background r,g,b in [0, 1] (default: the dataset's)", true, "R,G,B"},
       {"seed", "seed of view order, initial points and split samples (default 0)", true, "S"},
       {"budget", "most Gaussians densification may create", true, "N"},
@@ -107,7 +114,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
-    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
       if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
     trainer = train::Trainer::resume(ctx, *run);
   } else {

@@ -87,6 +87,7 @@ struct Trainer::Impl {
   const data::Dataset& dataset;
   double lr_scale;
   std::vector<const data::View*> train_views, test_views;
+  std::vector<const data::View*> static_views;  // the static stage's: train views with time <= static_max_time
   data::FrameCache frames;
   std::unique_ptr<model::TrainableGaussians> gaussians;
   splat::Rasterizer rast;
@@ -120,13 +121,22 @@ struct Trainer::Impl {
       : ctx(c), run(std::move(r)), config(cfg), dataset(d), lr_scale(cfg.lr_scale), train_views(select_views(d, cfg, false)),
         test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
         loss(c, "training loss"), adam(c, gCount, "training adam"), densifier(c), evaluator(c),
-        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
-    if (train_views.empty())
-      throw std::runtime_error(d.root.string() + ": no training views with time <= " + std::to_string(cfg.max_time));
+        sampler(1, cfg.seed) {
+    for (const data::View* v : train_views)
+      if (v->time <= cfg.static_max_time + 1e-9) static_views.push_back(v);
+    sampler = stage_sampler();
+    if (static_views.empty())
+      throw std::runtime_error(d.root.string() + ": no training views with time <= " +
+                               std::to_string(std::min(cfg.max_time, cfg.static_max_time)) + " for the static stage");
     if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
   }
 
   bool fine() const { return stage == "fine"; }
+  // Each stage draws from its own views, with its own seeded order.
+  ViewSampler stage_sampler() const {
+    const size_t views = fine() ? train_views.size() : static_views.size();
+    return ViewSampler(static_cast<uint32_t>(std::max<size_t>(views, 1)), config.seed + (fine() ? 1u : 0u));
+  }
   uint32_t stage_iterations() const { return fine() ? config.fine_iterations : config.iterations; }
   int active_degree() const {
     return active_sh_degree(config, fine() ? config.iterations + iteration : iteration);  // not reset (3.3)
@@ -180,6 +190,7 @@ struct Trainer::Impl {
     lr_scale = cp.meta.at("lr_scale").get<double>();
     seconds_before = cp.meta.at("seconds").get<double>();
     rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
+    sampler = stage_sampler();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     static_scores = cp.meta.at("static_test");
     deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
@@ -293,7 +304,7 @@ struct Trainer::Impl {
 
   // Stage 1: one view, the canonical Gaussians as they are. Returns the loss (maybe non-finite).
   optim::LossValue static_step() {
-    const splat::Camera cam = load_target(*train_views[sampler.next()]);
+    const splat::Camera cam = load_target(*static_views[sampler.next()]);
     const splat::GaussianParams params = gaussians->params(active_degree());
     rast.forward(params, cam, dataset.background);
     const optim::LossValue value = record_loss(cam, config.ssim_weight);
@@ -496,6 +507,7 @@ struct Trainer::Impl {
     static_scores = {{"test_psnr", static_test.psnr}, {"test_ssim", static_test.ssim}, {"test_views", scores_json(static_test)}};
     stage = "fine";
     iteration = 0;
+    sampler = stage_sampler();
     engine::Recorder rec(ctx, "fresh optimizer");
     for (uint32_t a = 0; a < model::kAttrCount; ++a) {
       rec.fill(gaussians->moment1(model::Attr(a)), 0);

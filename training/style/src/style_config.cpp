@@ -9,6 +9,7 @@ nlohmann::json to_json(const StyleConfig& c) {
           {"stylizer", c.stylizer},
           {"strength", c.strength},
           {"iterations", c.iterations},
+          {"mlp_iterations", c.mlp_iterations},
           {"seed", c.seed},
           {"train_colors", c.train_colors},
           {"sh_dc_lr", c.sh_dc_lr},
@@ -40,6 +41,7 @@ StyleConfig style_config_from_json(const nlohmann::json& j) {
     }
   };
   get("method", c.method), get("stylizer", c.stylizer), get("strength", c.strength), get("iterations", c.iterations);
+  get("mlp_iterations", c.mlp_iterations);
   get("seed", c.seed), get("train_colors", c.train_colors), get("sh_dc_lr", c.sh_dc_lr), get("sh_rest_lr", c.sh_rest_lr);
   get("opacity_lr", c.opacity_lr), get("mlp_lr", c.mlp_lr), get("ssim_weight", c.ssim_weight), get("tv_weight", c.tv_weight);
   std::string depth = "relative";
@@ -59,6 +61,7 @@ void validate(const StyleConfig& c) {
   if (c.mlp_init != "uniform" && c.mlp_init != "identity") bad("mlp_init '" + c.mlp_init + "' is not uniform or identity");
   if (!(c.strength >= 0 && c.strength <= 1)) bad("strength must be in [0, 1]");
   if (c.iterations == 0) bad("iterations must be positive");
+  if (c.mlp_iterations > c.iterations) bad("mlp_iterations must be at most iterations");
   if (!(c.ssim_weight >= 0 && c.ssim_weight <= 1)) bad("ssim_weight must be in [0, 1]");
   if (!(c.tv_weight >= 0)) bad("tv_weight must be >= 0");
   if (!(c.depth_scale >= 0)) bad("depth_scale must be >= 0 (0: automatic)");

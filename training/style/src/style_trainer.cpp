@@ -208,13 +208,16 @@ struct StyleTrainer::Impl {
       }
   }
 
-  // The run's Gaussians at the view's time in this style.
-  splat::GaussianParams styled(const data::View& view, const splat::Camera& cam) {
+  // Method full's MLPs train from this step on (earlier steps are colours only).
+  bool mlp_on() const { return full && iteration + config.mlp_iterations > config.iterations; }
+
+  // The run's Gaussians at the view's time in this style (`with_mlp` false: colours only).
+  splat::GaussianParams styled(const data::View& view, const splat::Camera& cam, bool with_mlp = true) {
     const splat::GaussianParams g = geometry->at(view.time, cam);
     engine::Recorder rec(ctx, "style deltas");
     splat::GaussianParams p = scene::record_style_deltas(rec, g, param[0], param[1], sh, opacity);
     ctx.run(std::move(rec));
-    if (full) {
+    if (full && with_mlp) {
       mlp_desc = scene::style_mlp(param[2], view.time, config.depth_input, depth_scale, config.input_sigmoid);
       p.style = &mlp_desc;
     }
@@ -236,7 +239,8 @@ struct StyleTrainer::Impl {
   double step() {
     const data::View& view = *train_views[sampler.next()];
     const splat::Camera cam = load_target(view);
-    const splat::GaussianParams p = styled(view, cam);
+    const bool mlp = mlp_on();
+    const splat::GaussianParams p = styled(view, cam, mlp);
     rast.forward(p, cam, run.dataset.background);
     {
       engine::Recorder rec(ctx, "style loss");
@@ -248,13 +252,13 @@ struct StyleTrainer::Impl {
     const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
     if (!std::isfinite(value)) return value;
     splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &grad[1], &grad[0], nullptr};
-    if (full) grads.v_style_mlp = &grad[2];
+    if (mlp) grads.v_style_mlp = &grad[2];
     rast.backward(p, {.v_rgb = &v_rgb}, grads);
     if (region_mask.size() > 0) {
       engine::Recorder rec(ctx, "style region");
       optim::record_grad_mask(rec, grad[0], region_mask, count, sh_coeffs * 3);
       optim::record_grad_mask(rec, grad[1], region_mask, count, 1);
-      if (full) optim::record_grad_mask(rec, grad[2], region_mask, count, S4D_STYLE_MLP_STRIDE);
+      if (mlp) optim::record_grad_mask(rec, grad[2], region_mask, count, S4D_STYLE_MLP_STRIDE);
       ctx.run(std::move(rec));
     }
     const bool colors = !full || config.train_colors;
@@ -267,7 +271,7 @@ struct StyleTrainer::Impl {
       adam.record_rows(rec, gShDc, gShRest, sh_coeffs * 3, 3, param[0], grad[0], m[0], v[0], static_cast<uint32_t>(floats[0]));
       adam.record(rec, gOpacity, param[1], grad[1], m[1], v[1], count);
     }
-    if (full) adam.record(rec, gMlp, param[2], grad[2], m[2], v[2], static_cast<uint32_t>(floats[2]));
+    if (mlp) adam.record(rec, gMlp, param[2], grad[2], m[2], v[2], static_cast<uint32_t>(floats[2]));
     ctx.run(std::move(rec));
     return value;
   }

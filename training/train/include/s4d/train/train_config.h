@@ -20,6 +20,9 @@ struct TrainConfig {
   // Data.
   int downscale = 1;
   double max_time = 1.0;  // train and test on views with time <= max_time (0: the first frame only)
+  // The static stage trains on the views with time <= static_max_time, the fine stage on all: 0 makes
+  // the first frame the canonical scene (large motions survive; see README "Training, stage 2").
+  double static_max_time = 1.0;
   std::array<float, 3> background{0, 0, 0};
   // Model.
   int sh_degree = 3;              // stored degree; the active degree grows by one every sh_up_every
