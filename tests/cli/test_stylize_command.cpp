@@ -79,6 +79,17 @@ TEST_CASE("two styles of one run switch at render time without retraining, and d
   CHECK(test::max_abs_diff(render_frame("full", "full_again"), a) == 0.0f);  // the same style renders the same
 }
 
+TEST_CASE("the viewer's capture of a style matches the offline render of that style") {
+  styled("full", "--iters 60 --mlp-iters 20 --spiral-frames 4");
+  const test::Run4d& r = test::run4d();
+  const fs::path shot = r.root / "view_full.png";
+  REQUIRE_MESSAGE(test::run_style4d("view", r.run.string() + " --style full --screenshot " + shot.string() + " --camera 0 --time 0.5",
+                                    r.root / "view_full.log") == 0,
+                  test::read_text(r.root / "view_full.log"));
+  // Both quantise the same float image (see test_view_capture_4d.cpp): at most one level apart.
+  CHECK(test::max_abs_diff(io::read_png(shot), render_frame("full", "full_for_view")) <= 1.0f / 255.0f + 1e-6f);
+}
+
 TEST_CASE("running the same stylize again reuses stage 3's frames and the finished stage 4") {
   const fs::path dir = styled("full", "--iters 60 --mlp-iters 20 --spiral-frames 4");
   const test::Run4d& r = test::run4d();
