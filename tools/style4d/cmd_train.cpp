@@ -1,6 +1,8 @@
 // style4d train --data DIR --out RUN [--preset P] [--iters N] | --resume RUN: stages 1 and 2
 // (static Gaussians, then 4DGS). SIGINT or SIGTERM writes a checkpoint and exits with 130;
 // --resume continues it.
+#include <nlohmann/json.hpp>
+
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -71,7 +73,19 @@ train::TrainConfig config_from_args(const Args& args) {
       throw std::invalid_argument("--lr-scale: expected a positive number, got '" + *v + "'");
   }
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = std::max(1u, parse_number<uint32_t>("checkpoint-every", *v));
-  return c;
+  // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
+  nlohmann::json j = train::to_json(c);
+  for (const std::string& kv : args.get_all("set")) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
+      throw std::invalid_argument("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
+    try {
+      j[kv.substr(0, eq)] = nlohmann::json::parse(kv.substr(eq + 1));
+    } catch (const nlohmann::json::exception&) {
+      j[kv.substr(0, eq)] = kv.substr(eq + 1);  // a bare word: a string setting such as the preset name
+    }
+  }
+  return train::config_from_json(j);
 }
 
 }  // namespace
@@ -89,6 +103,7 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
       {"downscale", "integer image downscale factor (default 1)", true, "K"},
       {"max-time", "use only views with time <= T, e.g. 0 for the first frame (default 1)", true, "T"},
+      {"set", "KEY=VALUE: any setting of train.json's 'settings' (repeatable), e.g. grid_lr=0.005", true, "KEY=VALUE"},
       {"static-max-time", "the static stage uses only views with time <= T; 0 makes the first frame the "
                           "canonical scene (preset's default: fast 0, others 1)", true, "T"},
       {"background", "render and compositing background r,g,b in [0, 1] (default: the dataset's)", true, "R,G,B"},
@@ -114,7 +129,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
-    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "set", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
       if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
     trainer = train::Trainer::resume(ctx, *run);
   } else {
