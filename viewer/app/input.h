@@ -16,6 +16,7 @@ struct InputFrame {
   double fly_forward = 0, fly_right = 0, fly_up = 0;  // -1..1 each (x4 with Shift)
   int snap_camera = -1;             // camera index from a number key
   bool toggle_play = false, screenshot = false, toggle_record = false, quit = false;
+  bool toggle_original = false, next_style = false;  // T: original <-> the last style; N: the next style
 };
 
 class Input {

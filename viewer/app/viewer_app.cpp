@@ -98,6 +98,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, options.style);
   size_t style = static_cast<size_t>(std::find(run.styles.begin(), run.styles.end(), options.style) - run.styles.begin());
   size_t shown_style = style;
+  size_t last_styled = style > 0 ? style : 1;  // what T returns to from "original" (styles[0])
   FrameRenderer renderer(ctx, run.dataset.background);
   std::vector<std::string> camera_names;
   for (const io::CameraView& c : cameras) camera_names.push_back(c.name);
@@ -153,6 +154,9 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     control.zoom(in.scroll);
     control.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
     if (in.toggle_play) playback.playing = !playback.playing;
+    if (run.styles.size() > 1 && in.next_style) style = (style + 1) % run.styles.size();
+    if (run.styles.size() > 1 && in.toggle_original) style = style == 0 ? last_styled : 0;
+    if (style > 0) last_styled = style;
     playback.advance(seconds, clip);
     imgui.new_frame();
     info.width = swapchain.extent().width, info.height = swapchain.extent().height;
