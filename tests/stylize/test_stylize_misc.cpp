@@ -28,9 +28,12 @@ TEST_CASE("registry makes the patch stylizer and explains the others") {
                        std::invalid_argument);
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("mccnet", {.weights = "/nonexistent/weights"}),
                        doctest::Contains("--weights /nonexistent/weights is not a folder"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adaattn"), doctest::Contains("'adaattn' is not built yet"),
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adaattn"),
+                       doctest::Contains("adaattn needs weights: --weights DIR holding vgg_normalised.safetensors, "
+                                         "net_adaattn_3.safetensors, net_transformer.safetensors and "
+                                         "net_decoder.safetensors"),
                        std::invalid_argument);
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch, adain, mccnet, hgst"),
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch, adain, adaattn, mccnet, hgst"),
                        std::invalid_argument);
 }
 
