@@ -13,6 +13,7 @@
 #include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/attention.h"
 #include "s4d/stylize/network_stylizer.h"
+#include "s4d_nn.h"
 
 namespace {
 
@@ -54,11 +55,9 @@ Weights random_weights(std::mt19937& rng) {
   const auto& w = kTiny.level;
   Weights p{test::random_vgg(kTiny, 5, rng), {}, {}, {}};
   const uint32_t k3 = w[0] + w[1] + w[2], k4 = k3 + w[3], k5 = k4 + w[4];
-  for (const auto& [prefix, key, in] : {std::tuple{"", k3, w[2]}}) {
-    p.attn3[std::string(prefix) + "f"] = test::random_conv(key, key, 1, rng);
-    p.attn3[std::string(prefix) + "g"] = test::random_conv(key, key, 1, rng);
-    p.attn3[std::string(prefix) + "h"] = test::random_conv(in, in, 1, rng);
-  }
+  p.attn3["f"] = test::random_conv(k3, k3, 1, rng);
+  p.attn3["g"] = test::random_conv(k3, k3, 1, rng);
+  p.attn3["h"] = test::random_conv(w[2], w[2], 1, rng);
   for (const auto& [prefix, key] : {std::pair{"attn_adain_4_1.", k4}, {"attn_adain_5_1.", k5}}) {
     p.transformer[std::string(prefix) + "f"] = test::random_conv(key, key, 1, rng);
     p.transformer[std::string(prefix) + "g"] = test::random_conv(key, key, 1, rng);
@@ -158,7 +157,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
         nn::download(context(), run([&](engine::Recorder& r) { return nn::attention_scores(r, gq, gk, 2, 5); }));
     const auto twin = ref::attention_scores(to_double(q), to_double(k));
     const std::vector<double> rows(twin.begin() + 2 * 10, twin.begin() + 7 * 10);
-    CHECK(max_rel(gpu, rows) < 1e-5);  // 1472 float products per score: measured (see report)
+    CHECK(max_rel(gpu, rows) < 1e-5);  // 1472 float products per score: measured 1.1e-6
   }
   SUBCASE("row softmax with logits up to +-80 and rows longer than a workgroup") {
     const auto s = test::random_chw(1, 3, 1000, rng, -80.0f, 80.0f);
@@ -167,6 +166,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
       nn::softmax_rows(r, gs);
       return 0;
     });
+    // float exp of logits shifted by the row maximum: measured 1.3e-7.
     CHECK(max_rel(nn::download(context(), gs), ref::softmax_rows(to_double(s.v), 1000)) < 1e-5);
   }
   SUBCASE("apply over 60000 style positions, the loop cap") {
@@ -192,7 +192,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
     }());
     const auto gpu = nn::download(context(), out);
     const std::vector<float> chunk = {gpu[1], gpu[2], gpu[4], gpu[5]};
-    CHECK(max_rel(chunk, twin.v) < 1e-4);  // 60000-term float sums: measured (see report)
+    CHECK(max_rel(chunk, twin.v) < 3e-5);  // 60000-term float sums, then E[V^2] - M^2: measured 3.2e-6
   }
 }
 
@@ -207,7 +207,7 @@ TEST_CASE("the chunked attention matches its twin whatever the chunk") {
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) {
                                     return nn::attention(r, gq, gk, gv, gc, rows * 20 * sizeof(float));
                                   }));
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 1e-5, rows);  // measured (see report)
+    CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, rows);  // 5-term logits, 20-term sums: measured 1.3e-7
   }
 }
 
@@ -231,7 +231,10 @@ TEST_CASE("AdaAttN end to end matches its twin, with odd sizes and a subsampled 
     CHECK(out.h == 40);
     CHECK(out.w == 40);
     const auto twin = twin_adaattn(p, content, style, {{4, 3}, {0, 0}, {0, 0}}, alpha);
-    CHECK(max_rel(nn::download(context(), out), twin.v) < 1e-4);  // measured (see report)
+    // Each stage's float error carried through the next; the relu5_1 statistics over 3x3 and 2x2
+    // maps and the softmax of logits in the tens (He-uniform f and g on normalised keys) amplify
+    // it, as MCC's statistics do in test_nn_networks.cpp: measured 6.0e-5 (alpha 1), 4.6e-5.
+    CHECK(max_rel(nn::download(context(), out), twin.v) < 3e-4);
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include "s4d/nn/attention.h"
 #include "s4d/nn/weights.h"
+#include "s4d_nn.h"
 
 namespace s4d::nn {
 
@@ -15,9 +16,9 @@ Tensor mean_variance_norm(engine::Recorder& rec, const Tensor& x) { return norma
 
 // The largest h' x w' <= max_sample of the map's aspect.
 void sample_grid(uint32_t h, uint32_t w, uint32_t max_sample, uint32_t& out_h, uint32_t& out_w) {
-  const double scale = std::sqrt(static_cast<double>(max_sample) / (double{h} * w));
-  out_h = std::max(1u, static_cast<uint32_t>(h * scale));
-  out_w = std::max(1u, static_cast<uint32_t>(w * scale));
+  const double scale = std::sqrt(static_cast<double>(max_sample) / (static_cast<double>(h) * w));
+  out_h = std::max(1u, static_cast<uint32_t>(static_cast<double>(h) * scale));
+  out_w = std::max(1u, static_cast<uint32_t>(static_cast<double>(w) * scale));
   while (uint64_t{out_h} * out_w > max_sample) (out_h > out_w ? out_h : out_w) -= 1;  // rounding of sqrt
 }
 
