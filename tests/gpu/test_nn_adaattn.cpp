@@ -4,6 +4,8 @@
 // safetensors at tiny widths, on sizes that take the odd-size and style-subsampling paths.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -12,6 +14,7 @@
 #include "nn_fixture.h"
 #include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/attention.h"
+#include "s4d/stylize/image_file.h"
 #include "s4d/stylize/network_stylizer.h"
 #include "s4d_nn.h"
 
@@ -236,6 +239,38 @@ TEST_CASE("AdaAttN end to end matches its twin, with odd sizes and a subsampled 
     // it, as MCC's statistics do in test_nn_networks.cpp: measured 6.0e-5 (alpha 1), 4.6e-5.
     CHECK(max_rel(nn::download(context(), out), twin.v) < 3e-4);
   }
+}
+
+TEST_CASE("the adaattn stylizer's frames are the network's, resized back and clamped") {
+  test::ScratchDir dir("adaattn_stylizer");
+  std::mt19937 rng(37);
+  Weights p = random_weights(rng);
+  for (float& b : p.decoder["decoder_layer_2.24"].bias) b += 0.5f;  // so clamping to [0, 1] keeps many values
+  write(dir, p);
+  const auto stylizer = stylize::make_network_stylizer(
+      "adaattn", {.weights = dir.path(), .style_size = 32, .context = &context()}, kTiny);
+  const auto frame = test::random_chw(3, 30, 34, rng, 0.0f, 1.0f);
+  const auto style = test::random_chw(3, 32, 32, rng, 0.0f, 1.0f);  // already square at --style-size
+  const auto image = [](const ref::Chw<float>& t) {
+    io::ImageF im{static_cast<int>(t.w), static_cast<int>(t.h), 3, std::vector<float>(t.v.size())};
+    for (uint32_t y = 0; y < t.h; ++y)
+      for (uint32_t x = 0; x < t.w; ++x)
+        for (uint32_t c = 0; c < 3; ++c) im.data[(size_t{y} * t.w + x) * 3 + c] = t.at(c, y, x);
+    return im;
+  };
+  const auto out = stylizer->stylize({image(frame)}, image(style), {.strength = 1.0f});
+  REQUIRE(out.size() == 1);
+  CHECK(out[0].width == 34);
+  CHECK(out[0].height == 30);
+  // The twin's 40x32 output clamped and resized back to 34x30 the same way.
+  const auto twin = twin_adaattn(p, frame, style, {{0, 0}, {0, 0}, {0, 0}}, 1.0);
+  ref::Chw<float> clamped(twin.c, twin.h, twin.w);
+  for (size_t i = 0; i < twin.v.size(); ++i) clamped.v[i] = static_cast<float>(std::clamp(twin.v[i], 0.0, 1.0));
+  const io::ImageF expected = stylize::resize_image(image(clamped), 34, 30);
+  double worst = 0;
+  for (size_t i = 0; i < expected.data.size(); ++i)
+    worst = std::max(worst, static_cast<double>(std::abs(out[0].data[i] - expected.data[i])));
+  CHECK(worst < 1e-3);  // values in [0, 1]; the network's float error as end to end: measured 2.3e-4
 }
 
 TEST_CASE("AdaAttN weights that are missing fail naming the file and the tensor") {
