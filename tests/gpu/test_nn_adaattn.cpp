@@ -45,7 +45,8 @@ ref::Chw<double> conv1(const test::ConvParams& p, const ref::Chw<double>& x) {
 ref::Chw<double> twin_key(const std::vector<ref::Chw<double>>& levels, int last) {
   std::vector<ref::Chw<double>> parts;
   const auto& top = levels[static_cast<size_t>(last)];
-  for (int i = 0; i < last; ++i) parts.push_back(norm(ref::resize_nearest(levels[static_cast<size_t>(i)], top.h, top.w)));
+  for (int i = 0; i < last; ++i)
+    parts.push_back(norm(ref::resize_nearest(levels[static_cast<size_t>(i)], top.h, top.w)));
   parts.push_back(norm(top));
   return ref::concat_channels(parts);
 }

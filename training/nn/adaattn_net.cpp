@@ -106,7 +106,8 @@ StyleCode AdaattnNet::style(engine::Recorder& rec, const Tensor& style) const {
 }
 
 Tensor AdaattnNet::stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const {
-  if (style.size() != 6) throw std::invalid_argument("AdaattnNet: the style code holds " + std::to_string(style.size()) + " tensors, not 6");
+  if (style.size() != 6)
+    throw std::invalid_argument("AdaattnNet: the style code holds " + std::to_string(style.size()) + " tensors, not 6");
   const std::vector<Tensor> c = encoder_.encode_all(rec, content);
   const auto module = [&](const AdaattnModule& m, int level) {
     const Tensor& features = c[static_cast<size_t>(level)];
@@ -122,8 +123,8 @@ Tensor AdaattnNet::stylize(engine::Recorder& rec, const Tensor& content, const S
   // decoder_layer_1, then torch.cat with the relu3_1 module's output (resized likewise when relu3_1
   // is not exactly twice relu4_1's size), then decoder_layer_2 (upsampling after its 4th and 6th convolutions).
   const Tensor up = upsample2(rec, conv3x3(rec, cs, decoder_[0], true));
-  const Tensor skip_sized = skip.h == up.h && skip.w == up.w ? Tensor{} : resize_nearest(rec, skip, up.h, up.w);
-  const Tensor* parts[] = {&up, skip_sized.c == 0 ? &skip : &skip_sized};
+  const Tensor skip_sized = resize_nearest(rec, skip, up.h, up.w);  // a copy when the sizes agree
+  const Tensor* parts[] = {&up, &skip_sized};
   Tensor x = concat_channels(rec, parts);
   for (size_t i = 1; i < decoder_.size(); ++i) {
     const bool last = i + 1 == decoder_.size();

@@ -87,7 +87,8 @@ Tensor adain_mode(engine::Recorder& rec, const Tensor& x, const engine::Buffer& 
   return y;
 }
 
-Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha, float beta, const char* layer) {
+Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha, float beta,
+                    const char* layer) {
   if (a.c != b.c || a.h != b.h || a.w != b.w) fail(layer, "shapes " + a.shape() + " and " + b.shape() + " differ");
   Tensor y = make_tensor(rec.context(), layer, a.c, a.h, a.w);
   const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, .beta = beta, ._pad0 = 0};
@@ -181,13 +182,16 @@ Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alph
   return weighted_sum(rec, a, b, alpha, 1.0f - alpha, "blend");
 }
 
-Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b) { return weighted_sum(rec, a, b, 1.0f, 1.0f, "add"); }
+Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
+  return weighted_sum(rec, a, b, 1.0f, 1.0f, "add");
+}
 
 Tensor resize_nearest(engine::Recorder& rec, const Tensor& x, uint32_t out_h, uint32_t out_w) {
   if (out_h == 0 || out_w == 0) fail("resize_nearest", "empty output size for " + x.shape());
   // The kernel's integer source index multiplies output and input sizes.
   if (uint64_t{out_h} * x.h >= (uint64_t{1} << 32) || uint64_t{out_w} * x.w >= (uint64_t{1} << 32))
-    fail("resize_nearest", "sizes too large: " + x.shape() + " to " + std::to_string(out_h) + "x" + std::to_string(out_w));
+    fail("resize_nearest",
+         "sizes too large: " + x.shape() + " to " + std::to_string(out_h) + "x" + std::to_string(out_w));
   return resize(rec, x, shaders::Id::nn_resize_nearest, out_h, out_w, "resize_nearest");
 }
 
