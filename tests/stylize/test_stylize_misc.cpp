@@ -16,7 +16,7 @@ TEST_CASE("registry makes the patch stylizer and explains the others") {
   CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "mccnet", "hgst"});
   CHECK(stylize::make_stylizer("patch")->name() == "patch");
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("patch", {.weights = "w"}),
-                       "patch needs no weights; --weights is for adain, mccnet, hgst", std::invalid_argument);
+                       "patch needs no weights; --weights is for adain, adaattn, mccnet, hgst", std::invalid_argument);
   // Network stylizers never run without weights; the message says which files they need.
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("adain"),
                        doctest::Contains("adain needs weights: --weights DIR holding vgg_normalised.safetensors and "
