@@ -13,7 +13,7 @@
 using namespace s4d;
 
 TEST_CASE("registry makes the patch stylizer and explains the others") {
-  CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "mccnet", "hgst"});
+  CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "adaattn", "mccnet", "hgst"});
   CHECK(stylize::make_stylizer("patch")->name() == "patch");
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("patch", {.weights = "w"}),
                        "patch needs no weights; --weights is for adain, adaattn, mccnet, hgst", std::invalid_argument);
