@@ -1,7 +1,8 @@
 // AdaAttN on lavapipe against double twins (ref/nn_ref.h): the new kernels (nearest resize,
 // attention scores, row softmax, attention apply) one by one and at their loop caps, the chunked
 // attention, channel concatenation, and the whole network with random weights written as
-// safetensors at tiny widths, on sizes that take the odd-size and style-subsampling paths.
+// safetensors at tiny widths, on sizes that take the odd-size and style-subsampling paths, through
+// the frame stylizer too, and the missing-weight errors.
 #include <doctest/doctest.h>
 
 #include <algorithm>
