@@ -53,4 +53,8 @@ set(S4D_SHADER_VARIANTS
   "nn_adain|nn/nn_adain.comp"
   "nn_scale_channels|nn/nn_scale_channels.comp"
   "nn_blend|nn/nn_blend.comp"
+  "nn_resize_nearest|nn/nn_resize_nearest.comp"
+  "nn_attn_scores|nn/nn_attn_scores.comp"
+  "nn_softmax_rows|nn/nn_softmax_rows.comp"
+  "nn_attn_apply|nn/nn_attn_apply.comp"
 )

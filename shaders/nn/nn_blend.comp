@@ -1,4 +1,5 @@
-// nn_blend: out = alpha a + (1 - alpha) b (MCCNet's content / style blend of its channel weights).
+// nn_blend: out = alpha a + beta b (MCCNet's content / style blend of its channel weights; AdaAttN's
+// sum of its relu4_1 and upsampled relu5_1 attention outputs).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_nn.h"
@@ -12,5 +13,5 @@ layout(std430, binding = S4D_B_BLEND_OUT) writeonly buffer Out { float y[]; };
 
 void main() {
   uint i = flat_group_id() * S4D_NN_WG + gl_LocalInvocationIndex;
-  if (i < p.n) y[i] = p.alpha * a[i] + (1.0 - p.alpha) * b[i];
+  if (i < p.n) y[i] = p.alpha * a[i] + p.beta * b[i];
 }

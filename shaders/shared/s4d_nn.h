@@ -36,7 +36,7 @@
 #define S4D_B_RESIZE_OUT 1    // [c, out_h, out_w]
 #define S4D_B_SCALE_DATA 0    // nn_scale_channels: [c, count], in place
 #define S4D_B_SCALE_FACTORS 1 // [c]
-#define S4D_B_BLEND_A 0       // nn_blend: out = alpha a + (1 - alpha) b, [n] each
+#define S4D_B_BLEND_A 0       // nn_blend: out = alpha a + beta b, [n] each
 #define S4D_B_BLEND_B 1
 #define S4D_B_BLEND_OUT 2
 
@@ -56,7 +56,37 @@
 #define S4D_B_ADAIN_STYLE_STATS 2   // [2, c]
 #define S4D_B_ADAIN_OUT 3           // [c, count]
 
+// AdaAttN's attention (Liu et al. 2021) over one chunk of content positions, in three passes so no
+// invocation loops past S4D_NN_MAX_LOOP and the score matrix of a chunk fits one storage buffer:
+// nn_attn_scores: S[i, j] = sum_k Q[k, first + i] K[k, j] (one invocation per score, loops over the
+// key channels); nn_softmax_rows: each row of S replaced by its softmax (one workgroup per row,
+// shared-memory reductions, so no subgroup size is assumed); nn_attn_apply: with the weights P,
+// M = sum_j P[i, j] V[c, j], S = sqrt(relu(sum_j P[i, j] V[c, j]^2 - M^2)) and
+// out[c, first + i] = S * content[c, first + i] + M (one invocation per output, loops over the
+// style positions).
+#define S4D_NN_SOFTMAX_WG 64
+#define S4D_B_ATTN_Q 0        // nn_attn_scores: [dk, n_c] queries
+#define S4D_B_ATTN_K 1        // [dk, n_s] keys
+#define S4D_B_ATTN_SCORES 2   // [chunk, n_s]
+#define S4D_B_SOFTMAX_DATA 0  // nn_softmax_rows: [chunk, n_s], in place
+#define S4D_B_ATTN_P 0        // nn_attn_apply: [chunk, n_s] attention weights
+#define S4D_B_ATTN_V 1        // [c, n_s] values
+#define S4D_B_ATTN_CONTENT 2  // [c, n_c] normalised content features
+#define S4D_B_ATTN_OUT 3      // [c, n_c]; the chunk's columns are written
+
 S4D_NAMESPACE_BEGIN
+
+// Push constants of nn_attn_scores, nn_softmax_rows and nn_attn_apply.
+struct NnAttnParams {
+  uint channels;  // key channels (scores) or value channels (apply)
+  uint n_c;       // content positions
+  uint n_s;       // style positions
+  uint first;     // the chunk's first content position
+  uint chunk;     // content positions in the chunk
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+};
 
 // Push constants of nn_conv3x3 (reflection padding 1) and nn_conv1x1.
 struct NnConvParams {
@@ -78,15 +108,16 @@ struct NnEltParams {
   uint _pad1;
 };
 
-// Push constants of nn_blend.
+// Push constants of nn_blend (alpha, 1 - alpha: a blend; 1, 1: a sum).
 struct NnBlendParams {
   uint n;
   float alpha;
+  float beta;
   uint _pad0;
-  uint _pad1;
 };
 
-// Push constants of nn_maxpool (2x2, stride 2, ceil mode) and nn_upsample (nearest, x2).
+// Push constants of nn_maxpool (2x2, stride 2, ceil mode), nn_upsample (nearest, x2) and
+// nn_resize_nearest (any size).
 struct NnResizeParams {
   uint channels;
   uint in_height;

@@ -113,7 +113,8 @@ TEST_CASE("MCCNet matches its twin module by module and end to end, blended with
   for (const float alpha : {1.0f, 0.6f}) {
     CAPTURE(alpha);
     // The module on the GPU's relu4_1 features: statistics, four 1x1 layers, sums: measured 2.1e-7.
-    const auto fcs = run([&](engine::Recorder& r) { return net.transform(r, fc, net.style(r, gs), alpha); });
+    const auto fcs =
+        run([&](engine::Recorder& r) { return net.transform(r, fc, net.style(r, gs).at(0).buffer, alpha); });
     const auto twin_fcs = test::twin_mcc(mcc, test::download_chw(fc), test::download_chw(fs), alpha);
     CHECK(max_rel(nn::download(context(), fcs), twin_fcs.v) < 3e-6);
     // The decoder on the module's output: measured 7.4e-7.
@@ -156,7 +157,8 @@ TEST_CASE("AdaIN and MCCNet at the real VGG19 widths match their twins on a 16x1
 
   const auto fc = run([&](engine::Recorder& r) { return encoder.encode(r, gc, 4); });
   const auto fs = run([&](engine::Recorder& r) { return encoder.encode(r, gs, 4); });
-  const auto fcs = run([&](engine::Recorder& r) { return mccnet.transform(r, fc, mccnet.style(r, gs), 1.0f); });
+  const auto fcs =
+      run([&](engine::Recorder& r) { return mccnet.transform(r, fc, mccnet.style(r, gs).at(0).buffer, 1.0f); });
   const auto twin_fcs = test::twin_mcc(mcc, test::download_chw(fc), test::download_chw(fs), 1.0);
   CHECK(max_rel(nn::download(context(), fcs), twin_fcs.v) < 1e-5);  // the module alone: measured 1.5e-6
   // End to end, MCC's statistics over relu4_1's 2x2 pixels amplify the encoder's float error: a

@@ -13,10 +13,10 @@
 using namespace s4d;
 
 TEST_CASE("registry makes the patch stylizer and explains the others") {
-  CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "mccnet", "hgst"});
+  CHECK(stylize::stylizer_names() == std::vector<std::string>{"patch", "adain", "adaattn", "mccnet", "hgst"});
   CHECK(stylize::make_stylizer("patch")->name() == "patch");
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("patch", {.weights = "w"}),
-                       "patch needs no weights; --weights is for adain, mccnet, hgst", std::invalid_argument);
+                       "patch needs no weights; --weights is for adain, adaattn, mccnet, hgst", std::invalid_argument);
   // Network stylizers never run without weights; the message says which files they need.
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("adain"),
                        doctest::Contains("adain needs weights: --weights DIR holding vgg_normalised.safetensors and "
@@ -28,9 +28,12 @@ TEST_CASE("registry makes the patch stylizer and explains the others") {
                        std::invalid_argument);
   CHECK_THROWS_WITH_AS(stylize::make_stylizer("mccnet", {.weights = "/nonexistent/weights"}),
                        doctest::Contains("--weights /nonexistent/weights is not a folder"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adaattn"), doctest::Contains("'adaattn' is not built yet"),
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("adaattn"),
+                       doctest::Contains("adaattn needs weights: --weights DIR holding vgg_normalised.safetensors, "
+                                         "net_adaattn_3.safetensors, net_transformer.safetensors and "
+                                         "net_decoder.safetensors"),
                        std::invalid_argument);
-  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch, adain, mccnet, hgst"),
+  CHECK_THROWS_WITH_AS(stylize::make_stylizer("nope"), doctest::Contains("available: patch, adain, adaattn, mccnet, hgst"),
                        std::invalid_argument);
 }
 

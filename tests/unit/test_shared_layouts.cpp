@@ -52,6 +52,7 @@ static_assert(sizeof(FlowDisplaceParams) == 16);
 static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
+static_assert(sizeof(NnAttnParams) == 32);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
@@ -165,7 +166,10 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnAdainParams, S4D_MEMBER(NnAdainParams, channels), S4D_MEMBER(NnAdainParams, count),
                  S4D_MEMBER(NnAdainParams, alpha), S4D_MEMBER(NnAdainParams, mode)),
       S4D_STRUCT(NnBlendParams, S4D_MEMBER(NnBlendParams, n), S4D_MEMBER(NnBlendParams, alpha),
-                 S4D_MEMBER(NnBlendParams, _pad0), S4D_MEMBER(NnBlendParams, _pad1)),
+                 S4D_MEMBER(NnBlendParams, beta), S4D_MEMBER(NnBlendParams, _pad0)),
+      S4D_STRUCT(NnAttnParams, S4D_MEMBER(NnAttnParams, channels), S4D_MEMBER(NnAttnParams, n_c),
+                 S4D_MEMBER(NnAttnParams, n_s), S4D_MEMBER(NnAttnParams, first), S4D_MEMBER(NnAttnParams, chunk),
+                 S4D_MEMBER(NnAttnParams, _pad0), S4D_MEMBER(NnAttnParams, _pad1), S4D_MEMBER(NnAttnParams, _pad2)),
       S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
                  S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
                  S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),

@@ -67,7 +67,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"style", "the style image, e.g. assets/styles/builtin.png", true, "IMG"},
       {"name", "the style's name in RUN/style/ (default: the image's file name without extension)", true, "NAME"},
       {"stylizer", "stage 3's 2D stylizer: " + names + " (default patch)", true, "NAME"},
-      {"weights", "network stylizers (adain, mccnet, hgst): the folder of their .safetensors files", true, "DIR"},
+      {"weights", "network stylizers (adain, adaattn, mccnet, hgst): the folder of their .safetensors files", true, "DIR"},
       {"style-size", "network stylizers: the style image's shorter side in pixels (default 512)", true, "N"},
       {"strength", "stage 3: 0 keeps the content, 1 the full stylization (default 1)", true, "S"},
       {"method", "full (per-Gaussian MLPs, the paper), colors (no MLPs), scratch (4DGS retrained on the "

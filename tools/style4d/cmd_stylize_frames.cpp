@@ -38,8 +38,8 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
                        "Restyles one camera's frames, in time order, after a style image. The default stylizer\n"
                        "(patch) needs no weights: texture synthesis from the style's patches (Elad & Milanfar\n"
                        "2017), each frame warm-started from the previous result moved by optical flow. The\n"
-                       "network stylizers adain, mccnet and hgst run on the GPU with the published weights\n"
-                       "converted to safetensors; --strength is then their alpha.",
+                       "network stylizers adain, adaattn, mccnet and hgst run on the GPU with the published\n"
+                       "weights converted to safetensors; --strength is then their alpha.",
                        specs);
     return 0;
   }

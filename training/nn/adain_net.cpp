@@ -8,13 +8,15 @@ AdainNet::AdainNet(engine::Context& ctx, const io::SafetensorsFile& vgg, const i
                    const VggWidths& widths)
     : encoder_(ctx, vgg, 4, widths), decoder_(ctx, decoder, widths) {}
 
-engine::Buffer AdainNet::style(engine::Recorder& rec, const Tensor& style) const {
-  return mean_std(rec, encoder_.encode(rec, style, 4));
+StyleCode AdainNet::style(engine::Recorder& rec, const Tensor& style) const {
+  StyleCode code(1);
+  code[0] = Tensor{mean_std(rec, encoder_.encode(rec, style, 4)), 2, encoder_.channels(4), 1};
+  return code;
 }
 
-Tensor AdainNet::stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style, float alpha) const {
+Tensor AdainNet::stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const {
   const Tensor features = encoder_.encode(rec, content, 4);
-  return decoder_.decode(rec, adain(rec, features, mean_std(rec, features), style, alpha));
+  return decoder_.decode(rec, adain(rec, features, mean_std(rec, features), style.at(0).buffer, alpha));
 }
 
 }  // namespace s4d::nn

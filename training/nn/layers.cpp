@@ -87,6 +87,17 @@ Tensor adain_mode(engine::Recorder& rec, const Tensor& x, const engine::Buffer& 
   return y;
 }
 
+Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha, float beta,
+                    const char* layer) {
+  if (a.c != b.c || a.h != b.h || a.w != b.w) fail(layer, "shapes " + a.shape() + " and " + b.shape() + " differ");
+  Tensor y = make_tensor(rec.context(), layer, a.c, a.h, a.w);
+  const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, .beta = beta, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend), {a.buffer, b.buffer, y.buffer}, p,
+               ceil_div(a.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
 }  // namespace
 
 ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
@@ -168,11 +179,36 @@ void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& fact
 }
 
 Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha) {
-  if (a.c != b.c || a.h != b.h || a.w != b.w) fail("blend", "shapes " + a.shape() + " and " + b.shape() + " differ");
-  Tensor y = make_tensor(rec.context(), "blend", a.c, a.h, a.w);
-  const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend), {a.buffer, b.buffer, y.buffer}, p,
-               ceil_div(a.count(), S4D_NN_WG));
+  return weighted_sum(rec, a, b, alpha, 1.0f - alpha, "blend");
+}
+
+Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
+  return weighted_sum(rec, a, b, 1.0f, 1.0f, "add");
+}
+
+Tensor resize_nearest(engine::Recorder& rec, const Tensor& x, uint32_t out_h, uint32_t out_w) {
+  if (out_h == 0 || out_w == 0) fail("resize_nearest", "empty output size for " + x.shape());
+  // The kernel's integer source index multiplies output and input sizes.
+  if (uint64_t{out_h} * x.h >= (uint64_t{1} << 32) || uint64_t{out_w} * x.w >= (uint64_t{1} << 32))
+    fail("resize_nearest",
+         "sizes too large: " + x.shape() + " to " + std::to_string(out_h) + "x" + std::to_string(out_w));
+  return resize(rec, x, shaders::Id::nn_resize_nearest, out_h, out_w, "resize_nearest");
+}
+
+Tensor concat_channels(engine::Recorder& rec, std::span<const Tensor* const> parts) {
+  if (parts.empty()) fail("concat_channels", "no tensors");
+  uint32_t c = 0;
+  for (const Tensor* t : parts) {
+    if (t->h != parts[0]->h || t->w != parts[0]->w)
+      fail("concat_channels", "sizes " + parts[0]->shape() + " and " + t->shape() + " differ");
+    c += t->c;
+  }
+  Tensor y = make_tensor(rec.context(), "concat", c, parts[0]->h, parts[0]->w);
+  size_t offset = 0;  // [C, H, W] stacks channels, so each part is one contiguous copy
+  for (const Tensor* t : parts) {
+    rec.copy(t->buffer, y.buffer, t->count() * sizeof(float), 0, offset);
+    offset += t->count() * sizeof(float);
+  }
   rec.barrier();
   return y;
 }

@@ -18,12 +18,14 @@ Tensor MccNet::channel_weights(engine::Recorder& rec, const Tensor& features) co
   return conv1x1(rec, squares_over_sum(rec, g), fc_, false);
 }
 
-engine::Buffer MccNet::style(engine::Recorder& rec, const Tensor& style) const {
-  return channel_weights(rec, encoder_.encode(rec, style, 4)).buffer;
+StyleCode MccNet::style(engine::Recorder& rec, const Tensor& style) const {
+  StyleCode code;
+  code.push_back(channel_weights(rec, encoder_.encode(rec, style, 4)));
+  return code;
 }
 
-Tensor MccNet::stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style, float alpha) const {
-  return decoder_.decode(rec, transform(rec, encoder_.encode(rec, content, 4), style, alpha));
+Tensor MccNet::stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const {
+  return decoder_.decode(rec, transform(rec, encoder_.encode(rec, content, 4), style.at(0).buffer, alpha));
 }
 
 Tensor MccNet::transform(engine::Recorder& rec, const Tensor& fc, const engine::Buffer& style, float alpha) const {

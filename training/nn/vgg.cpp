@@ -55,6 +55,26 @@ Tensor VggEncoder::encode(engine::Recorder& rec, const Tensor& rgb, int level) c
   return x;
 }
 
+std::vector<Tensor> VggEncoder::encode_all(engine::Recorder& rec, const Tensor& rgb) const {
+  if (rgb.c != 3) throw std::invalid_argument("VggEncoder: expects an RGB image [3, H, W], got " + rgb.shape());
+  std::vector<Tensor> levels;
+  levels.reserve(static_cast<size_t>(levels_));  // `x` may point into it
+  Tensor y = conv1x1(rec, rgb, steps_.front().conv, false);
+  const Tensor* x = &y;
+  for (size_t i = 1; i < steps_.size(); ++i) {
+    const Step& s = steps_[i];
+    Tensor next = s.conv.name.empty() ? maxpool2(rec, *x) : conv3x3(rec, *x, s.conv, true);
+    if (s.ends_level != 0) {
+      levels.push_back(std::move(next));
+      x = &levels.back();
+    } else {
+      y = std::move(next);
+      x = &y;
+    }
+  }
+  return levels;
+}
+
 VggDecoder::VggDecoder(engine::Context& ctx, const io::SafetensorsFile& file, const VggWidths& widths) {
   const auto& w = widths.level;
   auto conv = [&](int index, uint32_t cin, uint32_t cout, bool upsample_after = false, bool relu = true) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "s4d/io/safetensors.h"
+#include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/adain_net.h"
 #include "s4d/nn/mcc_net.h"
 #include "s4d/stylize/image_file.h"
@@ -70,6 +71,9 @@ class NetworkStylizer final : public Stylizer {
     };
     if (name_ == "adain")
       net_ = std::make_unique<nn::AdainNet>(*ctx_, file("vgg_normalised"), file("decoder"), widths);
+    else if (name_ == "adaattn")
+      net_ = std::make_unique<nn::AdaattnNet>(*ctx_, file("vgg_normalised"), file("net_adaattn_3"),
+                                              file("net_transformer"), file("net_decoder"), widths);
     else
       net_ = std::make_unique<nn::MccNet>(*ctx_, file("vgg_normalised"), file("decoder"), file("mcc_module"), widths);
   }
@@ -86,7 +90,7 @@ class NetworkStylizer final : public Stylizer {
 
     engine::Recorder style_rec(*ctx_, name_ + " style");
     const nn::Tensor style_tensor = nn::upload_tensor(*ctx_, "style", 3, style.height, style.width, to_chw(style));
-    const engine::Buffer style_code = net_->style(style_rec, style_tensor);
+    const nn::StyleCode style_code = net_->style(style_rec, style_tensor);
     ctx_->run(std::move(style_rec));
 
     std::vector<io::ImageF> out;
@@ -136,10 +140,13 @@ class NetworkStylizer final : public Stylizer {
 
 }  // namespace
 
-std::vector<std::string> network_stylizer_names() { return {"adain", "mccnet", "hgst"}; }
+std::vector<std::string> network_stylizer_names() { return {"adain", "adaattn", "mccnet", "hgst"}; }
 
 std::vector<std::string> network_weight_files(const std::string& name) {
   if (name == "adain") return {"vgg_normalised.safetensors", "decoder.safetensors"};
+  if (name == "adaattn")
+    return {"vgg_normalised.safetensors", "net_adaattn_3.safetensors", "net_transformer.safetensors",
+            "net_decoder.safetensors"};
   return {"vgg_normalised.safetensors", "decoder.safetensors", "mcc_module.safetensors"};
 }
 

@@ -31,9 +31,6 @@ std::unique_ptr<Stylizer> make_stylizer(const std::string& name, const NetworkOp
     return std::make_unique<PatchStylizer>();
   }
   if (std::find(networks.begin(), networks.end(), name) != networks.end()) return make_network_stylizer(name, network);
-  // AdaAttN (ALGORITHMS.md 5) is a network of the design not built yet.
-  if (name == "adaattn")
-    throw std::invalid_argument("stylizer 'adaattn' is not built yet (available: " + joined(stylizer_names()) + ")");
   throw std::invalid_argument("unknown stylizer '" + name + "' (available: " + joined(stylizer_names()) + ")");
 }
 

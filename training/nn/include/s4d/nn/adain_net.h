@@ -13,9 +13,9 @@ class AdainNet final : public StyleNetwork {
   AdainNet(engine::Context& ctx, const io::SafetensorsFile& vgg, const io::SafetensorsFile& decoder,
            const VggWidths& widths = {});
 
-  // The style's relu4_1 statistics [2, c4].
-  engine::Buffer style(engine::Recorder& rec, const Tensor& style) const override;
-  Tensor stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style, float alpha) const override;
+  // The style's relu4_1 statistics [2, c4, 1].
+  StyleCode style(engine::Recorder& rec, const Tensor& style) const override;
+  Tensor stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const override;
 
  private:
   VggEncoder encoder_;

@@ -50,5 +50,12 @@ Tensor normalise(engine::Recorder& rec, const Tensor& x, const engine::Buffer& s
 void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& factors);
 // alpha a + (1 - alpha) b, both of a's shape.
 Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha);
+// a + b, both of a's shape.
+Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b);
+// Nearest-neighbour resize to out_h x out_w: PyTorch's interpolate(size=...) default mode, source
+// index floor(dst * in / out) (exact integers here; see nn_resize_nearest.comp).
+Tensor resize_nearest(engine::Recorder& rec, const Tensor& x, uint32_t out_h, uint32_t out_w);
+// torch.cat(parts, dim=1) of tensors of one size, by buffer copies.
+Tensor concat_channels(engine::Recorder& rec, std::span<const Tensor* const> parts);
 
 }  // namespace s4d::nn

@@ -18,11 +18,11 @@ class MccNet final : public StyleNetwork {
   MccNet(engine::Context& ctx, const io::SafetensorsFile& vgg, const io::SafetensorsFile& decoder,
          const io::SafetensorsFile& mcc, const VggWidths& widths = {});
 
-  // The style's channel weights w = fc(a) [c4].
-  engine::Buffer style(engine::Recorder& rec, const Tensor& style) const override;
+  // The style's channel weights w = fc(a) [c4, 1, 1].
+  StyleCode style(engine::Recorder& rec, const Tensor& style) const override;
   // alpha < 1 blends with MCC(content, content), as MCCNet's test script does; MCC is affine in w,
   // so this blends the channel weights.
-  Tensor stylize(engine::Recorder& rec, const Tensor& content, const engine::Buffer& style, float alpha) const override;
+  Tensor stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const override;
   // The MCC module alone: Fcs of relu4_1 content features and the style's channel weights.
   Tensor transform(engine::Recorder& rec, const Tensor& content_features, const engine::Buffer& style,
                    float alpha) const;

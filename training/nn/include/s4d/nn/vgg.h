@@ -30,6 +30,8 @@ class VggEncoder {
   // relu<level>_1 of an RGB image [3, H, W] in [0, 1] (the first 1x1 convolution holds VGG's
   // mean/255 preprocessing); level 1..levels().
   Tensor encode(engine::Recorder& rec, const Tensor& rgb, int level) const;
+  // relu1_1 .. relu<levels>_1 of one pass (AdaAttN's encode_with_intermediate).
+  std::vector<Tensor> encode_all(engine::Recorder& rec, const Tensor& rgb) const;
   int levels() const { return levels_; }
   uint32_t channels(int level) const { return widths_.level[level - 1]; }
 

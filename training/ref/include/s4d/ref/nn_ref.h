@@ -155,4 +155,82 @@ Chw<T> scale_channels(Chw<T> x, const std::vector<T>& s) {
   return x;
 }
 
+// interpolate(x, size=(out_h, out_w)) in nearest mode: source floor(dst * in / out).
+template <class T>
+Chw<T> resize_nearest(const Chw<T>& x, uint32_t out_h, uint32_t out_w) {
+  Chw<T> y(x.c, out_h, out_w);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < out_h; ++py)
+      for (uint32_t px = 0; px < out_w; ++px)
+        y.at(ch, py, px) = x.at(ch, static_cast<uint32_t>(uint64_t{py} * x.h / out_h),
+                                static_cast<uint32_t>(uint64_t{px} * x.w / out_w));
+  return y;
+}
+
+// torch.cat(parts, dim=1) of tensors of one size.
+template <class T>
+Chw<T> concat_channels(const std::vector<Chw<T>>& parts) {
+  Chw<T> y(0, parts.at(0).h, parts.at(0).w);
+  for (const Chw<T>& t : parts) {
+    y.v.insert(y.v.end(), t.v.begin(), t.v.end());
+    y.c += t.c;
+  }
+  return y;
+}
+
+// AdaAttN's logits [n_c, n_s] (row-major): S[i, j] = sum_k q[k, i] k[k, j].
+template <class T>
+std::vector<T> attention_scores(const Chw<T>& q, const Chw<T>& k) {
+  const size_t n_c = size_t{q.h} * q.w, n_s = size_t{k.h} * k.w;
+  std::vector<T> s(n_c * n_s, T(0));
+  for (uint32_t c = 0; c < q.c; ++c)
+    for (size_t i = 0; i < n_c; ++i)
+      for (size_t j = 0; j < n_s; ++j) s[i * n_s + j] += q.v[c * n_c + i] * k.v[c * n_s + j];
+  return s;
+}
+
+// Softmax(dim=-1) of each row of a [rows, n] matrix, the row maximum subtracted first.
+template <class T>
+std::vector<T> softmax_rows(std::vector<T> s, size_t n) {
+  for (size_t r = 0; r * n < s.size(); ++r) {
+    T* row = s.data() + r * n;
+    const T m = *std::max_element(row, row + n);
+    T sum = 0;
+    for (size_t j = 0; j < n; ++j) sum += row[j] = std::exp(row[j] - m);
+    for (size_t j = 0; j < n; ++j) row[j] /= sum;
+  }
+  return s;
+}
+
+// out[c, i] = sqrt(relu(sum_j P[i, j] V[c, j]^2 - M^2)) content[c, i] + M, M = sum_j P[i, j] V[c, j].
+template <class T>
+Chw<T> attention_apply(const std::vector<T>& p, const Chw<T>& v, const Chw<T>& content) {
+  const size_t n_c = size_t{content.h} * content.w, n_s = size_t{v.h} * v.w;
+  Chw<T> y(content.c, content.h, content.w);
+  for (uint32_t c = 0; c < v.c; ++c)
+    for (size_t i = 0; i < n_c; ++i) {
+      T mean = 0, squares = 0;
+      for (size_t j = 0; j < n_s; ++j) {
+        const T val = v.v[c * n_s + j];
+        mean += p[i * n_s + j] * val;
+        squares += p[i * n_s + j] * val * val;
+      }
+      y.v[c * n_c + i] = std::sqrt(std::max(squares - mean * mean, T(0))) * content.v[c * n_c + i] + mean;
+    }
+  return y;
+}
+
+// The whole attention: softmax(Q^T K) weighted statistics of V applied to the content.
+template <class T>
+Chw<T> attention(const Chw<T>& q, const Chw<T>& k, const Chw<T>& v, const Chw<T>& content) {
+  return attention_apply(softmax_rows(attention_scores(q, k), size_t{k.h} * k.w), v, content);
+}
+
+// a + b.
+template <class T>
+Chw<T> add(Chw<T> a, const Chw<T>& b) {
+  for (size_t i = 0; i < a.v.size(); ++i) a.v[i] += b.v[i];
+  return a;
+}
+
 }  // namespace s4d::ref

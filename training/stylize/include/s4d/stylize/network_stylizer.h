@@ -1,4 +1,4 @@
-// Network stylizers on the GPU (s4d_nn, ALGORITHMS.md 4.2 and 5): AdaIN, MCCNet and HGST. Each frame
+// Network stylizers on the GPU (s4d_nn, ALGORITHMS.md 4.2 and 5): AdaIN, AdaAttN, MCCNet and HGST. Each frame
 // is stylized on its own; the style is encoded once per call. Weights come from a folder of
 // safetensors files named after the published checkpoints and keeping their PyTorch state-dict
 // names (README, "Network stylizers"); there is no weight-free fallback.
@@ -22,13 +22,15 @@ struct NetworkOptions {
   engine::Context* context = nullptr;  // the device to run on; null: open one (S4D_DEVICE, S4D_VALIDATION)
 };
 
-// "adain", "mccnet", "hgst".
+// "adain", "adaattn", "mccnet", "hgst".
 std::vector<std::string> network_stylizer_names();
 
 // The weight files a network stylizer reads from NetworkOptions::weights.
 std::vector<std::string> network_weight_files(const std::string& name);
 
-// adain (Huang & Belongie 2017): vgg_normalised + decoder. mccnet (Deng et al. 2021) and hgst
+// adain (Huang & Belongie 2017): vgg_normalised + decoder. adaattn (Liu et al. 2021):
+// vgg_normalised + net_adaattn_3 + net_transformer + net_decoder, the style centre-cropped to a
+// square as AdaAttN's test data loader does. mccnet (Deng et al. 2021) and hgst
 // (MCCNet's architecture with HGST's weights): vgg_normalised + decoder + mcc_module, with the
 // style also centre-cropped to a square, as HGST's test script does. Frames come out of the decoder
 // at 8 ceil(H/8) x 8 ceil(W/8), are resized back to H x W and clamped to [0, 1].

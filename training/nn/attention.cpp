@@ -1,0 +1,97 @@
+#include "s4d/nn/attention.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "s4d/primitives/shader_pipeline.h"
+#include "s4d_nn.h"
+
+namespace s4d::nn {
+
+namespace {
+
+using primitives::ceil_div;
+using primitives::shader_pipeline;
+
+[[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("attention: " + what); }
+
+// llvmpipe silently ends invocations past 65,535 loop iterations (s4d_nn.h).
+void check_loop(uint64_t iterations, const std::string& what) {
+  if (iterations > S4D_NN_MAX_LOOP)
+    fail(what + " " + std::to_string(iterations) + " is over the " + std::to_string(S4D_NN_MAX_LOOP) +
+         " loop iterations the kernels allow");
+}
+
+gpu::NnAttnParams params(uint32_t channels, size_t n_c, size_t n_s, uint32_t first, uint32_t rows) {
+  return {.channels = channels,
+          .n_c = static_cast<uint32_t>(n_c),
+          .n_s = static_cast<uint32_t>(n_s),
+          .first = first,
+          .chunk = rows,
+          ._pad0 = 0,
+          ._pad1 = 0,
+          ._pad2 = 0};
+}
+
+void check_rows(const Tensor& x, uint32_t first, uint32_t rows) {
+  if (rows == 0 || uint64_t{first} + rows > x.plane())
+    fail("rows " + std::to_string(first) + "+" + std::to_string(rows) + " outside " + x.shape());
+}
+
+}  // namespace
+
+Tensor attention_scores(engine::Recorder& rec, const Tensor& q, const Tensor& k, uint32_t first, uint32_t rows) {
+  if (q.c != k.c) fail("queries " + q.shape() + " and keys " + k.shape() + " differ in channels");
+  check_rows(q, first, rows);
+  check_loop(q.c, "key channels");
+  Tensor s = make_tensor(rec.context(), "attention scores", 1, rows, static_cast<uint32_t>(k.plane()));
+  const auto p = params(q.c, q.plane(), k.plane(), first, rows);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_scores), {q.buffer, k.buffer, s.buffer}, p,
+               ceil_div(s.count(), S4D_NN_WG));
+  rec.barrier();
+  return s;
+}
+
+void softmax_rows(engine::Recorder& rec, Tensor& scores) {
+  if (scores.c != 1) fail("softmax expects [1, rows, n], got " + scores.shape());
+  check_loop(3 * uint64_t{ceil_div(scores.w, S4D_NN_SOFTMAX_WG)}, "softmax row passes");
+  const auto p = params(0, 0, scores.w, 0, scores.h);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_softmax_rows), {scores.buffer}, p, scores.h);
+  rec.barrier();
+}
+
+void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, const Tensor& content, uint32_t first,
+                     Tensor& out) {
+  if (p.c != 1 || p.w != v.plane())
+    fail("weights " + p.shape() + " do not match values " + v.shape());
+  if (content.c != v.c || out.c != v.c || out.h != content.h || out.w != content.w)
+    fail("values " + v.shape() + ", content " + content.shape() + " and output " + out.shape() + " do not match");
+  check_rows(content, first, p.h);
+  check_loop(p.w, "style positions");
+  const auto pc = params(v.c, content.plane(), v.plane(), first, p.h);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_apply),
+               {p.buffer, v.buffer, content.buffer, out.buffer}, pc, ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
+  rec.barrier();
+}
+
+Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,
+                 size_t max_score_bytes) {
+  if (q.h != content.h || q.w != content.w || k.h != v.h || k.w != v.w)
+    fail("queries " + q.shape() + " / content " + content.shape() + " or keys " + k.shape() + " / values " +
+         v.shape() + " differ in size");
+  const size_t row_bytes = k.plane() * sizeof(float);
+  const size_t budget = std::min<size_t>(max_score_bytes, rec.context().info().max_storage_buffer_range);
+  if (row_bytes > budget) fail(std::to_string(k.plane()) + " style positions: one score row is over the budget");
+  const auto chunk = static_cast<uint32_t>(std::min<size_t>(q.plane(), budget / row_bytes));
+  Tensor out = make_tensor(rec.context(), "attention", v.c, content.h, content.w);
+  for (uint32_t first = 0; first < q.plane(); first += chunk) {
+    const auto rows = static_cast<uint32_t>(std::min<size_t>(chunk, q.plane() - first));
+    Tensor s = attention_scores(rec, q, k, first, rows);
+    softmax_rows(rec, s);
+    attention_apply(rec, s, v, content, first, out);
+  }
+  return out;
+}
+
+}  // namespace s4d::nn
