@@ -10,8 +10,11 @@
 namespace s4d::bench {
 
 void write_frames_report(const std::filesystem::path& out, const std::vector<MethodResult>& methods, const ReportContext& c) {
+  write_report_files(out, report_json(methods, c), methods);
+}
+
+void write_report_files(const std::filesystem::path& out, const nlohmann::json& report, const std::vector<MethodResult>& methods) {
   std::filesystem::create_directories(out / "plots");
-  const nlohmann::json report = report_json(methods, c);
   util::write_file_atomic(out / "report.json", report.dump(2) + "\n");
   util::write_file_atomic(out / "report.md", report_markdown(report));
   util::write_file_atomic(out / "report.csv", report_csv(report));
@@ -29,7 +32,8 @@ void write_frames_report(const std::filesystem::path& out, const std::vector<Met
 
   if (methods.empty() || methods[0].samples.empty()) return;
   std::vector<SheetRow> rows = {{"original", methods[0].original_samples}};
-  for (const auto& m : methods) rows.push_back({m.name, m.samples});
+  for (const auto& m : methods)
+    if (m.name != "original") rows.push_back({m.name, m.samples});  // a method scoring the original is that row
   io::write_png(out / "contact_sheet.png", contact_sheet(rows, methods[0].sample_index));
 }
 

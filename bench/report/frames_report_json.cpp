@@ -24,7 +24,7 @@ std::string native_convention(const std::string& key, const FramesOptions& o) {
   // warp_loss
   const std::string source = o.flow == FlowSource::dis    ? "OpenCV DIS PRESET_MEDIUM on 8-bit gray"
                              : o.flow == FlowSource::raft ? "RAFT ONNX " + o.raft_onnx.string()
-                                                          : "exact flow from " + o.flow_dir.string();
+                                                          : std::string("the renderer's exact flow (fw_NNNN.exr, bw_NNNN.exr)");
   return "flow t->t+1 and t+1->t: " + source + ", computed on the " +
          (o.flow_on == FlowFrames::original ? "original" : "stylised") +
          " frames; stylised t+1 warped to t (Resample2d, clamped bilinear); Lai 2018 forward-backward and "
@@ -33,31 +33,43 @@ std::string native_convention(const std::string& key, const FramesOptions& o) {
          " over unoccluded pixels and channels; mean over pairs";
 }
 
-nlohmann::json value_or_unavailable(const MethodResult& m, const MetricEntry& e) {
-  if (e.unavailable) return {{"unavailable", *e.unavailable}};
-  if (auto it = m.unavailable.find(e.key); it != m.unavailable.end()) return {{"unavailable", it->second}};
-  return m.means.at(e.key);
-}
-
 }  // namespace
 
-nlohmann::json report_json(const std::vector<MethodResult>& methods, const ReportContext& c) {
+nlohmann::json metric_values(const MethodResult& m) {
+  nlohmann::json values = nlohmann::json::object();
+  for (const auto& e : metric_catalog()) {
+    if (e.unavailable)
+      values[e.key] = {{"unavailable", *e.unavailable}};
+    else if (auto it = m.unavailable.find(e.key); it != m.unavailable.end())
+      values[e.key] = {{"unavailable", it->second}};
+    else
+      values[e.key] = m.means.at(e.key);
+  }
+  return values;
+}
+
+nlohmann::json metrics_info(const FramesOptions& options) {
   nlohmann::json info = nlohmann::json::object();
   for (const auto& e : metric_catalog())
     info[e.key] = {{"impl", e.impl},
-                   {"convention", e.unavailable ? e.convention : native_convention(e.key, c.options)},
+                   {"convention", e.unavailable ? e.convention : native_convention(e.key, options)},
                    {"direction", e.higher_is_better ? "higher" : "lower"}};
+  return info;
+}
+
+nlohmann::json report_json(const std::vector<MethodResult>& methods, const ReportContext& c) {
   nlohmann::json results = nlohmann::json::array();
   for (const auto& m : methods) {
     nlohmann::json r = {{"method", m.name}, {"scene", c.scene}, {"style", c.style}, {"frames", m.frame_count},
                         {"inputs", {{"frames", m.frames.string()}, {"original", c.options.original.string()}}}};
-    for (const auto& e : metric_catalog()) r[e.key] = value_or_unavailable(m, e);
+    r.update(metric_values(m));
     r["per_frame"] = m.per_frame;
     results.push_back(std::move(r));
   }
   nlohmann::json inputs = {{"style_image", c.style_image.string()}, {"original", c.options.original.string()}};
   if (c.options.ground_truth) inputs["ground_truth"] = c.options.ground_truth->string();
-  return {{"mode", "frames"}, {"inputs", inputs}, {"results", results}, {"metrics_info", info}};
+  if (c.options.flow == FlowSource::exact) inputs["flow_dir"] = c.options.flow_dir.string();
+  return {{"mode", "frames"}, {"inputs", inputs}, {"results", results}, {"metrics_info", metrics_info(c.options)}};
 }
 
 }  // namespace s4d::bench

@@ -1,4 +1,5 @@
 // report.md and report.csv from report.json: rows (method, scene), one column per metric key.
+#include <algorithm>
 #include <sstream>
 
 #include "s4d/bench/frames_report.h"
@@ -21,7 +22,12 @@ std::string report_markdown(const nlohmann::json& report) {
   std::ostringstream md;
   const auto& results = report.at("results");
   md << "# Style4D-Bench report\n\n";
-  if (!results.empty()) md << "Style: `" << results[0].at("style").get<std::string>() << "`.\n\n";
+  std::vector<std::string> styles;  // distinct, in order (a run's methods may use several)
+  for (const auto& r : results)
+    if (std::find(styles.begin(), styles.end(), r.at("style").get<std::string>()) == styles.end())
+      styles.push_back(r.at("style").get<std::string>());
+  for (size_t i = 0; i < styles.size(); ++i)
+    md << (i == 0 ? "Style: `" : ", `") << styles[i] << (i + 1 == styles.size() ? "`.\n\n" : "`");
   md << "| method | scene |";
   for (const auto& e : metric_catalog()) md << " " << e.label << (e.higher_is_better ? " ↑" : " ↓") << " |";
   md << "\n|---|---|";
@@ -54,7 +60,8 @@ std::string report_markdown(const nlohmann::json& report) {
     md << "- `" << e.key << "` (" << i.at("direction").get<std::string>() << " is better): " << i.at("impl").get<std::string>()
        << "; " << i.at("convention").get<std::string>() << "\n";
   }
-  md << "\nPer-frame curves: `plots/`; sample frames: `contact_sheet.png`.\n";
+  md << (report.value("mode", "") == "merge" ? "\nPer-frame curves and sample frames: in each source report's folder.\n"
+                                              : "\nPer-frame curves: `plots/`; sample frames: `contact_sheet.png`.\n");
   return md.str();
 }
 

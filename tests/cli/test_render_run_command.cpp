@@ -123,7 +123,8 @@ TEST_CASE("render --path train:CAM --format mp4 writes one video; bench reads th
                             (png / "0000.png").string() + " --flow exact --flow-dir " + (png / "flow").string() +
                             " --out " + report.string();
   REQUIRE_MESSAGE(run_style4d("bench", bench, f.root / "bench.log") == 0, read_text(f.root / "bench.log"));
-  CHECK(read_text(report / "report.json").find("exact flow from") != std::string::npos);
+  CHECK(read_text(report / "report.json").find("the renderer's exact flow") != std::string::npos);
+  CHECK(read_text(report / "report.json").find("\"flow_dir\": \"" + (png / "flow").string() + "\"") != std::string::npos);
 }
 
 TEST_CASE("render --run errors name the file, the path or the camera, and write nothing") {

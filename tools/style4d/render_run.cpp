@@ -18,10 +18,6 @@
 
 namespace s4d::cli {
 
-namespace {
-constexpr int kDefaultSpiralFrames = 120;  // LLFF's render_path_spiral default N_views
-}  // namespace
-
 int render_run(const Args& args) {
   for (const char* o : {"ply", "cameras", "sh-degree", "size"})
     if (args.get(o)) throw std::invalid_argument(std::string("--") + o + " belongs to the --ply mode, not --run");
@@ -32,7 +28,7 @@ int render_run(const Args& args) {
   options.flow = args.flag("flow");
   if (args.get("frames") && path.kind != protocols::PathSpec::Kind::spiral)
     throw std::invalid_argument("--frames sets the spiral's length; test and train:CAM render at the dataset's times");
-  const int frames = parse_number<int>("frames", args.get_or("frames", std::to_string(kDefaultSpiralFrames)));
+  const int frames = parse_number<int>("frames", args.get_or("frames", std::to_string(protocols::kDefaultSpiralFrames)));
   if (frames < 1) throw std::invalid_argument("--frames: expected at least 1, got " + std::to_string(frames));
 
   const auto start = std::chrono::steady_clock::now();

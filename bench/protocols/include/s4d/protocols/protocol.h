@@ -38,6 +38,8 @@ struct PathSpec {
 // Parses "test", "spiral" or "train:CAM"; std::invalid_argument naming the accepted forms otherwise.
 PathSpec parse_path(const std::string& text);
 
+inline constexpr int kDefaultSpiralFrames = 120;  // LLFF's render_path_spiral default N_views
+
 // The sequences of a path over `dataset`. `spiral_frames` (>= 1) is the spiral's frame count.
 // Throws std::invalid_argument when the dataset has no test views (test), no training camera named
 // CAM (the message lists them), or a rig the spiral cannot be built from (camera_rig.h).

@@ -19,6 +19,11 @@ struct ReportContext {
 
 nlohmann::json report_json(const std::vector<MethodResult>& methods, const ReportContext& context);
 
+// The parts of report_json that the run mode (run_report.h) shares: one result's metric keys, each
+// a number or {"unavailable": why}; and metrics_info, the weight-free conventions as `options` run.
+nlohmann::json metric_values(const MethodResult& method);
+nlohmann::json metrics_info(const FramesOptions& options);
+
 // Both read a report_json() value: rows (method, scene), one column per metric key.
 std::string report_markdown(const nlohmann::json& report);
 std::string report_csv(const nlohmann::json& report);
@@ -26,5 +31,9 @@ std::string report_csv(const nlohmann::json& report);
 // Writes every file under `out` (created if needed; JSON, Markdown and CSV atomically).
 void write_frames_report(const std::filesystem::path& out, const std::vector<MethodResult>& methods,
                          const ReportContext& context);
+
+// The same files from an already built report (`report` in report_json's layout): the plots draw
+// `methods`' per-frame values, the contact sheet their samples.
+void write_report_files(const std::filesystem::path& out, const nlohmann::json& report, const std::vector<MethodResult>& methods);
 
 }  // namespace s4d::bench

@@ -1,0 +1,150 @@
+// style4d bench --run RUN --style NAME ... --out DIR: renders the run's test (fixed-view) and spiral
+// protocols for the original scene and each style into DIR/renders/<source>/{test,spiral}, then
+// scores them with the frames mode's evaluation (bench/report) and writes the run report.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+#include "bench_ground_truth.h"
+#include "bench_modes.h"
+#include "s4d/bench/run_report.h"
+#include "s4d/engine/context.h"
+#include "s4d/io/image_io.h"
+#include "s4d/protocols/protocol_render.h"
+#include "s4d/scene/style_file.h"
+#include "s4d/scene/trained_run.h"
+
+namespace s4d::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Method {
+  std::string name;  // a style of the run, or "original"
+  fs::path style_image;
+};
+
+// The style image a style was trained with: request.json's style_image.path (stylize_pipeline.cpp).
+fs::path requested_style_image(const fs::path& run, const std::string& style) {
+  const fs::path file = scene::style_dir(run, style) / "request.json";
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": missing; it names the style image (or pass --style-image S)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file.string() + ": not valid JSON (" + e.what() + "); pass --style-image S");
+  }
+  const auto* path = j.contains("style_image") && j["style_image"].is_object() && j["style_image"].contains("path")
+                         ? &j["style_image"]["path"]
+                         : nullptr;
+  if (!path || !path->is_string())
+    throw std::runtime_error(file.string() + ": no string field style_image.path; pass --style-image S");
+  return path->get<std::string>();
+}
+
+std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
+  const std::vector<std::string> names = args.get_all("style");
+  if (names.empty()) {
+    std::string known;
+    for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
+    throw std::invalid_argument("missing required option --style: give one or more of " + run.root.string() + "'s styles (" +
+                                known + ")");
+  }
+  std::vector<Method> out;
+  for (const std::string& name : names) {
+    for (const Method& m : out)
+      if (m.name == name) throw std::invalid_argument("--style " + name + ": given twice");
+    if (std::find(run.styles.begin(), run.styles.end(), name) == run.styles.end()) {
+      std::string known;
+      for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
+      throw std::invalid_argument("--style " + name + ": no style " + name + " in " + run.root.string() + " (no " +
+                                  scene::style_file_path(run.root, name).string() + "); it has: " + known +
+                                  " (train one with style4d stylize --run " + run.root.string() + " --style IMG --name " + name + ")");
+    }
+    Method m{name, {}};
+    if (name != "original") m.style_image = args.get("style-image") ? fs::path(*args.get("style-image")) : requested_style_image(run.root, name);
+    if (!m.style_image.empty()) io::read_png(m.style_image);  // fails naming the file when it is missing or not a PNG
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// Renders one source's two protocols into DIR/renders/<source>/{test,spiral}, redone on every call.
+void render_source(engine::Context& ctx, const scene::TrainedRun& run, const std::string& source, const fs::path& dir,
+                   const std::vector<protocols::Sequence>& test, const std::vector<protocols::Sequence>& spiral, bool flow) {
+  fs::remove_all(dir);
+  const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source);
+  protocols::RenderOptions options;
+  options.background = run.dataset.background;
+  options.flow = flow;
+  std::cerr << "bench: rendering " << scene->describe() << " (test: " << test.size() << " camera(s); spiral: "
+            << spiral.front().frames.size() << " frames)\n";
+  protocols::render_protocol(ctx, *scene, protocols::parse_path("test"), test, dir / "test", options);
+  protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), spiral, dir / "spiral", options);
+}
+
+// Frames-mode options for one sequence: its original render, ground truth and exact flow folders.
+bench::FramesOptions sequence_options(bench::FramesOptions o, const fs::path& original, const std::optional<fs::path>& truth) {
+  o.original = original;
+  o.ground_truth = truth;
+  o.flow_dir = original / "flow";
+  return o;
+}
+
+}  // namespace
+
+int bench_run(const Args& args, bench::FramesOptions options) {
+  for (const char* o : {"frames", "name", "original", "ground-truth", "flow-dir"})
+    if (args.get(o))
+      throw std::invalid_argument(std::string("--") + o + " belongs to the --frames mode; --run renders the original scene, "
+                                  "its ground truth and its exact flow itself");
+  const fs::path out = args.require("out"), renders = out / "renders";
+  const int spiral_frames = parse_number<int>("spiral-frames", args.get_or("spiral-frames", std::to_string(protocols::kDefaultSpiralFrames)));
+  if (spiral_frames < 2) throw std::invalid_argument("--spiral-frames: expected at least 2 (the warp loss needs a pair), got " +
+                                                     std::to_string(spiral_frames));
+  const scene::TrainedRun run = scene::read_trained_run(args.require("run"));
+  const std::vector<Method> methods = methods_of(args, run);
+  const std::vector<protocols::Sequence> test = protocols::build_protocol(run.dataset, protocols::parse_path("test"), spiral_frames);
+  const std::vector<protocols::Sequence> spiral = protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), spiral_frames);
+
+  engine::Context ctx;
+  // The original is always rendered: it is every method's content reference and carries the flow.
+  render_source(ctx, run, "original", renders / "original", test, spiral, options.flow == bench::FlowSource::exact);
+  for (const Method& m : methods)
+    if (m.name != "original") render_source(ctx, run, m.name, renders / m.name, test, spiral, false);
+  fs::remove_all(renders / "ground_truth");
+  const std::optional<std::string> no_truth = write_ground_truth(run.dataset, test, renders / "ground_truth" / "test");
+
+  std::vector<bench::RunMethodResult> results;
+  for (const Method& m : methods) {
+    std::cerr << "bench: scoring " << m.name << "\n";
+    std::vector<bench::MethodResult> cameras;
+    for (const protocols::Sequence& seq : test) {
+      const auto truth = no_truth ? std::nullopt : std::optional<fs::path>(renders / "ground_truth" / "test" / seq.name);
+      cameras.push_back(bench::evaluate_frames(m.name, renders / m.name / "test" / seq.name,
+                                               sequence_options(options, renders / "original" / "test" / seq.name, truth)));
+      if (no_truth) cameras.back().unavailable["psnr"] = *no_truth;
+    }
+    bench::RunMethodResult r{bench::pool_sequences(m.name, cameras),
+                             bench::evaluate_frames(m.name, renders / m.name / "spiral",
+                                                    sequence_options(options, renders / "original" / "spiral", std::nullopt)),
+                             m.style_image.empty() ? "none" : m.style_image.stem().string(), m.style_image};
+    r.test.frames = renders / m.name / "test";
+    r.spiral.unavailable["psnr"] = "the spiral path has no captured frames; psnr is scored on the test protocol";
+    results.push_back(std::move(r));
+  }
+  const bench::RunReportContext context{args.get_or("scene", fs::weakly_canonical(run.root).filename().string()), run.root,
+                                        renders, spiral_frames,
+                                        sequence_options(options, renders / "original" / "spiral", std::nullopt)};
+  bench::write_run_report(out, results, context);
+  std::cerr << "bench: wrote " << (out / "report.json").string() << ", report.md, report.csv, plots/, contact_sheet.png\n";
+  return 0;
+}
+
+}  // namespace s4d::cli
