@@ -95,7 +95,7 @@ TEST_CASE("bad style files are refused with the file and the problem named; noth
 
 TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
   style::StyleConfig c;
-  c.method = "colors", c.iterations = 123, c.depth_input = scene::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
+  c.method = "colors", c.iterations = 123, c.mlp_iterations = 50, c.depth_input = scene::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
   const style::StyleConfig r = style::style_config_from_json(style::to_json(c));
   CHECK(style::to_json(r) == style::to_json(c));
   auto message = [](const nlohmann::json& j) {
