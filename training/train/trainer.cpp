@@ -367,6 +367,21 @@ struct Trainer::Impl {
     return p;
   }
 
+  // The fine stage's next view. With fine_time_ramp > 0 the time window opens from the first frame
+  // to the last over that fraction of the stage, so the field learns motion frame by frame: a large
+  // move (a box sliding further than its size between distant times) is found by small steps,
+  // which photometric gradients can follow. Views outside the window are skipped in the sampler's
+  // order, so the choice stays deterministic and resumable.
+  const data::View& next_fine_view() {
+    const double ramp = config.fine_time_ramp * config.fine_iterations;
+    const double window = ramp > 0 ? std::min(1.0, double(iteration) / ramp) : 1.0;
+    for (;;) {
+      const data::View& v = *train_views[sampler.next()];
+      if (v.time <= window + 1e-9 || v.time <= static_window()) return v;
+    }
+  }
+  double static_window() const { return std::min(config.max_time, config.static_max_time); }
+
   // Stage 2: a batch of views, each deformed to its time; gradients summed over the batch.
   optim::LossValue fine_step() {
     const uint32_t batch = std::max<uint32_t>(1, config.fine_batch);
@@ -378,7 +393,7 @@ struct Trainer::Impl {
     optim::LossValue mean{};
     const bool stats = iteration < config.fine_densify_until;
     for (uint32_t b = 0; b < batch; ++b) {
-      const data::View& view = *train_views[sampler.next()];
+      const data::View& view = next_fine_view();
       const splat::Camera cam = load_target(view);
       const splat::GaussianParams params = deform_to(view.time);
       rast.forward(params, cam, dataset.background);

@@ -47,6 +47,9 @@ struct TrainConfig {
   uint32_t fine_batch = 4;           // views per step; their gradients are summed
   float fine_ssim_weight = 0.0f;     // 4DGaussians trains the fine stage on L1 only
   uint32_t fine_densify_until = 10000;
+  // Time curriculum: the fine stage's views open from time 0 to 1 over this fraction of the stage
+  // (0: every time from the start, as 4DGaussians).
+  double fine_time_ramp = 0.0;
   std::array<uint32_t, 4> field_resolution{64, 64, 64, 150};  // x, y, z, t; t is not multiplied
   std::vector<uint32_t> field_multires{1, 2};
   uint32_t field_channels = 16, field_width = 128, field_trunk_extra = 0;
