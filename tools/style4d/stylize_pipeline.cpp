@@ -100,6 +100,40 @@ nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun&
           {"styled_render", stylize::warp_error(rendered[0], rendered[1])}};
 }
 
+// The test camera's views in time order (DyNeRF: cam00 over its frames); empty when the test views
+// do not share one camera (D-NeRF), where a warp error over them would mix viewpoints.
+std::vector<const data::View*> test_sequence(const data::Dataset& d) {
+  std::vector<const data::View*> test;
+  for (const data::View& v : d.views)
+    if (v.test) test.push_back(&v);
+  std::sort(test.begin(), test.end(), [](const data::View* a, const data::View* b) { return a->time < b->time; });
+  const bool one_camera = std::all_of(test.begin(), test.end(), [&](const data::View* v) {
+    return v->camera_index >= 0 && v->camera_index == test.front()->camera_index;
+  });
+  return one_camera ? test : std::vector<const data::View*>{};
+}
+
+// Like for like on the test camera: the temporal warp error of the stage-3 frames and of the
+// renders in the style over the same fixed camera and times (the spiral moves the camera, so its
+// error is not comparable with fixed-camera sequences). Null without a fixed test camera.
+nlohmann::json test_camera_consistency(const scene::TrainedRun& run, const data::Dataset& stylized, const fs::path& eval_dir) {
+  const std::vector<const data::View*> seq = test_sequence(run.dataset);
+  if (seq.size() < 2) return nullptr;
+  data::FrameCache content_frames(run.dataset, size_t{256} << 20);
+  std::vector<io::ImageF> content, frames_2d, rendered;
+  for (const data::View* v : seq) {
+    std::string flat = v->name;
+    std::replace(flat.begin(), flat.end(), '/', '_');
+    content.push_back(content_frames.get(*v));
+    frames_2d.push_back(io::read_png(stylized.views[static_cast<size_t>(v - run.dataset.views.data())].image));
+    rendered.push_back(io::read_png(eval_dir / (flat + ".png")));
+  }
+  return {{"frames", seq.size()},
+          {"content", stylize::warp_error(content, content)},
+          {"stylized_frames_2d", stylize::warp_error(content, frames_2d)},
+          {"styled_render", stylize::warp_error(content, rendered)}};
+}
+
 // Rows: content frames, stage-3 frames, renders in the style; columns: test-camera frames over time.
 void write_contact_sheet(const scene::TrainedRun& run, const data::Dataset& stylized, const fs::path& eval_dir,
                          const fs::path& file) {
@@ -197,6 +231,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const double sequences = static_cast<double>(std::max<size_t>(1, frames.sequences.size()));
   stylized_2d /= sequences, content_2d /= sequences;
   write_contact_sheet(run, frames.dataset, eval_dir, out.dir / "contact_sheet.png");
+  const nlohmann::json test_camera = test_camera_consistency(run, frames.dataset, eval_dir);
 
   out.complete = true;
   out.summary = {{"style", name},
@@ -210,7 +245,8 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                                  {"spiral_original_render", consistency.at("original_render")},
                                  {"stylized_frames_2d", stylized_2d},
                                  {"content_frames", content_2d},
-                                 {"spiral_frames", spiral}}},
+                                 {"spiral_frames", spiral},
+                                 {"test_camera", test_camera}}},
                  {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
                  {"device", ctx.info().name},
                  {"settings", style::to_json(req.config)}};
