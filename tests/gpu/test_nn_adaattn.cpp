@@ -134,6 +134,7 @@ void write(const test::ScratchDir& dir, const Weights& p) {
 
 }  // namespace
 
+// Kernel nn_resize_nearest.
 TEST_CASE("nearest resize matches its twin, down and up, on sizes that do not divide") {
   std::mt19937 rng(31);
   const auto x = test::random_chw(3, 7, 9, rng);
@@ -153,6 +154,7 @@ TEST_CASE("channel concatenation matches torch.cat") {
   CHECK(max_rel(gpu, ref::concat_channels(std::vector{to_double(a), to_double(b)}).v) == 0.0);  // copies: exact
 }
 
+// Kernels nn_attn_scores, nn_softmax_rows, nn_attn_apply.
 TEST_CASE("attention kernels match their twins, at their loop caps too") {
   std::mt19937 rng(33);
   SUBCASE("scores of a chunk, over 1472 key channels (AdaAttN's relu5_1 keys)") {

@@ -29,6 +29,7 @@ auto run(F&& f) {
 
 }  // namespace
 
+// Kernel nn_conv3x3.
 TEST_CASE("conv3x3 with reflection padding matches its twin, with and without ReLU") {
   std::mt19937 rng(1);
   // 13x9: two partial tiles each way; 11 outputs: a partial block of 8.
@@ -62,6 +63,7 @@ TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
   CHECK(max_rel(gpu, twin.v) < 1e-5);  // 9216 float products per output: measured 5.8e-7
 }
 
+// Kernel nn_conv1x1.
 TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into its output") {
   std::mt19937 rng(3);
   const auto x = test::random_chw(7, 5, 6, rng);
@@ -91,6 +93,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
+// Kernels nn_relu, nn_maxpool, nn_upsample.
 TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
@@ -110,6 +113,7 @@ TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their tw
   CHECK(max_rel(nn::download(context(), gx), ref::relu(to_double(x)).v) == 0.0);
 }
 
+// Kernels nn_channel_stats (both variants).
 TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match their twins") {
   std::mt19937 rng(5);
   // 300x300: each of the 64 invocations sums about 1400 values before the workgroup sum.
@@ -125,6 +129,7 @@ TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match
   }
 }
 
+// Kernels nn_adain, nn_scale_channels, nn_blend.
 TEST_CASE("adain, its content blend, normalisation, channel scaling and blending match their twins") {
   std::mt19937 rng(6);
   const auto content = test::random_chw(6, 7, 9, rng);

@@ -150,6 +150,7 @@ double max_rel(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
+// Kernel tv_grad (TvLoss).
 TEST_CASE("GPU TV term adds the twin's gradient to the existing one and reports its value") {
   for (const auto& [w, h, c] : {std::array<int, 3>{37, 23, 3}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{64, 48, 3}}) {
     CAPTURE(w);
