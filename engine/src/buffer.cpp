@@ -56,6 +56,8 @@ Buffer::Buffer(Context& ctx, std::string name, size_t bytes, BufferKind kind)
                              .memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, required, preferred)};
     S4D_VK_CHECK_CTX(vkAllocateMemory(ctx.device(), &mai, nullptr, &memory_),
                      "allocating " + std::to_string(req.size) + " bytes for buffer '" + name_ + "' on " + info.name);
+    memory_bytes_ = req.size;
+    ctx.count_memory(static_cast<int64_t>(memory_bytes_));
     S4D_VK_CHECK_CTX(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "binding memory of buffer '" + name_ + "'");
     if ((required & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0)
       S4D_VK_CHECK_CTX(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "mapping buffer '" + name_ + "'");
@@ -76,6 +78,7 @@ Buffer::Buffer(Buffer&& other) noexcept
       kind_(other.kind_),
       buffer_(std::exchange(other.buffer_, VK_NULL_HANDLE)),
       memory_(std::exchange(other.memory_, VK_NULL_HANDLE)),
+      memory_bytes_(std::exchange(other.memory_bytes_, 0)),
       mapped_(std::exchange(other.mapped_, nullptr)) {}
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
@@ -87,6 +90,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     kind_ = other.kind_;
     buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    memory_bytes_ = std::exchange(other.memory_bytes_, 0);
     mapped_ = std::exchange(other.mapped_, nullptr);
   }
   return *this;
@@ -98,6 +102,7 @@ void Buffer::release() {
   VkBuffer buffer = std::exchange(buffer_, VK_NULL_HANDLE);
   VkDeviceMemory memory = std::exchange(memory_, VK_NULL_HANDLE);
   mapped_ = nullptr;
+  ctx_->count_memory(-static_cast<int64_t>(std::exchange(memory_bytes_, 0)));
   ctx_->retire([device, buffer, memory] {
     if (buffer) vkDestroyBuffer(device, buffer, nullptr);
     if (memory) vkFreeMemory(device, memory, nullptr);  // also unmaps

@@ -189,3 +189,25 @@ TEST_CASE("presentation options: a missing extension or no presenting queue is r
   engine::Context ctx(presents);
   CHECK(std::find(accepted.begin(), accepted.end(), ctx.queue_family()) != accepted.end());
 }
+
+TEST_CASE("device memory in use and its peak follow buffers, moves and resets") {
+  engine::Context& ctx = test::context();
+  const uint64_t before = ctx.memory_in_use();
+  ctx.reset_memory_peak();
+  {
+    Buffer a(ctx, "counted a", 1 << 20);
+    CHECK(ctx.memory_in_use() >= before + (1 << 20));  // allocations round up, never down
+    const uint64_t with_a = ctx.memory_in_use();
+    Buffer b(ctx, "counted b", 3 << 20);
+    const uint64_t with_both = ctx.memory_in_use();
+    CHECK(with_both >= with_a + (3 << 20));
+    Buffer moved = std::move(b);  // a move hands the count over, it does not double it
+    CHECK(ctx.memory_in_use() == with_both);
+    moved = Buffer();
+    CHECK(ctx.memory_in_use() == with_a);
+    CHECK(ctx.memory_peak() == with_both);
+    ctx.reset_memory_peak();
+    CHECK(ctx.memory_peak() == with_a);
+  }
+  CHECK(ctx.memory_in_use() == before);
+}

@@ -83,7 +83,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
 
 
 #define S4D_CONFIG_FIELDS(X)                                                                                     \
-  X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(static_max_time) X(fine_time_ramp) X(background) X(sh_degree) X(sh_up_every)              \
+  X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
   X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(test_every)               \

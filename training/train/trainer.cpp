@@ -370,14 +370,18 @@ struct Trainer::Impl {
   // The fine stage's next view. With fine_time_ramp > 0 the time window opens from the first frame
   // to the last over that fraction of the stage, so the field learns motion frame by frame: a large
   // move (a box sliding further than its size between distant times) is found by small steps,
-  // which photometric gradients can follow. Views outside the window are skipped in the sampler's
-  // order, so the choice stays deterministic and resumable.
-  const data::View& next_fine_view() {
+  // which photometric gradients can follow. With `front`, the view comes from the window's newest
+  // fine_time_front of time. Views outside are skipped in the sampler's order, so the choice stays
+  // deterministic and resumable.
+  const data::View& next_fine_view(bool front) {
     const double ramp = config.fine_time_ramp * config.fine_iterations;
     const double window = ramp > 0 ? std::min(1.0, double(iteration) / ramp) : 1.0;
-    for (;;) {
+    const double from = front && window < 1.0 ? window - config.fine_time_front : -1.0;
+    // A band holding no view (times sparser than the band) falls back to the whole window.
+    for (size_t draws = 0;; ++draws) {
       const data::View& v = *train_views[sampler.next()];
-      if (v.time <= window + 1e-9 || v.time <= static_window()) return v;
+      const bool open = v.time <= window + 1e-9 || v.time <= static_window();
+      if (open && (v.time >= from - 1e-9 || draws > 4 * train_views.size())) return v;
     }
   }
   double static_window() const { return std::min(config.max_time, config.static_max_time); }
@@ -393,7 +397,7 @@ struct Trainer::Impl {
     optim::LossValue mean{};
     const bool stats = iteration < config.fine_densify_until;
     for (uint32_t b = 0; b < batch; ++b) {
-      const data::View& view = next_fine_view();
+      const data::View& view = next_fine_view(config.fine_time_front > 0 && (iteration * batch + b) % 2 == 0);
       const splat::Camera cam = load_target(view);
       const splat::GaussianParams params = deform_to(view.time);
       rast.forward(params, cam, dataset.background);

@@ -4,6 +4,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace s4d::engine {
@@ -44,6 +45,7 @@ class Buffer {
   BufferKind kind_ = BufferKind::storage;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  uint64_t memory_bytes_ = 0;  // what memory_ holds, counted in the context's memory use
   void* mapped_ = nullptr;
 };
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -117,6 +118,16 @@ class Context {
   PFN_vkCmdEndDebugUtilsLabelEXT cmd_end_label() const { return cmd_end_label_; }
   PFN_vkCmdPushDescriptorSetKHR cmd_push_descriptor_set() const { return cmd_push_descriptor_set_; }
 
+  // Device memory held by buffers of this context, and its peak since creation or the last reset
+  // (per-stage peaks in reports).
+  void count_memory(int64_t bytes) {
+    memory_in_use_ = static_cast<uint64_t>(static_cast<int64_t>(memory_in_use_) + bytes);
+    memory_peak_ = std::max(memory_peak_, memory_in_use_);
+  }
+  uint64_t memory_in_use() const { return memory_in_use_; }
+  uint64_t memory_peak() const { return memory_peak_; }
+  void reset_memory_peak() { memory_peak_ = memory_in_use_; }
+
   // Validation errors reported so far (only counted when options.validation is on).
   uint64_t validation_error_count() const;
   std::vector<std::string> take_validation_messages();
@@ -163,6 +174,7 @@ class Context {
   uint64_t completed_ = 0;
   VkPhysicalDeviceMemoryProperties memory_props_{};
   bool unified_memory_ = false;
+  uint64_t memory_in_use_ = 0, memory_peak_ = 0;
 
   struct Retired {
     uint64_t after;  // timeline value that must complete first

@@ -50,6 +50,10 @@ struct TrainConfig {
   // Time curriculum: the fine stage's views open from time 0 to 1 over this fraction of the stage
   // (0: every time from the start, as 4DGaussians).
   double fine_time_ramp = 0.0;
+  // While the window opens, every other view comes from its newest fine_time_front of time, so a
+  // newly opened frame is trained before the next opens (uniform sampling gives the last frames
+  // under one view each). 0: uniform over the window.
+  double fine_time_front = 0.0;
   std::array<uint32_t, 4> field_resolution{64, 64, 64, 150};  // x, y, z, t; t is not multiplied
   std::vector<uint32_t> field_multires{1, 2};
   uint32_t field_channels = 16, field_width = 128, field_trunk_extra = 0;
