@@ -18,10 +18,9 @@ std::string number(double v) {
 
 }  // namespace
 
-std::string report_markdown(const nlohmann::json& report) {
+std::string report_table_markdown(const nlohmann::json& report) {
   std::ostringstream md;
   const auto& results = report.at("results");
-  md << "# Style4D-Bench report\n\n";
   std::vector<std::string> styles;  // distinct, in order (a run's methods may use several)
   for (const auto& r : results)
     if (std::find(styles.begin(), styles.end(), r.at("style").get<std::string>()) == styles.end())
@@ -54,6 +53,12 @@ std::string report_markdown(const nlohmann::json& report) {
     md << "\nn/a: not computed, never estimated.\n\n";
     for (const auto& [key, why] : notes) md << "- `" << key << "`: " << why << "\n";
   }
+  return md.str();
+}
+
+std::string report_markdown(const nlohmann::json& report) {
+  std::ostringstream md;
+  md << "# Style4D-Bench report\n\n" << report_table_markdown(report);
   md << "\n## Conventions\n\n";
   for (const auto& e : metric_catalog()) {
     const auto& i = report.at("metrics_info").at(e.key);

@@ -26,6 +26,8 @@ nlohmann::json metrics_info(const FramesOptions& options);
 
 // Both read a report_json() value: rows (method, scene), one column per metric key.
 std::string report_markdown(const nlohmann::json& report);
+// The metrics table of report.md with its n/a notes, for reports that embed it (the demo's).
+std::string report_table_markdown(const nlohmann::json& report);
 std::string report_csv(const nlohmann::json& report);
 
 // Writes every file under `out` (created if needed; JSON, Markdown and CSV atomically).
