@@ -249,6 +249,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                                  {"test_camera", test_camera}}},
                  {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
                  {"device", ctx.info().name},
+                 {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},
                  {"settings", style::to_json(req.config)}};
   util::write_file_atomic(out.dir / "stylize.json", out.summary.dump(2) + "\n");
   return out;

@@ -551,6 +551,7 @@ struct Trainer::Impl {
                         {"deform_evaluations_unmasked", deform_evaluations_unmasked},
                         {"moving_gaussians", mask_for == gaussians->size() ? moving : gaussians->size()},
                         {"device", ctx.info().name},
+                        {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                         {"data", fs::absolute(dataset.root).string()},
                         {"settings", to_json(config)}};
     util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
