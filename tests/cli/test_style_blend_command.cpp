@@ -1,0 +1,152 @@
+// Blends of two styles of the shared 4DGS run (style_fixture.h) through `style4d render --mix --alpha`
+// and `style4d view --screenshot --mix --alpha`: the ends render as each style bit for bit, the middle
+// lies between the two styles' renders, the viewer's capture equals the offline render, and bad
+// blends are refused with a message and a non-zero exit.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "s4d/io/image_io.h"
+#include "s4d/scene/style_blend.h"
+#include "s4d/scene/style_file.h"
+#include "s4d_style_splat.h"
+#include "style_fixture.h"
+
+namespace {
+
+using namespace s4d;
+namespace fs = std::filesystem;
+
+const std::string kFullOptions = "--iters 60 --mlp-iters 20 --spiral-frames 4";
+
+// The built-in style image with its channels rotated (R, G, B from B, R, G): a second style image,
+// so that a style trained on it differs from "full".
+std::string rotated_style_image() {
+  const fs::path file = test::run4d().root / "rotated_style.png";
+  if (!fs::exists(file)) {
+    io::ImageF img = io::read_png(test::kBuiltinStyle);
+    REQUIRE(img.channels >= 3);
+    for (size_t p = 0; p < img.data.size(); p += static_cast<size_t>(img.channels))
+      std::rotate(img.data.begin() + static_cast<std::ptrdiff_t>(p), img.data.begin() + static_cast<std::ptrdiff_t>(p) + 2,
+                  img.data.begin() + static_cast<std::ptrdiff_t>(p) + 3);
+    io::write_png(file, img);
+  }
+  return file.string();
+}
+
+// The two MLP styles the blends use (both with the default seed and identity initialisation).
+void train_styles() {
+  test::styled("full", kFullOptions);
+  test::styled("full_b", kFullOptions, rotated_style_image());
+}
+
+// R, G, B of the test camera's three EXR frames, rendered with `style_args`.
+std::vector<float> rgb_exr(const std::string& style_args, const std::string& tag) {
+  const fs::path dir = test::render_test_path(style_args, tag, "exr");
+  std::vector<float> out;
+  for (int k = 0; k < 3; ++k) {
+    const io::ExrImage img = io::read_exr(dir / ("000" + std::to_string(k) + ".exr"));
+    for (const char* c : {"R", "G", "B"}) out.insert(out.end(), img.channels.at(c).begin(), img.channels.at(c).end());
+  }
+  return out;
+}
+
+// The exit code and the log of a `style4d` call expected to fail.
+std::pair<int, std::string> refused(const std::string& command, const std::string& args, const std::string& tag) {
+  const fs::path log = test::run4d().root / ("refused_" + tag + ".log");
+  const int code = test::run_style4d(command, args, log);
+  return {code, test::read_text(log)};
+}
+
+}  // namespace
+
+TEST_CASE("a blend at factor 0 renders as its first style and at 1 as its second, bit for bit") {
+  train_styles();
+  test::styled("colors", "--method colors --iters 60 --mlp-iters 0 --spiral-frames 4");
+  const std::vector<float> full = rgb_exr("--style full", "end_full"), full_b = rgb_exr("--style full_b", "end_full_b");
+  REQUIRE(full != full_b);
+  CHECK(rgb_exr("--style full --mix full_b --alpha 0", "end_0") == full);
+  CHECK(rgb_exr("--style full --mix full_b --alpha 1", "end_1") == full_b);
+  // A style without MLPs blends as zero last layers, which render like the plain rasterizer.
+  CHECK(rgb_exr("--style colors --mix full --alpha 0", "end_colors") == rgb_exr("--style colors", "colors_exr"));
+  // The original scene as the first style: no changes at all.
+  CHECK(rgb_exr("--mix full --alpha 1", "end_original") == full);
+}
+
+TEST_CASE("a blend at factor 0.5 lies between the two styles' renders") {
+  train_styles();
+  const std::vector<float> a = rgb_exr("--style full", "mid_a"), b = rgb_exr("--style full_b", "mid_b");
+  const std::vector<float> mid = rgb_exr("--style full --mix full_b --alpha 0.5", "mid");
+  double err = 0, worst = 0, apart = 0;
+  size_t outside = 0;
+  for (size_t k = 0; k < mid.size(); ++k) {
+    const double e = std::abs(mid[k] - 0.5 * (a[k] + b[k]));
+    err += e, worst = std::max(worst, e), apart += std::abs(a[k] - b[k]);
+    // Outside the two styles' values by more than float rounding.
+    if (mid[k] < std::min(a[k], b[k]) - 1e-5f || mid[k] > std::max(a[k], b[k]) + 1e-5f) ++outside;
+  }
+  const double n = static_cast<double>(mid.size());
+  MESSAGE("blend 0.5 vs the lerp of the renders: mean ", err / n, ", max ", worst, "; styles apart by mean ", apart / n,
+          "; values outside the two styles' range: ", static_cast<double>(outside) / n);
+
+  // How far the two styles' hidden layers moved apart from their shared initialisation.
+  const scene::StyleFile fa = scene::read_style_file(scene::style_file_path(test::run4d().run, "full"));
+  const scene::StyleFile fb = scene::read_style_file(scene::style_file_path(test::run4d().run, "full_b"));
+  float hidden = 0;
+  for (size_t k = 0; k < fa.mlp.size(); ++k)
+    if (k % S4D_STYLE_MLP_STRIDE < S4D_STYLE_MLP_W3) hidden = std::max(hidden, std::abs(fa.mlp[k] - fb.mlp[k]));
+  MESSAGE("largest difference of the two styles' hidden-layer weights: ", hidden);
+}
+
+TEST_CASE("the viewer's capture of a blend equals the offline render of that blend") {
+  train_styles();
+  const test::Run4d& r = test::run4d();
+  const std::string blend = "--style full --mix full_b --alpha 0.3";
+  const fs::path shot = r.root / "view_blend.png";
+  REQUIRE_MESSAGE(test::run_style4d("view", r.run.string() + " " + blend + " --screenshot " + shot.string() +
+                                                " --camera 0 --time 0.5",
+                                    r.root / "view_blend.log") == 0,
+                  test::read_text(r.root / "view_blend.log"));
+  const io::ImageF offline = io::read_png(test::render_test_path(blend, "blend_for_view") / "0001.png");
+  // Both quantise the same float image (see test_view_capture_4d.cpp): at most one level apart.
+  CHECK(test::max_abs_diff(io::read_png(shot), offline) <= 1.0f / 255.0f + 1e-6f);
+}
+
+TEST_CASE("render and view refuse a bad blend factor, half a blend, a scratch style and another Gaussian count") {
+  train_styles();
+  const test::Run4d& r = test::run4d();
+  // A copy of the run with a scratch style's file and a style of 5 Gaussians.
+  const fs::path run = test::fresh_dir("blend_refusals") / "run";
+  fs::copy(r.run, run, fs::copy_options::recursive);
+  scene::StyleFile scratch;
+  scratch.method = "scratch";
+  fs::create_directories(scene::style_dir(run, "retrained"));
+  scene::write_style_file(scene::style_file_path(run, "retrained"), scratch);
+  const scene::StyleFile full = scene::read_style_file(scene::style_file_path(run, "full"));
+  fs::create_directories(scene::style_dir(run, "five"));
+  scene::write_style_file(scene::style_file_path(run, "five"), scene::no_style(5, full.sh_coeffs));
+
+  const std::string render = "--run " + run.string() + " --path test --out " + (r.root / "refused").string() + " ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {render + "--style full --mix full_b --alpha 1.5", "--alpha: expected a number in [0, 1], got '1.5'"},
+      {render + "--style full --mix full_b --alpha half", "--alpha: expected a number in [0, 1], got 'half'"},
+      {render + "--style full --mix full_b", "--mix full_b needs --alpha A"},
+      {render + "--style full --alpha 0.5", "--alpha needs --mix NAME"},
+      {render + "--style full --mix retrained --alpha 0.5", "style retrained was trained with --method scratch"},
+      {render + "--style five --mix full --alpha 0.5", "trained for 5 and " + std::to_string(full.count) + " Gaussians"},
+      {render + "--style full --mix nosuch --alpha 0.5", "no style nosuch"},
+  };
+  for (const auto& [args, message] : cases) {
+    CAPTURE(args);
+    const auto [code, log] = refused("render", args, "render");
+    CHECK(code != 0);
+    CHECK(log.find(message) != std::string::npos);
+  }
+  const auto [code, log] = refused("view", run.string() + " --style full --mix retrained --alpha 0.5 --screenshot " +
+                                               (r.root / "refused.png").string(), "view");
+  CHECK(code != 0);
+  CHECK(log.find("--method scratch") != std::string::npos);
+  CHECK_FALSE(fs::exists(r.root / "refused.png"));
+}
