@@ -122,9 +122,8 @@ std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& 
 std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
                                          const std::string& b, float alpha) {
   std::unique_ptr<SceneSource> base = open_scene(ctx, run, "original");
-  const uint32_t sh_coeffs = base->at(0.0, {}).sh_coeffs;
   auto style_of = [&](const std::string& name) {
-    if (name == "original") return no_style(base->size(), sh_coeffs);
+    if (name == "original") return no_style(base->size(), base->at(0.0, {}).sh_coeffs);
     StyleFile file = read_run_style(run, name);
     if (file.method == "scratch")
       throw std::invalid_argument("style " + name + " was trained with --method scratch: it is a run of its own (" +
