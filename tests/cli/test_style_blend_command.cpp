@@ -1,8 +1,9 @@
 // Blends of two styles of the shared 4DGS run (style_fixture.h) through `style4d render --mix --alpha`
 // and `style4d view --screenshot --mix --alpha`: the ends render as each style bit for bit, the middle
-// lies between the two styles' renders (and the blended MLPs' outputs between theirs), the viewer's
-// capture equals the offline render, the window opens on a blend, and bad blends are refused with a
-// message and a non-zero exit.
+// lies between the two styles' renders (and the blended MLPs' outputs between theirs), a new factor
+// on an open blend (the viewer's slider) renders as a blend opened at it, the viewer's capture equals
+// the offline render, the window opens on a blend, and bad blends are refused with a message and a
+// non-zero exit.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -11,11 +12,15 @@
 #include <vector>
 
 #include "s4d/io/image_io.h"
+#include "s4d/scene/trained_run.h"
+#include "s4d/splat/rasterizer.h"
+#include "s4d/splat/scene_upload.h"
 #include "s4d/ref/style_mlp_ref.h"
 #include "s4d/scene/style_blend.h"
 #include "s4d/scene/style_file.h"
 #include "s4d_style_splat.h"
 #include "style_fixture.h"
+#include "test_context.h"
 
 namespace {
 
@@ -130,6 +135,25 @@ TEST_CASE("the blended MLPs' outputs lie close to the lerp of the two styles' ou
   // 0.0033, max 1.4e-5, hidden weights at most 0.012 apart; allowed: about twice each.
   CHECK(err <= 1e-3 * apart);
   CHECK(worst <= 3e-5);
+}
+
+TEST_CASE("re-blending an open blend (the viewer's slider) renders as a blend opened at that factor") {
+  train_styles();
+  engine::Context& ctx = test::context();
+  const scene::TrainedRun run = scene::read_trained_run(test::run4d().run);
+  const splat::Camera cam = splat::to_splat_camera(run.dataset.views.front().camera);
+  splat::Rasterizer rast(ctx);
+  auto render = [&](scene::SceneSource& source) {
+    rast.forward(source.at(0.5, cam), cam, run.dataset.background);
+    return ctx.download<float>(rast.rgb(), size_t{cam.width} * cam.height * 3);
+  };
+  const std::unique_ptr<scene::BlendedScene> moved = scene::open_blend(ctx, run, "full", "full_b", 0.9f);
+  const std::vector<float> before = render(*moved);
+  moved->set_alpha(0.3f);
+  CHECK(moved->alpha() == 0.3f);
+  const std::vector<float> after = render(*moved);
+  CHECK(after != before);
+  CHECK(after == render(*scene::open_blend(ctx, run, "full", "full_b", 0.3f)));
 }
 
 TEST_CASE("the viewer's capture of a blend equals the offline render of that blend") {
