@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "run4d_fixture.h"
 #include "s4d/io/image_io.h"
+#include "style_fixture.h"
 
 namespace {
 
@@ -15,32 +15,9 @@ namespace fs = std::filesystem;
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
-const std::string kStyle = std::string(S4D_SOURCE_DIR) + "/assets/styles/builtin.png";
-
-// Trains style `name` of the fixture run once per process with `options`.
-const fs::path& styled(const std::string& name, const std::string& options) {
-  static std::map<std::string, fs::path> done;
-  if (!done.count(name)) {
-    const test::Run4d& r = test::run4d();
-    const fs::path log = r.root / ("stylize_" + name + ".log");
-    REQUIRE_MESSAGE(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle + " --name " + name + " " +
-                                                     options, log) == 0,
-                    test::read_text(log));
-    done[name] = r.run / "style" / name;
-  }
-  return done.at(name);
-}
-
-io::ImageF render_frame(const std::string& style, const std::string& tag) {
-  const test::Run4d& r = test::run4d();
-  const fs::path out = r.root / ("render_" + tag);
-  fs::remove_all(out);
-  const std::string style_arg = style.empty() ? "" : " --style " + style;
-  REQUIRE_MESSAGE(test::run_style4d("render", "--run " + r.run.string() + style_arg + " --path test --out " + out.string(),
-                                    r.root / ("render_" + tag + ".log")) == 0,
-                  test::read_text(r.root / ("render_" + tag + ".log")));
-  return io::read_png(out / "cam00" / "0001.png");
-}
+using test::render_frame;
+using test::styled;
+const std::string& kStyle = test::kBuiltinStyle;
 
 double mean_abs_diff(const io::ImageF& a, const io::ImageF& b) {
   double sum = 0;

@@ -23,6 +23,7 @@
 #include "s4d/splat/scene_upload.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
+#include "style_args.h"
 
 namespace s4d::cli {
 namespace {
@@ -53,6 +54,8 @@ int cmd_render(const std::vector<std::string>& argv) {
       {"path", "--run: test (each test camera over the test times), spiral (around the scene over t in [0,1]) "
                "or train:CAM (training camera CAM, e.g. train:cam01, over its times)", true, "PATH"},
       {"style", "--run: render this trained style instead of the original scene", true, "NAME"},
+      mix_spec(),
+      alpha_spec(),
       {"format", "--run: png (default), exr (R, G, B, A, Z) or mp4 (one video per sequence)", true, "FORMAT"},
       {"frames", "--run --path spiral: number of frames (default 120)", true, "N"},
       {"flow", "--run: also write the renderer's exact optical flow, flow/fw_NNNN.exr and bw_NNNN.exr", false, ""},
@@ -66,7 +69,7 @@ int cmd_render(const std::vector<std::string>& argv) {
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage(
-        "render", "--run RUN --path test|spiral|train:CAM --out DIR [--style NAME] [--format png|exr|mp4] [--frames N] [--flow]\n"
+        "render", "--run RUN --path test|spiral|train:CAM --out DIR [--style NAME [--mix NAME2 --alpha A]] [--format png|exr|mp4] [--frames N] [--flow]\n"
                   "       style4d render --ply FILE --cameras transforms.json --out DIR",
         "--run: renders a trained run along a protocol. test: one sequence per test camera, fixed, at\n"
         "every test-view time, in DIR/<camera>/; spiral: around the scene (a spiral in front of a\n"
@@ -74,7 +77,9 @@ int cmd_render(const std::vector<std::string>& argv) {
         "training cameras' axes) while time runs over [0, 1]; train:CAM: training camera CAM over its\n"
         "times. Frames are NNNN.png, NNNN.exr or video.mp4; --flow adds flow/fw_NNNN.exr (frame k to\n"
         "k+1) and flow/bw_NNNN.exr (k+1 to k), channels u and v in pixels, exact from the Gaussians'\n"
-        "motion. DIR/frames.json lists every frame's time and camera; DIR/render.json the summary.\n\n"
+        "motion. DIR/frames.json lists every frame's time and camera; DIR/render.json the summary.\n"
+        "--mix NAME2 --alpha A renders the blend (1 - A) NAME + A NAME2 of two styles of the run (either\n"
+        "may be original): colour and opacity changes and the style MLPs' weights interpolated.\n\n"
         "--ply: renders a standard 3D Gaussian Splatting PLY from NeRF-style cameras: per frame\n"
         "DIR/<name>.png (RGB over the background) and DIR/<name>.exr (R, G, B, A = accumulated\n"
         "alpha, Z = expected depth, the alpha-normalised camera-space z), where <name> is the last\n"
@@ -84,7 +89,7 @@ int cmd_render(const std::vector<std::string>& argv) {
   }
   if (args.get("run") && args.get("ply")) throw std::invalid_argument("--run and --ply are two modes; give one");
   if (args.get("run")) return render_run(args);
-  for (const char* o : {"path", "style", "format", "frames", "flow"})
+  for (const char* o : {"path", "style", "mix", "alpha", "format", "frames", "flow"})
     if (args.get(o) || args.flag(o)) throw std::invalid_argument(std::string("--") + o + " needs --run RUN");
   return render_ply(args);
 }

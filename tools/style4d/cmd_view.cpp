@@ -11,6 +11,7 @@
 #include "s4d/scene/trained_run.h"
 #include "s4d/viewer/capture.h"
 #include "s4d/viewer/dataset_cameras.h"
+#include "style_args.h"
 #ifdef S4D_HAVE_VIEWER_WINDOW
 #include "viewer_app.h"
 #endif
@@ -20,6 +21,8 @@ namespace s4d::cli {
 int cmd_view(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
       {"style", "style to show (default: original)", true, "NAME"},
+      mix_spec(),
+      alpha_spec(),
       {"screenshot", "render one frame without a window into this PNG and exit", true, "F.png"},
       {"time", "time t in [0, 1] to start at or capture (default 0)", true, "T"},
       {"camera", "dataset camera to start from or capture (default 0)", true, "N"},
@@ -34,7 +37,9 @@ int cmd_view(const std::vector<std::string>& argv) {
     std::cout << usage("view", "RUN [options]",
                        "Shows a trained run in a window: left drag orbits, right/middle drag pans, the wheel zooms,\n"
                        "W/A/S/D/Q/E fly (Shift: faster), 1..9 and 0 snap to dataset cameras, Space plays/pauses,\n"
-                       "P saves a screenshot, R starts/stops recording the camera path (a transforms.json that\n"
+                       "T toggles the original and the last style, N steps to the next style, [ and ] move the blend\n"
+                       "factor of the panel's second style (--mix; the panel has a slider), P saves a screenshot,\n"
+                       "R starts/stops recording the camera path (a transforms.json that\n"
                        "`style4d render --ply RUN/geometry/gaussians.ply --cameras FILE` replays), Esc quits.\n"
                        "With --screenshot it renders one frame through the same renderer without a window.",
                        specs);
@@ -45,7 +50,7 @@ int cmd_view(const std::vector<std::string>& argv) {
   const double time = parse_number<double>("time", args.get_or("time", "0"));
   if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1]");
   const size_t camera = parse_number<size_t>("camera", args.get_or("camera", "0"));
-  const std::string style = args.get_or("style", "original");
+  const scene::StyleChoice style = parse_style_choice(args);
   const scene::TrainedRun run = scene::read_trained_run(run_dir);
 
   if (args.get("screenshot")) {

@@ -15,6 +15,7 @@
 #include "s4d/protocols/protocol_render.h"
 #include "s4d/scene/trained_run.h"
 #include "s4d/util/atomic_file.h"
+#include "style_args.h"
 
 namespace s4d::cli {
 
@@ -34,7 +35,8 @@ int render_run(const Args& args) {
   const auto start = std::chrono::steady_clock::now();
   engine::Context ctx;
   const scene::TrainedRun trained = scene::read_trained_run(run);
-  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, trained, args.get_or("style", "original"));
+  const scene::StyleChoice choice = parse_style_choice(args);
+  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, trained, choice);
   options.background = args.get("background") ? parse_background(*args.get("background")) : trained.dataset.background;
   const std::vector<protocols::Sequence> sequences = protocols::build_protocol(trained.dataset, path, frames);
   std::cerr << "[render] " << source->describe() << "; path " << path.text() << ": " << sequences.size()
@@ -61,6 +63,8 @@ int render_run(const Args& args) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const nlohmann::json summary = {{"run", std::filesystem::absolute(run).string()},
                                   {"style", args.get("style") ? nlohmann::json(*args.get("style")) : nlohmann::json()},
+                                  {"mix", choice.mix.empty() ? nlohmann::json() : nlohmann::json(choice.mix)},
+                                  {"alpha", choice.mix.empty() ? nlohmann::json() : nlohmann::json(choice.alpha)},
                                   {"stage", trained.stage},
                                   {"scene", source->describe()},
                                   {"data", trained.dataset.root.string()},

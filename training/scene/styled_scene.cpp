@@ -1,5 +1,6 @@
 #include "s4d/scene/styled_scene.h"
 
+#include <span>
 #include <stdexcept>
 
 #include "s4d/engine/buffer_from.h"
@@ -47,6 +48,17 @@ StyledScene::StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
   sh_ = engine::Buffer(ctx, name_ + " sh", style.sh_delta.size() * 4);
   opacity_ = engine::Buffer(ctx, name_ + " opacity", style.opacity_delta.size() * 4);
   if (!style.mlp.empty()) mlp_ = engine::buffer_from(ctx, name_ + " mlp", style.mlp);
+}
+
+void StyledScene::restyle(const StyleFile& style) {
+  if (style.method != method_ || style.count != base_->size() || style.sh_coeffs != sh_coeffs_)
+    throw std::invalid_argument("style " + name_ + ": a restyle must keep the method, Gaussian count and SH layout");
+  ctx_->upload(sh_delta_, std::span<const float>(style.sh_delta));
+  ctx_->upload(opacity_delta_, std::span<const float>(style.opacity_delta));
+  if (!style.mlp.empty()) ctx_->upload(mlp_, std::span<const float>(style.mlp));
+  depth_ = style.depth_input;
+  depth_scale_ = style.depth_scale;
+  input_sigmoid_ = style.input_sigmoid;
 }
 
 splat::GaussianParams StyledScene::at(double time, const splat::Camera& camera) {

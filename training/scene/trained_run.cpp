@@ -9,6 +9,7 @@
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/scene/deformed_scene.h"
 #include "s4d/scene/static_scene.h"
+#include "s4d/scene/style_blend.h"
 #include "s4d/scene/style_file.h"
 #include "s4d/scene/styled_scene.h"
 #include "s4d/scene/trained_field.h"
@@ -33,6 +34,17 @@ const nlohmann::json& field(const nlohmann::json& j, const char* key, const char
   if (!j.is_object() || !j.contains(key))
     throw std::runtime_error(file.string() + ": no field '" + key + "' (" + what + ")");
   return j.at(key);
+}
+
+// The style file of `style`, one of run.styles other than "original".
+StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
+  if (std::find(run.styles.begin(), run.styles.end(), style) == run.styles.end()) {
+    std::string known;
+    for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
+    throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
+                             " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
+  }
+  return read_style_file(style_file_path(run.root, style));
 }
 
 [[noreturn]] void incomplete(const fs::path& root, const std::vector<std::string>& missing, const std::string& fix) {
@@ -90,13 +102,7 @@ TrainedRun read_trained_run(const fs::path& root) {
 
 std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style) {
   if (style != "original") {
-    if (std::find(run.styles.begin(), run.styles.end(), style) == run.styles.end()) {
-      std::string known;
-      for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
-      throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
-                               " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
-    }
-    const StyleFile file = read_style_file(style_file_path(run.root, style));
+    const StyleFile file = read_run_style(run, style);
     if (file.method == "scratch")  // the ablation's own 4DGS run, trained on the stylized frames
       return open_scene(ctx, read_trained_run(style_dir(run.root, style) / "run"), "original");
     return std::make_unique<StyledScene>(ctx, open_scene(ctx, run, "original"), file, style);
@@ -111,6 +117,31 @@ std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& 
   const io::GaussianCloud cloud = io::read_ply_gaussians(dir.gaussians_ply());
   if (cloud.size() == 0) throw std::runtime_error(dir.gaussians_ply().string() + ": no Gaussians");
   return std::make_unique<StaticScene>(ctx, cloud, train::active_sh_degree(c, c.iterations), "run gaussians");
+}
+
+std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
+                                         const std::string& b, float alpha) {
+  std::unique_ptr<SceneSource> base = open_scene(ctx, run, "original");
+  auto style_of = [&](const std::string& name) {
+    if (name == "original") return no_style(base->size(), base->at(0.0, {}).sh_coeffs);
+    StyleFile file = read_run_style(run, name);
+    if (file.method == "scratch")
+      throw std::invalid_argument("style " + name + " was trained with --method scratch: it is a run of its own (" +
+                                  (style_dir(run.root, name) / "run").string() +
+                                  "), not changes to this run's Gaussians, so it cannot be blended with another style");
+    return file;
+  };
+  StyleFile file_a = style_of(a), file_b = style_of(b);
+  try {
+    return std::make_unique<BlendedScene>(ctx, std::move(base), std::move(file_a), a, std::move(file_b), b, alpha);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("styles " + a + " and " + b + ": " + e.what());
+  }
+}
+
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice) {
+  if (choice.mix.empty()) return open_scene(ctx, run, choice.style);
+  return open_blend(ctx, run, choice.style, choice.mix, choice.alpha);
 }
 
 }  // namespace s4d::scene

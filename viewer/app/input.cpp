@@ -36,12 +36,13 @@ InputFrame Input::poll(bool mouse_to_imgui, bool keyboard_to_imgui) {
   // Edge detection runs every frame so a key held while over the panel does not fire later.
   const bool play = pressed(GLFW_KEY_SPACE), shot = pressed(GLFW_KEY_P), record = pressed(GLFW_KEY_R);
   const bool toggle_original = pressed(GLFW_KEY_T), next_style = pressed(GLFW_KEY_N);
+  const int blend_step = (pressed(GLFW_KEY_RIGHT_BRACKET) ? 1 : 0) - (pressed(GLFW_KEY_LEFT_BRACKET) ? 1 : 0);
   int snap = -1;
   for (int k = 0; k <= 9; ++k)
     if (pressed(GLFW_KEY_0 + k)) snap = k == 0 ? 9 : k - 1;
   if (keyboard_to_imgui) return f;
   f.toggle_play = play, f.screenshot = shot, f.toggle_record = record, f.snap_camera = snap;
-  f.toggle_original = toggle_original, f.next_style = next_style;
+  f.toggle_original = toggle_original, f.next_style = next_style, f.blend_step = blend_step;
   f.quit = glfwGetKey(window_, GLFW_KEY_ESCAPE) == GLFW_PRESS;
   auto held = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0 : 0.0; };
   const double boost = held(GLFW_KEY_LEFT_SHIFT) > 0 || held(GLFW_KEY_RIGHT_SHIFT) > 0 ? 4.0 : 1.0;

@@ -1,7 +1,9 @@
 // Mouse and keyboard, polled once per frame. Left drag orbits, right or middle drag pans, the
 // wheel zooms; W/A/S/D fly forward/left/back/right, Q/E down/up (Shift: 4x faster); 1..9 and 0
 // snap to dataset cameras 0..9; Space plays/pauses; P saves a screenshot; R starts/stops
-// recording the camera path; Esc quits. Input that ImGui wants (over the panel) is left to it.
+// recording the camera path; T toggles the original and the last style, N steps to the next style,
+// [ and ] lower and raise the blend factor; Esc quits. Input that ImGui wants (over the panel) is
+// left to it.
 #pragma once
 #include <GLFW/glfw3.h>
 
@@ -17,6 +19,7 @@ struct InputFrame {
   int snap_camera = -1;             // camera index from a number key
   bool toggle_play = false, screenshot = false, toggle_record = false, quit = false;
   bool toggle_original = false, next_style = false;  // T: original <-> the last style; N: the next style
+  int blend_step = 0;               // [: -1, ]: +1 (steps of the blend factor)
 };
 
 class Input {

@@ -13,7 +13,7 @@ void section(const char* title) {  // ImGui 1.86 has no SeparatorText
 
 }  // namespace
 
-PanelActions draw_panel(const PanelInfo& info, Playback& playback, size_t& style) {
+PanelActions draw_panel(const PanelInfo& info, Playback& playback, StyleSelection& styles) {
   PanelActions actions;
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
@@ -33,8 +33,17 @@ PanelActions draw_panel(const PanelInfo& info, Playback& playback, size_t& style
   if (!info.dynamic) ImGui::TextDisabled("static scene: the same at every time");
 
   section("style");
-  for (size_t i = 0; i < info.styles->size(); ++i)
-    if (ImGui::RadioButton((*info.styles)[i].c_str(), style == i)) style = i;
+  const std::vector<std::string>& names = *info.styles;
+  for (size_t i = 0; i < names.size(); ++i)
+    if (ImGui::RadioButton(names[i].c_str(), styles.style == i)) styles.style = i;
+  const char* mix = styles.mix < 0 ? "none" : names[static_cast<size_t>(styles.mix)].c_str();
+  if (ImGui::BeginCombo("blend with", mix)) {
+    if (ImGui::Selectable("none", styles.mix < 0)) styles.mix = -1;
+    for (size_t i = 0; i < names.size(); ++i)
+      if (ImGui::Selectable(names[i].c_str(), styles.mix == static_cast<int>(i))) styles.mix = static_cast<int>(i);
+    ImGui::EndCombo();
+  }
+  if (styles.mix >= 0) ImGui::SliderFloat("factor ([ ])", &styles.alpha, 0.0f, 1.0f, "%.2f");
 
   section("cameras (keys 1-9, 0)");
   if (ImGui::BeginListBox("##cameras", ImVec2(-1, 6 * ImGui::GetTextLineHeightWithSpacing()))) {

@@ -1,10 +1,12 @@
 // The ImGui panel: device, Gaussian count and frame times; the time slider with play/pause,
-// speed and looping; the style list; the dataset cameras; screenshot and camera-path buttons.
+// speed and looping; the style list with a second style to blend in and the blend factor; the
+// dataset cameras; screenshot and camera-path buttons.
 #pragma once
 #include <string>
 #include <vector>
 
 #include "s4d/viewer/playback.h"
+#include "style_switch.h"
 
 namespace s4d::viewer {
 
@@ -27,7 +29,7 @@ struct PanelActions {
   bool screenshot = false, toggle_record = false;
 };
 
-// Draws the panel between ImGui's new frame and its render; edits `playback` and `style` in place.
-PanelActions draw_panel(const PanelInfo& info, Playback& playback, size_t& style);
+// Draws the panel between ImGui's new frame and its render; edits `playback` and `styles` in place.
+PanelActions draw_panel(const PanelInfo& info, Playback& playback, StyleSelection& styles);
 
 }  // namespace s4d::viewer

@@ -21,6 +21,7 @@
 #include "s4d/viewer/dataset_cameras.h"
 #include "s4d/viewer/frame_renderer.h"
 #include "s4d/viewer/playback.h"
+#include "style_switch.h"
 #include "swapchain.h"
 #include "window.h"
 
@@ -32,6 +33,7 @@ namespace {
 
 constexpr double kOrbitRadiansPerPixel = 0.005;
 constexpr double kFlySpeedPerDepth = 0.5;  // fly speed: half the pivot depth per second
+constexpr float kBlendStep = 0.1f;         // the blend factor per [ or ] press
 
 std::pair<int, int> window_size(const ViewerOptions& o, const io::CameraView& cam) {
   if (o.width > 0 && o.height > 0) return {o.width, o.height};
@@ -95,10 +97,9 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   Input input(window.handle());
   ImGuiLayer imgui(ctx, window.handle(), swapchain);
 
-  std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, options.style);
-  size_t style = static_cast<size_t>(std::find(run.styles.begin(), run.styles.end(), options.style) - run.styles.begin());
-  size_t shown_style = style;
-  size_t last_styled = style > 0 ? style : 1;  // what T returns to from "original" (styles[0])
+  StyleSwitch styles(ctx, run, options.style);
+  StyleSelection selection = styles.shown();
+  size_t last_styled = selection.style > 0 ? selection.style : 1;  // what T returns to from "original" (styles[0])
   FrameRenderer renderer(ctx, run.dataset.background);
   std::vector<std::string> camera_names;
   for (const io::CameraView& c : cameras) camera_names.push_back(c.name);
@@ -107,7 +108,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   // The pivot: the median depth of the Gaussians, where they are at the current time.
   auto pivot_depth = [&](size_t i) {
     const splat::Camera cam = splat::to_splat_camera(cameras[i]);
-    return median_depth(cameras[i], scene::download_cloud(ctx, source->at(playback.time, cam)).means, 1.0);
+    return median_depth(cameras[i], scene::download_cloud(ctx, styles.source().at(playback.time, cam)).means, 1.0);
   };
   CameraControl control(estimate_up(cameras), kFlySpeedPerDepth * pivot_depth(options.camera));
   control.snap(cameras[options.camera], pivot_depth(options.camera));
@@ -117,8 +118,8 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   const double clip = clip_seconds(run.dataset);
 
   PanelInfo info{.device = ctx.info().name,
-                 .gaussians = source->size(),
-                 .dynamic = source->dynamic(),
+                 .gaussians = styles.source().size(),
+                 .dynamic = styles.source().dynamic(),
                  .cameras = &camera_names,
                  .styles = &run.styles};
   ViewerSummary summary{.device = ctx.info().name};
@@ -154,19 +155,17 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     control.zoom(in.scroll);
     control.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
     if (in.toggle_play) playback.playing = !playback.playing;
+    size_t& style = selection.style;
     if (run.styles.size() > 1 && in.next_style) style = (style + 1) % run.styles.size();
     if (run.styles.size() > 1 && in.toggle_original) style = style == 0 ? last_styled : 0;
     if (style > 0) last_styled = style;
+    selection.alpha = std::clamp(selection.alpha + kBlendStep * static_cast<float>(in.blend_step), 0.0f, 1.0f);
     playback.advance(seconds, clip);
     imgui.new_frame();
     info.width = swapchain.extent().width, info.height = swapchain.extent().height;
     info.recording = recording, info.recorded = path.size();
-    const PanelActions act = draw_panel(info, playback, style);
-    if (style != shown_style) {
-      ctx.wait_idle();  // the last frame may still read the old source's buffers
-      source = scene::open_scene(ctx, run, run.styles[style]);
-      shown_style = style;
-    }
+    const PanelActions act = draw_panel(info, playback, selection);
+    if (const std::string refused = styles.update(selection); !refused.empty()) info.message = refused;
     const int snap = act.snap_camera >= 0 ? act.snap_camera : in.snap_camera;
     if (snap >= 0 && static_cast<size_t>(snap) < cameras.size()) {
       ctx.wait_idle();  // the pivot reads the source's buffers, which the last frame may still read
@@ -184,7 +183,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     }
     const auto t0 = std::chrono::steady_clock::now();
     engine::Recorder rec(ctx, "viewer frame");
-    renderer.render(*source, control.camera(info.width, info.height), playback.time, swapchain.pixel_order(), rec);
+    renderer.render(styles.source(), control.camera(info.width, info.height), playback.time, swapchain.pixel_order(), rec);
     record_copy(rec, renderer.pixels(), swapchain.image(*image), swapchain.extent());
     imgui.record(rec.handle(), *image, swapchain.extent());
     last_submit = ctx.submit(std::move(rec), {.wait = swapchain.acquired(),

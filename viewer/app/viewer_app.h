@@ -13,7 +13,7 @@
 namespace s4d::viewer {
 
 struct ViewerOptions {
-  std::string style = "original";
+  scene::StyleChoice style;  // a style of the run, or the blend of two
   size_t camera = 0;  // dataset camera to start from
   double time = 0;    // in [0, 1]
   bool play = false;  // start playing
@@ -29,7 +29,8 @@ struct ViewerSummary {
   std::string device;
 };
 
-// Opens the run's scene source on the window's device; switching styles in the panel reopens it.
+// Opens the run's scene source on the window's device; switching styles in the panel reopens it,
+// moving the blend factor re-blends it (style_switch.h).
 ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& options);
 
 }  // namespace s4d::viewer

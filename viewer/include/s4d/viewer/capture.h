@@ -2,7 +2,6 @@
 // (the window's code path) but without a window, written as a PNG. Needs no display.
 #pragma once
 #include <filesystem>
-#include <string>
 
 #include "s4d/engine/context.h"
 #include "s4d/scene/trained_run.h"
@@ -13,11 +12,11 @@ struct CaptureRequest {
   std::filesystem::path png;
   double time = 0;      // in [0, 1]
   size_t camera = 0;    // index into dataset_cameras(run.dataset)
-  std::string style = "original";
+  scene::StyleChoice style;  // a style of the run, or the blend of two
 };
 
 // Throws std::invalid_argument for a camera index or time out of range; scene::open_scene's errors
-// (an unknown style, a run's unreadable files) propagate.
+// (an unknown style, styles that cannot be blended, a run's unreadable files) propagate.
 void capture(engine::Context& ctx, const scene::TrainedRun& run, const CaptureRequest& request);
 
 }  // namespace s4d::viewer

@@ -29,6 +29,11 @@ class StyledScene final : public SceneSource {
   // Throws std::invalid_argument when the style was trained for another Gaussian count or SH layout.
   StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const StyleFile& style, std::string name);
 
+  // Replaces the style's arrays with `style`'s (a blend of other weights, style_blend.h): the same
+  // Gaussian count, SH layout and method, or std::invalid_argument. The device must have finished
+  // the work that reads the last at()'s buffers.
+  void restyle(const StyleFile& style);
+
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return base_->size(); }
   bool dynamic() const override { return true; }  // the MLPs read the time even where nothing moves

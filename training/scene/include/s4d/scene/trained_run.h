@@ -1,7 +1,7 @@
 // Opens a training run directory for rendering (the render protocols, the viewer, export-ply):
 // read_trained_run reads what the run is on the host (its settings, stage and dataset, loaded with
 // the run's own downscale and background) and checks that every file its stage needs is there;
-// open_scene then gives the scene source of one style on a device.
+// open_scene then gives the scene source of one style, or of the blend of two, on a device.
 //
 // What a run needs, by run.json "stage": "static": RUN/geometry/gaussians.ply; "4dgs":
 // RUN/checkpoint/state.s4dckpt (canonical Gaussians and the deformation field, trained_field.h).
@@ -14,6 +14,7 @@
 
 #include "s4d/data/dataset.h"
 #include "s4d/engine/context.h"
+#include "s4d/scene/blended_scene.h"
 #include "s4d/scene/scene_source.h"
 #include "s4d/train/train_config.h"
 
@@ -38,5 +39,20 @@ TrainedRun read_trained_run(const std::filesystem::path& run);
 // RUN; it has: ..." for a style the run does not have.
 std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run,
                                         const std::string& style = "original");
+
+// The blend of styles `a` and `b` of the run (either may be "original") with weight `alpha` in [0, 1]
+// on b (style_blend.h). Throws open_scene's errors for a style the run does not have, and
+// std::invalid_argument naming both styles for a "scratch" style (its own geometry) and what
+// blend_styles refuses.
+std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
+                                         const std::string& b, float alpha);
+
+// What a render or the viewer shows: `style` alone when `mix` is empty, else open_blend(style, mix, alpha).
+struct StyleChoice {
+  std::string style = "original";
+  std::string mix;
+  float alpha = 0;
+};
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice);
 
 }  // namespace s4d::scene
