@@ -48,6 +48,33 @@ TEST_CASE("conv3x3 with reflection padding matches its twin, with and without Re
   }
 }
 
+// Kernel nn_conv3x3_zero.
+TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
+  std::mt19937 rng(11);
+  for (const auto& [cin, cout, h, w] :
+       {std::array<uint32_t, 4>{5, 11, 9, 13}, {3, 8, 1, 1}, {4, 3, 1, 5}, {16, 9, 8, 8}}) {
+    const auto x = test::random_chw(cin, h, w, rng);
+    const auto params = test::random_conv(cin, cout, 3, rng);
+    const auto gx = test::upload(x);
+    const auto weights = test::upload(params);
+    for (const bool relu : {false, true}) {
+      const auto gpu =
+          nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, relu); }));
+      const auto twin = ref::conv3x3_zero_pad(to_double(x), to_double(params.weight), to_double(params.bias), cout, relu);
+      // Float sums of at most 144 products of O(1) terms against double: measured 2.1e-7.
+      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+    }
+  }
+  // The zero border differs from the reflected one: the two variants must disagree at the edges.
+  const auto x = test::random_chw(2, 4, 4, rng, 0.5f, 1.0f);
+  const auto params = test::random_conv(2, 8, 3, rng);
+  const auto gx = test::upload(x);
+  const auto weights = test::upload(params);
+  const auto zero = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, false); }));
+  const auto reflect = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), 8, false);
+  CHECK(max_rel(zero, reflect.v) > 1e-2);
+}
+
 TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
   // Were the kernel rows, taps, strip pixels and channel block runtime loops, each invocation would
   // run over 100,000 iterations and llvmpipe would end it early: this test then fails (checked
@@ -94,7 +121,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
 }
 
 // Kernels nn_relu, nn_maxpool, nn_upsample.
-TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their twins exactly") {
+TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
     const auto x = test::random_chw(3, h, w, rng);
@@ -103,6 +130,13 @@ TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their tw
     CHECK(max_rel(pooled, ref::maxpool2_ceil(to_double(x)).v) == 0.0);
     const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
     CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
+  }
+  // Floor mode (torchvision's VGG) through the same kernel: odd last rows and columns are dropped.
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {2, 3}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2_floor(r, gx); }));
+    CHECK(max_rel(pooled, ref::maxpool2_floor(to_double(x)).v) == 0.0);
   }
   auto x = test::random_chw(2, 9, 11, rng);
   auto gx = test::upload(x);

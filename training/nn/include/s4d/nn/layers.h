@@ -27,6 +27,8 @@ ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t 
 
 // ReflectionPad2d(1) + Conv2d(k=3) (+ ReLU). Needs H, W >= 2, as PyTorch's reflection padding does.
 Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
+// Conv2d(k=3, padding=1) (+ ReLU): zero padding, as torchvision's VGG; any H, W >= 1.
+Tensor conv3x3_zero_pad(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
 // Conv2d(k=1) (+ ReLU); a Linear layer when x is [in, 1, 1].
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
 // out += Conv2d(k=1)(x): a residual connection into `out`.
@@ -34,6 +36,8 @@ void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeight
 void relu_inplace(engine::Recorder& rec, Tensor& x);
 // MaxPool2d(2, 2, ceil_mode=True): [c, ceil(h/2), ceil(w/2)].
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
+// MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
+Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
 // Upsample(scale_factor=2, mode='nearest').
 Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 

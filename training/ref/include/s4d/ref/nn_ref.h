@@ -51,6 +51,28 @@ Chw<T> conv3x3(const Chw<T>& x, const std::vector<T>& weight, const std::vector<
   return y;
 }
 
+// Conv2d(cin, cout, 3, padding=1) (zero padding, torchvision's VGG): weight [cout, cin, 3, 3].
+template <class T>
+Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
+                        bool with_relu) {
+  Chw<T> y(cout, x.h, x.w);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int64_t sy = int64_t{py} + dy, sx = int64_t{px} + dx;
+              if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+              acc += weight[((size_t{o} * x.c + i) * 3 + (dy + 1)) * 3 + (dx + 1)] *
+                     x.at(i, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            }
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
 // Conv2d(cin, cout, 1), or Linear(cin, cout) on a [cin, 1, 1] tensor: weight [cout, cin].
 template <class T>
 Chw<T> conv1x1(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
@@ -78,6 +100,18 @@ Chw<T> maxpool2_ceil(const Chw<T>& x) {
           for (uint32_t xx = 2 * px; xx < std::min(2 * px + 2, x.w); ++xx) m = std::max(m, x.at(ch, yy, xx));
         y.at(ch, py, px) = m;
       }
+  return y;
+}
+
+// MaxPool2d(2, 2) (floor mode): a last odd row or column is dropped.
+template <class T>
+Chw<T> maxpool2_floor(const Chw<T>& x) {
+  Chw<T> y(x.c, x.h / 2, x.w / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px)
+        y.at(ch, py, px) = std::max(std::max(x.at(ch, 2 * py, 2 * px), x.at(ch, 2 * py, 2 * px + 1)),
+                                    std::max(x.at(ch, 2 * py + 1, 2 * px), x.at(ch, 2 * py + 1, 2 * px + 1)));
   return y;
 }
 
