@@ -1,0 +1,56 @@
+// LPIPS v0.1 with the VGG16 backbone (Zhang et al. 2018, richzhang/PerceptualSimilarity; METRICS.md
+// 9): RGB in [0, 1] -> 2x - 1 -> the scaling layer (x - shift) / scale -> torchvision VGG16
+// `features` on the GPU, taps relu1_2, relu2_2, relu3_3, relu4_3, relu5_3; per tap and pixel the
+// channel vector is unit-normalised (f / (sqrt(sum_c f^2) + 1e-10)); the distance is
+// sum over taps of the spatial mean of sum_c w_c (na_c - nb_c)^2, w the lin heads. The head runs on
+// the host in double (it is O(C H W), against the backbone's O(C^2 H W)). Symmetric; 0 for
+// identical images; lower is better.
+// Weights: torchvision's vgg16-397923af.pth ("features.<i>.weight/bias") and LPIPS's
+// weights/v0.1/vgg.pth ("lin<l>.model.1.weight" [1, C_l, 1, 1]), both converted to safetensors.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "s4d/engine/context.h"
+#include "s4d/io/image_io.h"
+#include "s4d/io/safetensors.h"
+#include "s4d/nn/torchvision_vgg.h"
+#include "s4d/ref/nn_ref.h"
+
+namespace s4d::metrics {
+
+// LPIPS's ScalingLayer (v0.1): (x - shift) / scale on inputs in [-1, 1].
+inline constexpr std::array<float, 3> kLpipsShift = {-0.030f, -0.088f, -0.188f};
+inline constexpr std::array<float, 3> kLpipsScale = {0.458f, 0.448f, 0.450f};
+inline constexpr double kLpipsEps = 1e-10;  // normalize_tensor's eps, added to the norm
+// torchvision VGG16 `features` indices of relu1_2, relu2_2, relu3_3, relu4_3, relu5_3.
+inline constexpr std::array<int, 5> kLpipsVggTaps = {3, 8, 15, 22, 29};
+
+// One image's taps, each channel vector unit-normalised, [C, H, W] in double.
+using LpipsFeatures = std::vector<ref::Chw<double>>;
+
+// The LPIPS head on normalised taps: sum_l mean_{h,w} sum_c lin[l][c] (a_l - b_l)^2. Throws
+// std::invalid_argument when the taps' shapes or the head widths differ.
+double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vector<std::vector<double>>& lin);
+
+// Unit-normalises every pixel's channel vector in place (LPIPS's normalize_tensor).
+void normalise_channels(ref::Chw<double>& f);
+
+class LpipsVgg {
+ public:
+  // Throws std::runtime_error naming the file and tensor when a weight is missing or wrongly shaped.
+  LpipsVgg(engine::Context& ctx, const io::SafetensorsFile& vgg16, const io::SafetensorsFile& heads,
+           const nn::VggWidths& widths = {});
+
+  // The normalised taps of an RGB image in [0, 1]; at least 16x16 (relu5_3 follows 4 poolings).
+  LpipsFeatures features(const io::ImageF& rgb) const;
+  double distance(const LpipsFeatures& a, const LpipsFeatures& b) const { return lpips_head(a, b, lin_); }
+  double operator()(const io::ImageF& a, const io::ImageF& b) const { return distance(features(a), features(b)); }
+
+ private:
+  engine::Context& ctx_;
+  nn::TorchVgg vgg_;
+  std::vector<std::vector<double>> lin_;
+};
+
+}  // namespace s4d::metrics

@@ -1,0 +1,24 @@
+// An RGB frame (io::ImageF [H, W, 3]) as a network input [3, H, W] on the device, each channel
+// mapped to (v * mul[c] + add[c]): the learned metrics' preprocessing (LPIPS's [-1, 1] + scaling
+// layer, ImageNet normalisation) applied on the host before the upload.
+#pragma once
+#include <array>
+#include <string>
+
+#include "s4d/engine/context.h"
+#include "s4d/io/image_io.h"
+#include "s4d/nn/tensor.h"
+
+namespace s4d::metrics {
+
+struct ChannelAffine {
+  std::array<float, 3> mul{1.0f, 1.0f, 1.0f}, add{0.0f, 0.0f, 0.0f};
+};
+
+// (v - mean[c]) / std[c] as an affine map.
+ChannelAffine normalisation(const std::array<float, 3>& mean, const std::array<float, 3>& std);
+
+// Throws std::invalid_argument naming `metric` when the image is not RGB.
+nn::Tensor upload_rgb(engine::Context& ctx, const io::ImageF& image, const ChannelAffine& map, const std::string& metric);
+
+}  // namespace s4d::metrics

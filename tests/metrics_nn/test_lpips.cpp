@@ -1,0 +1,152 @@
+// LPIPS-VGG (bench/metrics/lpips.cpp) on lavapipe: torchvision VGG16 on the GPU (kernels
+// nn_conv3x3_zero, nn_maxpool) and the host head, against a double twin composed from the layer
+// twins with its own head, on random weights the test writes as safetensors; hand-computed heads;
+// identity, symmetry and the weight-file errors.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "s4d/io/safetensors.h"
+#include "s4d/metrics/lpips.h"
+#include "torch_vgg_fixture.h"
+
+namespace {
+
+using namespace s4d;
+
+const nn::VggWidths kWidths{{4, 6, 8, 8, 8}};
+
+struct LpipsFiles {
+  test::ScratchDir dir{"lpips"};
+  test::NetParams vgg;
+  std::vector<std::vector<float>> lin;
+  explicit LpipsFiles(std::mt19937& rng) : vgg(test::random_torch_vgg(kWidths, false, rng)) {
+    test::write_params(dir / "vgg16.safetensors", vgg);
+    std::vector<io::NamedTensor> heads;
+    const uint32_t widths[5] = {4, 6, 8, 8, 8};
+    for (int l = 0; l < 5; ++l) {
+      lin.push_back(test::random_values(widths[l], 0.0f, 0.5f, rng));  // LPIPS clamps its heads to >= 0
+      heads.push_back({"lin" + std::to_string(l) + ".model.1.weight", {1, widths[l], 1, 1}, lin.back()});
+    }
+    io::write_safetensors(dir / "lpips_vgg.safetensors", heads);
+  }
+  metrics::LpipsVgg open() const {
+    return metrics::LpipsVgg(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
+                             io::SafetensorsFile(dir / "lpips_vgg.safetensors"), kWidths);
+  }
+};
+
+// The twin: [0, 1] -> scaling layer -> VGG16 twin -> unit-normalised taps -> weighted squared
+// differences, spatial mean, sum over taps, all in double.
+double twin_lpips(const LpipsFiles& f, const io::ImageF& a, const io::ImageF& b) {
+  double mul[3], add[3];
+  for (int c = 0; c < 3; ++c) {
+    mul[c] = 2.0 / metrics::kLpipsScale[c];
+    add[c] = (-1.0 - metrics::kLpipsShift[c]) / metrics::kLpipsScale[c];
+  }
+  const std::vector<int> taps = {3, 8, 15, 22, 29};
+  const auto fa = test::twin_torch_vgg(f.vgg, false, test::image_chw(a, mul, add), taps);
+  const auto fb = test::twin_torch_vgg(f.vgg, false, test::image_chw(b, mul, add), taps);
+  double total = 0;
+  for (size_t l = 0; l < taps.size(); ++l) {
+    const size_t plane = size_t{fa[l].h} * fa[l].w;
+    double layer = 0;
+    for (size_t p = 0; p < plane; ++p) {
+      double na = 0, nb = 0;
+      for (size_t c = 0; c < fa[l].c; ++c) {
+        na += fa[l].v[c * plane + p] * fa[l].v[c * plane + p];
+        nb += fb[l].v[c * plane + p] * fb[l].v[c * plane + p];
+      }
+      na = std::sqrt(na) + 1e-10;
+      nb = std::sqrt(nb) + 1e-10;
+      for (size_t c = 0; c < fa[l].c; ++c) {
+        const double d = fa[l].v[c * plane + p] / na - fb[l].v[c * plane + p] / nb;
+        layer += f.lin[l][c] * d * d;
+      }
+    }
+    total += layer / double(plane);
+  }
+  return total;
+}
+
+}  // namespace
+
+// Kernels nn_conv3x3_zero, nn_maxpool (floor mode).
+TEST_CASE("lpips-vgg matches its double twin on random weights, is symmetric and 0 for identical images") {
+  std::mt19937 rng(21);
+  const LpipsFiles files(rng);
+  const metrics::LpipsVgg lpips = files.open();
+  // 20x18: odd sizes after the first and second pooling exercise floor mode; relu5_3 is 1x1.
+  const io::ImageF a = test::random_image(20, 18, rng), b = test::random_image(20, 18, rng);
+  const double gpu = lpips(a, b), twin = twin_lpips(files, a, b);
+  REQUIRE(std::isfinite(gpu));
+  CHECK(twin > 0.05);  // a meaningful distance, not a degenerate one
+  // Float backbone against double, through the unit normalisation: measured 1.1e-7 relative
+  // (lavapipe, Mesa 22.3.6); 1e-6 leaves room for other devices' summation order.
+  CHECK(std::abs(gpu - twin) <= 1e-6 * twin);
+  // The head is symmetric in double, term by term: measured exactly equal.
+  CHECK(std::abs(lpips(b, a) - gpu) <= 1e-12 * gpu);
+  // The same image twice: the backbone is deterministic, so the taps are equal and the head is 0
+  // (measured exactly 0).
+  CHECK(std::abs(lpips(a, a)) < 1e-12);
+  // A slightly changed image is closer than an unrelated one.
+  io::ImageF near = a;
+  for (float& v : near.data) v = std::min(1.0f, v + 0.02f);
+  CHECK(lpips(a, near) < gpu);
+}
+
+TEST_CASE("lpips head: hand-computed values on unit channel vectors") {
+  // One 1x2 tap, 2 channels: pixel 0 (1, 0) vs (0, 1) -> |d|^2 per channel 1 and 1; pixel 1 equal.
+  ref::Chw<double> a(2, 1, 2), b(2, 1, 2);
+  a.at(0, 0, 0) = 3;  // normalised to (1, 0)
+  b.at(1, 0, 0) = 0.5;  // normalised to (0, 1)
+  a.at(0, 0, 1) = b.at(0, 0, 1) = 2;
+  metrics::normalise_channels(a);
+  metrics::normalise_channels(b);
+  CHECK(a.at(0, 0, 0) == doctest::Approx(1.0).epsilon(1e-9));
+  // w = (0.5, 0.25): pixel 0 gives 0.5 + 0.25, pixel 1 gives 0; spatial mean 0.375.
+  CHECK(metrics::lpips_head({a}, {b}, {{0.5, 0.25}}) == doctest::Approx(0.375).epsilon(1e-9));
+  // A zero feature vector stays zero (the 1e-10 in the denominator), so it is 1 away from a unit one.
+  ref::Chw<double> z(2, 1, 1), u(2, 1, 1);
+  u.at(1, 0, 0) = 7;
+  metrics::normalise_channels(z);
+  metrics::normalise_channels(u);
+  CHECK(metrics::lpips_head({z}, {u}, {{1.0, 1.0}}) == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK_THROWS_AS(metrics::lpips_head({a}, {u}, {{1.0, 1.0}}), std::invalid_argument);
+}
+
+TEST_CASE("lpips-vgg names the file and tensor of bad weights, and refuses images under 16x16") {
+  std::mt19937 rng(22);
+  const LpipsFiles files(rng);
+  // A head of the wrong width.
+  io::write_safetensors(files.dir / "bad_heads.safetensors",
+                        {{"lin0.model.1.weight", {1, 5, 1, 1}, std::vector<float>(5, 0.1f)}});
+  const io::SafetensorsFile vgg(files.dir / "vgg16.safetensors");
+  try {
+    metrics::LpipsVgg(test::context(), vgg, io::SafetensorsFile(files.dir / "bad_heads.safetensors"), kWidths);
+    FAIL("a wrongly shaped head was accepted");
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    CHECK(what.find("bad_heads.safetensors") != std::string::npos);
+    CHECK(what.find("lin0.model.1.weight") != std::string::npos);
+  }
+  // A backbone without features.28 (relu5_3's convolution).
+  test::NetParams cut = files.vgg;
+  cut.erase("features.28");
+  test::write_params(files.dir / "cut.safetensors", cut);
+  try {
+    metrics::LpipsVgg(test::context(), io::SafetensorsFile(files.dir / "cut.safetensors"),
+                      io::SafetensorsFile(files.dir / "lpips_vgg.safetensors"), kWidths);
+    FAIL("a backbone missing a convolution was accepted");
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    CHECK(what.find("cut.safetensors") != std::string::npos);
+    CHECK(what.find("features.28.weight") != std::string::npos);
+  }
+  const metrics::LpipsVgg lpips = files.open();
+  CHECK_THROWS_AS(lpips.features(test::random_image(15, 40, rng)), std::invalid_argument);
+}
