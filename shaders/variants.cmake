@@ -48,6 +48,7 @@ set(S4D_SHADER_VARIANTS
   "nn_conv1x1|nn/nn_conv1x1.comp"
   "nn_relu|nn/nn_relu.comp"
   "nn_maxpool|nn/nn_maxpool.comp"
+  "nn_l2pool|nn/nn_l2pool.comp"
   "nn_upsample|nn/nn_upsample.comp"
   "nn_channel_stats|nn/nn_channel_stats.comp|S4D_NN_STATS_MCC=0"
   "nn_channel_stats_mcc|nn/nn_channel_stats.comp|S4D_NN_STATS_MCC=1"

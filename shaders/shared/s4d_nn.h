@@ -40,6 +40,9 @@
 #define S4D_B_BLEND_B 1
 #define S4D_B_BLEND_OUT 2
 
+// DISTS's L2 pooling (nn_l2pool): sqrt(3x3 Hann-weighted mean of squares + eps), eps as DISTS_pt.py.
+#define S4D_NN_L2POOL_EPS 1e-12
+
 // Channel statistics: one workgroup per channel, two passes over its H*W values (mean, then the
 // centred squares). nn_channel_stats writes mean and std = sqrt(unbiased variance + eps);
 // nn_channel_stats_mcc writes a = sum(x^2) / sum(x) (MCC's style weighting, no stabilisation).
@@ -116,8 +119,8 @@ struct NnBlendParams {
   uint _pad0;
 };
 
-// Push constants of nn_maxpool (2x2, stride 2, ceil mode), nn_upsample (nearest, x2) and
-// nn_resize_nearest (any size).
+// Push constants of nn_maxpool (2x2, stride 2, ceil or floor mode by the output size), nn_l2pool
+// (3x3 Hann window, stride 2), nn_upsample (nearest, x2) and nn_resize_nearest (any size).
 struct NnResizeParams {
   uint channels;
   uint in_height;

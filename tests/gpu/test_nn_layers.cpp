@@ -147,6 +147,29 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling mat
   CHECK(max_rel(nn::download(context(), gx), ref::relu(to_double(x)).v) == 0.0);
 }
 
+// Kernel nn_l2pool.
+TEST_CASE("DISTS's L2 pooling matches its twin and the hand-computed values of a constant image") {
+  std::mt19937 rng(12);
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 1}, {1, 3}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::l2pool(r, gx); }));
+    // 9 float squares summed, then a square root: measured 6.4e-8.
+    CHECK_MESSAGE(max_rel(pooled, ref::l2pool(to_double(x), 1e-12).v) < 1e-6, h << "x" << w);
+  }
+  // Constant 0.8 on 4x4: every output window's weights sum to 1 inside, so sqrt(0.64) = 0.8, except
+  // where the zero padding cuts the window: the top-left output sees rows and columns 0, 1 with
+  // weights (2 + 1) / 4 each way, sqrt(9/16 * 0.64) = 0.6; the others lose one side: sqrt(12/16 * 0.64).
+  ref::Chw<float> c(1, 4, 4);
+  c.v.assign(16, 0.8f);
+  const auto gc = test::upload(c);
+  const auto out = nn::download(context(), run([&](engine::Recorder& r) { return nn::l2pool(r, gc); }));
+  REQUIRE(out.size() == 4);
+  CHECK(out[0] == doctest::Approx(0.6).epsilon(1e-6));
+  CHECK(out[1] == doctest::Approx(std::sqrt(0.75 * 0.64)).epsilon(1e-6));
+  CHECK(out[3] == doctest::Approx(0.8).epsilon(1e-6));
+}
+
 // Kernels nn_channel_stats (both variants).
 TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match their twins") {
   std::mt19937 rng(5);

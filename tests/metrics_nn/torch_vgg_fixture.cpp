@@ -35,13 +35,13 @@ NetParams random_torch_vgg(const nn::VggWidths& widths, bool vgg19, std::mt19937
 }
 
 std::vector<ref::Chw<double>> twin_torch_vgg(const NetParams& net, bool vgg19, ref::Chw<double> x,
-                                             const std::vector<int>& taps) {
+                                             const std::vector<int>& taps, bool l2_pool) {
   std::vector<ref::Chw<double>> out;
   int index = 0;
   for (const int v : cfg(nn::VggWidths{}, vgg19)) {
     if (out.size() == taps.size()) break;
     if (v == 0) {
-      x = ref::maxpool2_floor(x);
+      x = l2_pool ? ref::l2pool(x, 1e-12) : ref::maxpool2_floor(x);
       index += 1;
       continue;
     }

@@ -14,9 +14,10 @@ namespace s4d::test {
 // Every convolution of the network ("features.0", "features.2", ...) up to relu5_x.
 NetParams random_torch_vgg(const nn::VggWidths& widths, bool vgg19, std::mt19937& rng);
 
-// The outputs of the ReLUs at `taps` (module indices) for an input [3, H, W].
+// The outputs of the ReLUs at `taps` (module indices) for an input [3, H, W]; `l2_pool` replaces the
+// max pools by DISTS's L2 pooling.
 std::vector<ref::Chw<double>> twin_torch_vgg(const NetParams& net, bool vgg19, ref::Chw<double> x,
-                                             const std::vector<int>& taps);
+                                             const std::vector<int>& taps, bool l2_pool = false);
 
 // A random RGB image in [0, 1], and the image as a [3, H, W] twin tensor mapped per channel to
 // v * mul[c] + add[c].

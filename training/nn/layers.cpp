@@ -149,6 +149,10 @@ Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
 }
 
+Tensor l2pool(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_l2pool, (x.h + 1) / 2, (x.w + 1) / 2, "l2pool");
+}
+
 Tensor upsample2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_upsample, 2 * x.h, 2 * x.w, "upsample");
 }

@@ -8,7 +8,8 @@
 namespace s4d::nn {
 
 TorchVgg::TorchVgg(engine::Context& ctx, const io::SafetensorsFile& file, TorchVggDepth depth, std::vector<int> taps,
-                   const VggWidths& widths) {
+                   const VggWidths& widths, TorchVggPool pool)
+    : pool_(pool) {
   if (taps.empty()) throw std::invalid_argument("TorchVgg: no taps");
   for (size_t i = 1; i < taps.size(); ++i)
     if (taps[i] <= taps[i - 1]) throw std::invalid_argument("TorchVgg: taps must increase");
@@ -31,7 +32,7 @@ TorchVgg::TorchVgg(engine::Context& ctx, const io::SafetensorsFile& file, TorchV
       if (index + 1 == taps[next_tap]) {
         s.tap = true;
         tap_channels_.push_back(cout);
-        min_size_ = 1u << pools;
+        min_size_ = pool == TorchVggPool::max ? 1u << pools : 1u;
         ++next_tap;
       } else if (index + 1 > taps[next_tap]) {
         throw std::invalid_argument("TorchVgg: tap " + std::to_string(taps[next_tap]) + " is not a ReLU of features");
@@ -55,7 +56,9 @@ std::vector<Tensor> TorchVgg::features(engine::Recorder& rec, const Tensor& x) c
   Tensor y;
   const Tensor* cur = &x;
   for (const Step& s : steps_) {
-    Tensor next = s.conv.name.empty() ? maxpool2_floor(rec, *cur) : conv3x3_zero_pad(rec, *cur, s.conv, true);
+    Tensor next = !s.conv.name.empty()         ? conv3x3_zero_pad(rec, *cur, s.conv, true)
+                  : pool_ == TorchVggPool::max ? maxpool2_floor(rec, *cur)
+                                               : l2pool(rec, *cur);
     if (s.tap) {
       out.push_back(std::move(next));
       cur = &out.back();

@@ -17,6 +17,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/torchvision_vgg.h"
+#include "s4d/metrics/rgb_tensor.h"
 #include "s4d/nn/vgg.h"
 
 namespace s4d::metrics {
@@ -25,8 +26,6 @@ enum class GramBackbone { vgg_normalised, torchvision_vgg19 };
 
 // torchvision VGG19 `features` indices of relu1_1, relu2_1, relu3_1, relu4_1, relu5_1.
 inline constexpr std::array<int, 5> kGramVgg19Taps = {1, 6, 11, 20, 29};
-inline constexpr std::array<float, 3> kImagenetMean = {0.485f, 0.456f, 0.406f};
-inline constexpr std::array<float, 3> kImagenetStd = {0.229f, 0.224f, 0.225f};
 
 // One image's Gram matrices, [C_l, C_l] row-major per layer.
 struct GramSet {

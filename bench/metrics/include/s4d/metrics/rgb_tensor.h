@@ -11,6 +11,10 @@
 
 namespace s4d::metrics {
 
+// torchvision's ImageNet normalisation (VGG inputs of DISTS and the Gram loss's torchvision VGG19).
+inline constexpr std::array<float, 3> kImagenetMean = {0.485f, 0.456f, 0.406f};
+inline constexpr std::array<float, 3> kImagenetStd = {0.229f, 0.224f, 0.225f};
+
 struct ChannelAffine {
   std::array<float, 3> mul{1.0f, 1.0f, 1.0f}, add{0.0f, 0.0f, 0.0f};
 };

@@ -38,6 +38,9 @@ void relu_inplace(engine::Recorder& rec, Tensor& x);
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
 // MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
+// DISTS's L2pooling(filter_size=5, stride=2): sqrt(conv(x^2, [1 2 1]^T [1 2 1] / 16, stride 2,
+// zero padding 1) + 1e-12) per channel: [c, ceil(h/2), ceil(w/2)].
+Tensor l2pool(engine::Recorder& rec, const Tensor& x);
 // Upsample(scale_factor=2, mode='nearest').
 Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 

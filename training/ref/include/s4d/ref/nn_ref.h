@@ -115,6 +115,28 @@ Chw<T> maxpool2_floor(const Chw<T>& x) {
   return y;
 }
 
+// DISTS's L2pooling: sqrt(sum_{dy,dx} g[dy] g[dx] x^2 + eps) with g = (1, 2, 1) / 4, stride 2,
+// zero padding 1: [c, ceil(h/2), ceil(w/2)].
+template <class T>
+Chw<T> l2pool(const Chw<T>& x, T eps) {
+  Chw<T> y(x.c, (x.h + 1) / 2, (x.w + 1) / 2);
+  const T g[3] = {T(0.25), T(0.5), T(0.25)};
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T sum = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int64_t sy = 2 * int64_t{py} + dy, sx = 2 * int64_t{px} + dx;
+            if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+            const T v = x.at(ch, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            sum += g[dy + 1] * g[dx + 1] * v * v;
+          }
+        y.at(ch, py, px) = std::sqrt(sum + eps);
+      }
+  return y;
+}
+
 // Upsample(scale_factor=2, mode='nearest').
 template <class T>
 Chw<T> upsample2(const Chw<T>& x) {
