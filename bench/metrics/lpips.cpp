@@ -1,6 +1,7 @@
 #include "s4d/metrics/lpips.h"
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -43,17 +44,29 @@ double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vec
   return total;
 }
 
-LpipsVgg::LpipsVgg(engine::Context& ctx, const io::SafetensorsFile& vgg16, const io::SafetensorsFile& heads,
-                   const nn::VggWidths& widths)
-    : ctx_(ctx), vgg_(ctx, vgg16, nn::TorchVggDepth::vgg16, {kLpipsVggTaps.begin(), kLpipsVggTaps.end()}, widths) {
-  for (size_t l = 0; l < vgg_.tap_count(); ++l) {
-    const int64_t c = vgg_.tap_channels(l);
-    const std::vector<float> w = heads.read("lin" + std::to_string(l) + ".model.1.weight", {1, c, 1, 1});
+Lpips::Lpips(engine::Context& ctx, const io::SafetensorsFile& backbone, const io::SafetensorsFile& heads, LpipsNet net,
+             const std::optional<std::array<uint32_t, 5>>& widths)
+    : ctx_(ctx), net_(net) {
+  std::vector<uint32_t> channels;
+  if (net == LpipsNet::vgg) {
+    nn::VggWidths w;
+    if (widths) w.level = *widths;
+    vgg_ = std::make_unique<nn::TorchVgg>(ctx, backbone, nn::TorchVggDepth::vgg16,
+                                          std::vector<int>(kLpipsVggTaps.begin(), kLpipsVggTaps.end()), w);
+    for (size_t l = 0; l < vgg_->tap_count(); ++l) channels.push_back(vgg_->tap_channels(l));
+  } else {
+    nn::AlexWidths w;
+    if (widths) w.level = *widths;
+    alex_ = std::make_unique<nn::TorchAlexNet>(ctx, backbone, w);
+    for (size_t l = 0; l < alex_->tap_count(); ++l) channels.push_back(alex_->tap_channels(l));
+  }
+  for (size_t l = 0; l < channels.size(); ++l) {
+    const std::vector<float> w = heads.read("lin" + std::to_string(l) + ".model.1.weight", {1, int64_t{channels[l]}, 1, 1});
     lin_.emplace_back(w.begin(), w.end());
   }
 }
 
-LpipsFeatures LpipsVgg::features(const io::ImageF& rgb) const {
+LpipsFeatures Lpips::features(const io::ImageF& rgb) const {
   // [0, 1] -> 2x - 1 -> (x - shift) / scale, one affine map per channel.
   ChannelAffine map;
   for (int c = 0; c < 3; ++c) {
@@ -61,8 +74,8 @@ LpipsFeatures LpipsVgg::features(const io::ImageF& rgb) const {
     map.add[c] = (-1.0f - kLpipsShift[c]) / kLpipsScale[c];
   }
   const nn::Tensor x = upload_rgb(ctx_, rgb, map, "lpips");
-  engine::Recorder rec(ctx_, "lpips vgg16");
-  std::vector<nn::Tensor> taps = vgg_.features(rec, x);
+  engine::Recorder rec(ctx_, vgg_ ? "lpips vgg16" : "lpips alexnet");
+  const std::vector<nn::Tensor> taps = vgg_ ? vgg_->features(rec, x) : alex_->features(rec, x);
   ctx_.run(std::move(rec));
   LpipsFeatures out;
   for (const nn::Tensor& t : taps) {

@@ -13,6 +13,8 @@ namespace {
 
 constexpr const char* kVgg16 = "vgg16.safetensors";
 constexpr const char* kLpipsVgg = "lpips_vgg.safetensors";
+constexpr const char* kAlexnet = "alexnet.safetensors";
+constexpr const char* kLpipsAlex = "lpips_alex.safetensors";
 constexpr const char* kVggNormalised = "vgg_normalised.safetensors";
 constexpr const char* kVgg19 = "vgg19.safetensors";
 constexpr const char* kDists = "dists.safetensors";
@@ -45,12 +47,15 @@ const std::vector<std::string>& native_learned_keys() {
 NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& options) : options_(options) {
   if (options.weights_dir && !fs::is_directory(*options.weights_dir))
     throw std::invalid_argument("--metric-weights " + options.weights_dir->string() + ": not a folder");
-  const std::vector<std::string> lpips_files = {kVgg16, kLpipsVgg};
+  const bool vgg = options.lpips == metrics::LpipsNet::vgg;
+  const std::vector<std::string> lpips_files = {vgg ? kVgg16 : kAlexnet, vgg ? kLpipsVgg : kLpipsAlex};
   if (all_present(options, lpips_files)) {
-    lpips_ = std::make_unique<metrics::LpipsVgg>(ctx, io::SafetensorsFile(*options.weights_dir / kVgg16),
-                                                 io::SafetensorsFile(*options.weights_dir / kLpipsVgg));
+    lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / lpips_files[0]),
+                                              io::SafetensorsFile(*options.weights_dir / lpips_files[1]), options.lpips);
   } else {
-    const std::string why = missing(options, lpips_files, "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth");
+    const std::string why = missing(options, lpips_files,
+                                    vgg ? "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth"
+                                        : "torchvision alexnet-owt-7be5be79.pth and LPIPS weights/v0.1/alex.pth");
     unavailable_["content_lpips"] = unavailable_["style_lpips"] = why;
   }
   const std::vector<std::string> dists_files = {kVgg16, kDists};
@@ -78,7 +83,9 @@ std::string NativeLearned::impl(const std::string& key) const {
   if (key == "style_loss_gram")
     return std::string("native VGG19 (") +
            (options_.gram == metrics::GramBackbone::vgg_normalised ? kVggNormalised : kVgg19) + ") on the GPU";
-  return "native LPIPS v0.1 VGG16 (vgg16.safetensors + lpips_vgg.safetensors) on the GPU";
+  return options_.lpips == metrics::LpipsNet::vgg
+             ? "native LPIPS v0.1 VGG16 (vgg16.safetensors + lpips_vgg.safetensors) on the GPU"
+             : "native LPIPS v0.1 AlexNet (alexnet.safetensors + lpips_alex.safetensors) on the GPU";
 }
 
 std::string NativeLearned::convention(const std::string& key) const {
@@ -93,8 +100,9 @@ std::string NativeLearned::convention(const std::string& key) const {
                 ? "AdaIN vgg_normalised (raw [0,1] RGB, reflection padding, ceil-mode pooling)"
                 : "torchvision vgg19 (ImageNet mean/std, zero padding)") +
            "; mean over frames";
-  const std::string lpips = "RGB [0,1] -> 2x-1 -> scaling layer, VGG16 relu1_2..relu5_3, channel unit-normalisation "
-                            "(eps 1e-10), lin heads, spatial mean, sum over layers; ";
+  const std::string lpips = std::string("RGB [0,1] -> 2x-1 -> scaling layer, ") +
+                            (options_.lpips == metrics::LpipsNet::vgg ? "VGG16 relu1_2..relu5_3" : "AlexNet relu1..relu5") +
+                            ", channel unit-normalisation (eps 1e-10), lin heads, spatial mean, sum over layers; ";
   if (key == "style_lpips")
     return lpips + "frame vs the style image resized to the frame (area when shrinking, bilinear when enlarging); mean over frames";
   return lpips + "stylised vs original frame; mean over frames";

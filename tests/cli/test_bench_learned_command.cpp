@@ -81,8 +81,8 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
 
   const auto report = run_bench(f, "--metric-weights " + weights.string(), "with");
   const auto& r = report.at("results")[0];
-  const s4d::metrics::LpipsVgg lpips(s4d::test::context(), s4d::io::SafetensorsFile(weights / "vgg16.safetensors"),
-                                     s4d::io::SafetensorsFile(weights / "lpips_vgg.safetensors"));
+  const s4d::metrics::Lpips lpips(s4d::test::context(), s4d::io::SafetensorsFile(weights / "vgg16.safetensors"),
+                                  s4d::io::SafetensorsFile(weights / "lpips_vgg.safetensors"), s4d::metrics::LpipsNet::vgg);
   double content = 0;
   for (int t = 0; t < 3; ++t) content += lpips(f.s[t], f.o[t]) / 3;
   // The same kernels on the same device and frames: measured identical.
@@ -112,6 +112,10 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   const auto partial = run_bench(f, "--metric-weights " + weights.string(), "partial").at("results")[0];
   CHECK(partial.at("style_lpips").at("unavailable").get<std::string>().find("lpips_vgg.safetensors") != std::string::npos);
   CHECK(partial.at("style_loss_gram").is_number());
+  // --lpips-net alex reads alexnet.safetensors and lpips_alex.safetensors instead: named when absent.
+  const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex", "alex").at("results")[0];
+  CHECK(alex.at("content_lpips").at("unavailable").get<std::string>().find("alexnet.safetensors and lpips_alex.safetensors") !=
+        std::string::npos);
   fs::remove_all(f.root);
 }
 
@@ -144,6 +148,11 @@ TEST_CASE("bench --python runs the bridge script; its numbers reach report.json,
   CHECK(run_style4d("bench", "--frames " + f.styl.string() + " --original " + f.orig.string() + " --style-image " +
                                  f.style.string() + " --out " + (f.root / "bad").string() + " --gram-vgg torchvision",
                     log) != 0);
-  CHECK(read_text(log).find("needs --metric-weights") != std::string::npos);
+  CHECK(read_text(log).find("--gram-vgg: needs --metric-weights") != std::string::npos);
+  CHECK(run_style4d("bench", "--frames " + f.styl.string() + " --original " + f.orig.string() + " --style-image " +
+                                 f.style.string() + " --out " + (f.root / "bad").string() + " --metric-weights " +
+                                 f.root.string() + " --lpips-net squeeze",
+                    log) != 0);
+  CHECK(read_text(log).find("--lpips-net: expected one of vgg, alex") != std::string::npos);
   fs::remove_all(f.root);
 }

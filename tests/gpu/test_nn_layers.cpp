@@ -75,6 +75,33 @@ TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
   CHECK(max_rel(zero, reflect.v) > 1e-2);
 }
 
+// Kernel nn_conv_strided.
+TEST_CASE("strided convolutions of any kernel size (AlexNet's 11x11 stride 4, 5x5) match their twin") {
+  std::mt19937 rng(13);
+  struct Case {
+    uint32_t cin, cout, k, stride, pad, h, w;
+  };
+  for (const Case c : {Case{3, 5, 11, 4, 2, 35, 31}, Case{4, 6, 5, 1, 2, 9, 7}, Case{6, 3, 3, 1, 1, 5, 4}, Case{2, 3, 3, 2, 0, 7, 8}}) {
+    const auto x = test::random_chw(c.cin, c.h, c.w, rng);
+    const auto params = test::random_conv(c.cin, c.cout, c.k, rng);
+    const auto gx = test::upload(x);
+    const auto weights = test::upload(params);
+    for (const bool relu : {false, true}) {
+      const auto gpu = nn::download(
+          context(), run([&](engine::Recorder& r) { return nn::conv_strided(r, gx, weights, c.stride, c.pad, relu); }));
+      const auto twin = ref::conv2d(to_double(x), to_double(params.weight), to_double(params.bias), c.cout, c.k, c.stride, c.pad, relu);
+      // Float sums of at most 363 products against double: measured 6.0e-7 (the 11x11 stride-4 case).
+      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, "k " << c.k << " stride " << c.stride << " " << c.h << "x" << c.w);
+    }
+  }
+  // cin * k * k past llvmpipe's loop cap is refused before recording.
+  const auto wide = test::random_conv(600, 1, 11, rng);
+  const auto gw = test::upload(wide);
+  const auto x = test::upload(test::random_chw(600, 11, 11, rng));
+  engine::Recorder rec(context(), "refused");
+  CHECK_THROWS_AS(nn::conv_strided(rec, x, gw, 4, 2, true), std::invalid_argument);
+}
+
 TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
   // Were the kernel rows, taps, strip pixels and channel block runtime loops, each invocation would
   // run over 100,000 iterations and llvmpipe would end it early: this test then fails (checked
@@ -120,7 +147,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
-// Kernels nn_relu, nn_maxpool, nn_upsample.
+// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample.
 TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
@@ -137,6 +164,13 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling mat
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2_floor(r, gx); }));
     CHECK(max_rel(pooled, ref::maxpool2_floor(to_double(x)).v) == 0.0);
+  }
+  // 3x3 stride 2 (AlexNet, kernel nn_maxpool3s2): floor((in - 3) / 2) + 1 outputs.
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 9}, {3, 3}, {8, 6}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool3s2(r, gx); }));
+    CHECK(max_rel(pooled, ref::maxpool3s2(to_double(x)).v) == 0.0);
   }
   auto x = test::random_chw(2, 9, 11, rng);
   auto gx = test::upload(x);

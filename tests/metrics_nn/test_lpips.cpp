@@ -1,9 +1,12 @@
-// LPIPS-VGG (bench/metrics/lpips.cpp) on lavapipe: torchvision VGG16 on the GPU (kernels
-// nn_conv3x3_zero, nn_maxpool) and the host head, against a double twin composed from the layer
-// twins with its own head, on random weights the test writes as safetensors; hand-computed heads;
-// identity, symmetry and the weight-file errors.
+// LPIPS (bench/metrics/lpips.cpp) on lavapipe with both backbones: torchvision VGG16 (kernels
+// nn_conv3x3_zero, nn_maxpool) and AlexNet (nn_conv_strided, nn_maxpool3s2, nn_conv3x3_zero) on the
+// GPU and the host head, against a double twin composed from the layer twins with its own head, on
+// random weights the test writes as safetensors; hand-computed heads; identity, symmetry and the
+// weight-file errors.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -18,25 +21,28 @@ namespace {
 
 using namespace s4d;
 
-const nn::VggWidths kWidths{{4, 6, 8, 8, 8}};
+const std::array<uint32_t, 5> kWidths = {4, 6, 8, 8, 8};
 
 struct LpipsFiles {
+  metrics::LpipsNet net;
   test::ScratchDir dir{"lpips"};
-  test::NetParams vgg;
+  test::NetParams backbone;
   std::vector<std::vector<float>> lin;
-  explicit LpipsFiles(std::mt19937& rng) : vgg(test::random_torch_vgg(kWidths, false, rng)) {
-    test::write_params(dir / "vgg16.safetensors", vgg);
+  LpipsFiles(std::mt19937& rng, metrics::LpipsNet n)
+      : net(n),
+        backbone(n == metrics::LpipsNet::vgg ? test::random_torch_vgg(nn::VggWidths{kWidths}, false, rng)
+                                             : test::random_alexnet(kWidths, rng)) {
+    test::write_params(dir / "backbone.safetensors", backbone);
     std::vector<io::NamedTensor> heads;
-    const uint32_t widths[5] = {4, 6, 8, 8, 8};
     for (int l = 0; l < 5; ++l) {
-      lin.push_back(test::random_values(widths[l], 0.0f, 0.5f, rng));  // LPIPS clamps its heads to >= 0
-      heads.push_back({"lin" + std::to_string(l) + ".model.1.weight", {1, widths[l], 1, 1}, lin.back()});
+      lin.push_back(test::random_values(kWidths[l], 0.0f, 0.5f, rng));  // LPIPS clamps its heads to >= 0
+      heads.push_back({"lin" + std::to_string(l) + ".model.1.weight", {1, kWidths[l], 1, 1}, lin.back()});
     }
-    io::write_safetensors(dir / "lpips_vgg.safetensors", heads);
+    io::write_safetensors(dir / "heads.safetensors", heads);
   }
-  metrics::LpipsVgg open() const {
-    return metrics::LpipsVgg(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
-                             io::SafetensorsFile(dir / "lpips_vgg.safetensors"), kWidths);
+  metrics::Lpips open() const {
+    return metrics::Lpips(test::context(), io::SafetensorsFile(dir / "backbone.safetensors"),
+                          io::SafetensorsFile(dir / "heads.safetensors"), net, kWidths);
   }
 };
 
@@ -49,8 +55,11 @@ double twin_lpips(const LpipsFiles& f, const io::ImageF& a, const io::ImageF& b)
     add[c] = (-1.0 - metrics::kLpipsShift[c]) / metrics::kLpipsScale[c];
   }
   const std::vector<int> taps = {3, 8, 15, 22, 29};
-  const auto fa = test::twin_torch_vgg(f.vgg, false, test::image_chw(a, mul, add), taps);
-  const auto fb = test::twin_torch_vgg(f.vgg, false, test::image_chw(b, mul, add), taps);
+  const auto backbone = [&](const io::ImageF& im) {
+    return f.net == metrics::LpipsNet::vgg ? test::twin_torch_vgg(f.backbone, false, test::image_chw(im, mul, add), taps)
+                                           : test::twin_alexnet(f.backbone, test::image_chw(im, mul, add));
+  };
+  const auto fa = backbone(a), fb = backbone(b);
   double total = 0;
   for (size_t l = 0; l < taps.size(); ++l) {
     const size_t plane = size_t{fa[l].h} * fa[l].w;
@@ -75,28 +84,34 @@ double twin_lpips(const LpipsFiles& f, const io::ImageF& a, const io::ImageF& b)
 
 }  // namespace
 
-// Kernels nn_conv3x3_zero, nn_maxpool (floor mode).
-TEST_CASE("lpips-vgg matches its double twin on random weights, is symmetric and 0 for identical images") {
+// Kernels nn_conv3x3_zero, nn_maxpool (floor mode), nn_conv_strided, nn_maxpool3s2.
+TEST_CASE("lpips (vgg and alex) matches its double twin on random weights, is symmetric and 0 for identical images") {
   std::mt19937 rng(21);
-  const LpipsFiles files(rng);
-  const metrics::LpipsVgg lpips = files.open();
-  // 20x18: odd sizes after the first and second pooling exercise floor mode; relu5_3 is 1x1.
-  const io::ImageF a = test::random_image(20, 18, rng), b = test::random_image(20, 18, rng);
-  const double gpu = lpips(a, b), twin = twin_lpips(files, a, b);
-  REQUIRE(std::isfinite(gpu));
-  CHECK(twin > 0.05);  // a meaningful distance, not a degenerate one
-  // Float backbone against double, through the unit normalisation: measured 1.1e-7 relative
-  // (lavapipe, Mesa 22.3.6); 1e-6 leaves room for other devices' summation order.
-  CHECK(std::abs(gpu - twin) <= 1e-6 * twin);
-  // The head is symmetric in double, term by term: measured exactly equal.
-  CHECK(std::abs(lpips(b, a) - gpu) <= 1e-12 * gpu);
-  // The same image twice: the backbone is deterministic, so the taps are equal and the head is 0
-  // (measured exactly 0).
-  CHECK(std::abs(lpips(a, a)) < 1e-12);
-  // A slightly changed image is closer than an unrelated one.
-  io::ImageF near = a;
-  for (float& v : near.data) v = std::min(1.0f, v + 0.02f);
-  CHECK(lpips(a, near) < gpu);
+  for (const metrics::LpipsNet net : {metrics::LpipsNet::vgg, metrics::LpipsNet::alex}) {
+    const bool vgg = net == metrics::LpipsNet::vgg;
+    INFO("backbone " << (vgg ? "vgg" : "alex"));
+    const LpipsFiles files(rng, net);
+    const metrics::Lpips lpips = files.open();
+    // VGG at 20x18: odd sizes after the first and second pooling exercise floor mode; relu5_3 is 1x1.
+    // AlexNet at 35x33 (at least 31): relu1 8x7, then 3x3 and 1x1 maps after its two pools.
+    const int w = vgg ? 20 : 35, h = vgg ? 18 : 33;
+    const io::ImageF a = test::random_image(w, h, rng), b = test::random_image(w, h, rng);
+    const double gpu = lpips(a, b), twin = twin_lpips(files, a, b);
+    REQUIRE(std::isfinite(gpu));
+    CHECK(twin > 0.05);  // a meaningful distance, not a degenerate one
+    // Float backbone against double, through the unit normalisation: measured 1.1e-7 (vgg) and
+    // 1.0e-7 (alex) relative (lavapipe, Mesa 22.3.6); 1e-6 leaves room for other summation orders.
+    CHECK(std::abs(gpu - twin) <= 1e-6 * twin);
+    // The head is symmetric in double, term by term: measured exactly equal.
+    CHECK(std::abs(lpips(b, a) - gpu) <= 1e-12 * gpu);
+    // The same image twice: the backbone is deterministic, so the taps are equal and the head is 0
+    // (measured exactly 0).
+    CHECK(std::abs(lpips(a, a)) < 1e-12);
+    // A slightly changed image is closer than an unrelated one.
+    io::ImageF near = a;
+    for (float& v : near.data) v = std::min(1.0f, v + 0.02f);
+    CHECK(lpips(a, near) < gpu);
+  }
 }
 
 TEST_CASE("lpips head: hand-computed values on unit channel vectors") {
@@ -119,15 +134,16 @@ TEST_CASE("lpips head: hand-computed values on unit channel vectors") {
   CHECK_THROWS_AS(metrics::lpips_head({a}, {u}, {{1.0, 1.0}}), std::invalid_argument);
 }
 
-TEST_CASE("lpips-vgg names the file and tensor of bad weights, and refuses images under 16x16") {
+TEST_CASE("lpips names the file and tensor of bad weights, and refuses images under its minimum size") {
   std::mt19937 rng(22);
-  const LpipsFiles files(rng);
+  const LpipsFiles files(rng, metrics::LpipsNet::vgg);
   // A head of the wrong width.
   io::write_safetensors(files.dir / "bad_heads.safetensors",
                         {{"lin0.model.1.weight", {1, 5, 1, 1}, std::vector<float>(5, 0.1f)}});
-  const io::SafetensorsFile vgg(files.dir / "vgg16.safetensors");
+  const io::SafetensorsFile vgg(files.dir / "backbone.safetensors");
   try {
-    metrics::LpipsVgg(test::context(), vgg, io::SafetensorsFile(files.dir / "bad_heads.safetensors"), kWidths);
+    metrics::Lpips(test::context(), vgg, io::SafetensorsFile(files.dir / "bad_heads.safetensors"), metrics::LpipsNet::vgg,
+                   kWidths);
     FAIL("a wrongly shaped head was accepted");
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
@@ -135,18 +151,27 @@ TEST_CASE("lpips-vgg names the file and tensor of bad weights, and refuses image
     CHECK(what.find("lin0.model.1.weight") != std::string::npos);
   }
   // A backbone without features.28 (relu5_3's convolution).
-  test::NetParams cut = files.vgg;
+  test::NetParams cut = files.backbone;
   cut.erase("features.28");
   test::write_params(files.dir / "cut.safetensors", cut);
   try {
-    metrics::LpipsVgg(test::context(), io::SafetensorsFile(files.dir / "cut.safetensors"),
-                      io::SafetensorsFile(files.dir / "lpips_vgg.safetensors"), kWidths);
+    metrics::Lpips(test::context(), io::SafetensorsFile(files.dir / "cut.safetensors"),
+                   io::SafetensorsFile(files.dir / "heads.safetensors"), metrics::LpipsNet::vgg, kWidths);
     FAIL("a backbone missing a convolution was accepted");
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
     CHECK(what.find("cut.safetensors") != std::string::npos);
     CHECK(what.find("features.28.weight") != std::string::npos);
   }
-  const metrics::LpipsVgg lpips = files.open();
+  // A VGG file given as the AlexNet backbone: features.0 is 3x3, not 11x11.
+  try {
+    metrics::Lpips(test::context(), vgg, io::SafetensorsFile(files.dir / "heads.safetensors"), metrics::LpipsNet::alex, kWidths);
+    FAIL("a VGG backbone was accepted as AlexNet");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("features.0.weight") != std::string::npos);
+  }
+  const metrics::Lpips lpips = files.open();
   CHECK_THROWS_AS(lpips.features(test::random_image(15, 40, rng)), std::invalid_argument);
+  const LpipsFiles alex(rng, metrics::LpipsNet::alex);
+  CHECK_THROWS_AS(alex.open().features(test::random_image(30, 40, rng)), std::invalid_argument);
 }

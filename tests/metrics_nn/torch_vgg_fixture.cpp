@@ -53,6 +53,28 @@ std::vector<ref::Chw<double>> twin_torch_vgg(const NetParams& net, bool vgg19, r
   return out;
 }
 
+NetParams random_alexnet(const std::array<uint32_t, 5>& w, std::mt19937& rng) {
+  return {{"features.0", random_conv(3, w[0], 11, rng)},
+          {"features.3", random_conv(w[0], w[1], 5, rng)},
+          {"features.6", random_conv(w[1], w[2], 3, rng)},
+          {"features.8", random_conv(w[2], w[3], 3, rng)},
+          {"features.10", random_conv(w[3], w[4], 3, rng)}};
+}
+
+std::vector<ref::Chw<double>> twin_alexnet(const NetParams& net, const ref::Chw<double>& x) {
+  const auto conv = [&](const char* name, const ref::Chw<double>& in, uint32_t stride, uint32_t pad) {
+    const ConvParams& c = net.at(name);
+    return ref::conv2d(in, to_double(c.weight), to_double(c.bias), c.cout, c.k, stride, pad, true);
+  };
+  std::vector<ref::Chw<double>> taps;
+  taps.push_back(conv("features.0", x, 4, 2));
+  taps.push_back(conv("features.3", ref::maxpool3s2(taps[0]), 1, 2));
+  taps.push_back(conv("features.6", ref::maxpool3s2(taps[1]), 1, 1));
+  taps.push_back(conv("features.8", taps[2], 1, 1));
+  taps.push_back(conv("features.10", taps[3], 1, 1));
+  return taps;
+}
+
 io::ImageF random_image(int width, int height, std::mt19937& rng) {
   io::ImageF img{width, height, 3, random_values(size_t(width) * size_t(height) * 3, 0.0f, 1.0f, rng)};
   return img;

@@ -41,6 +41,8 @@ const std::vector<OptionSpec> kSpecs = {
                        "style_lpips), vgg_normalised or vgg19 (style_loss_gram); README, \"Style4D-Bench\"", true, "DIR"},
     {"gram-vgg", "VGG19 of style_loss_gram: normalised (AdaIN vgg_normalised.safetensors, default) or torchvision "
                  "(vgg19.safetensors)", true, "WHICH"},
+    {"lpips-net", "backbone of content_lpips and style_lpips: vgg (vgg16 + lpips_vgg, default) or alex (alexnet + "
+                  "lpips_alex)", true, "NET"},
     {"python", "a Python with pyiqa: computes clipiqa_plus, musiq, qalign, musiq_paq2piq, dists, dino_score, ckdn through "
                "the pyiqa bridge (OUT/bridge: request.json, response.json, bridge.log)", true, "PY"},
     {"bridge-script", "the bridge script to run instead of the embedded tools/pyiqa_bridge.py (same protocol)", true, "FILE"},
@@ -130,10 +132,13 @@ std::optional<bench::NativeLearnedOptions> learned_options(const Args& args) {
       metrics::GramBackbone::vgg_normalised);
   const auto dir = args.get("metric-weights");
   if (!dir) {
-    if (args.get("gram-vgg")) throw std::invalid_argument("--gram-vgg: needs --metric-weights DIR (the folder holding the VGG19)");
+    for (const char* o : {"gram-vgg", "lpips-net"})
+      if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --metric-weights DIR (the folder holding the network)");
     return std::nullopt;
   }
-  return bench::NativeLearnedOptions{std::filesystem::path(*dir), gram};
+  const auto net = choose<metrics::LpipsNet>(args, "lpips-net", {{"vgg", metrics::LpipsNet::vgg}, {"alex", metrics::LpipsNet::alex}},
+                                            metrics::LpipsNet::vgg);
+  return bench::NativeLearnedOptions{std::filesystem::path(*dir), gram, net};
 }
 
 int cmd_bench(const std::vector<std::string>& argv) {

@@ -103,7 +103,7 @@ Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, flo
 
 ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
                         std::span<const float> weight, std::span<const float> bias) {
-  if (k != 1 && k != 3) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1 or 3");
+  if (k == 0 || k > 11) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1..11");
   if (weight.size() != size_t{cout} * cin * k * k || bias.size() != cout)
     fail("conv " + name, std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
                              " biases do not match " + std::to_string(cin) + " -> " + std::to_string(cout));
@@ -121,6 +121,34 @@ Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, boo
 Tensor conv3x3_zero_pad(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
   if (w.k != 3) fail("conv " + w.name, "is not a 3x3 convolution");
   return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr, shaders::Id::nn_conv3x3_zero);
+}
+
+Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t stride, uint32_t pad, bool relu) {
+  const std::string layer = "conv " + w.name;
+  if (x.c != w.cin) fail(layer, "expects " + std::to_string(w.cin) + " input channels, got " + x.shape());
+  if (stride == 0) fail(layer, "stride 0");
+  if (x.h + 2 * pad < w.k || x.w + 2 * pad < w.k)
+    fail(layer, "input " + x.shape() + " with padding " + std::to_string(pad) + " is smaller than the " + std::to_string(w.k) +
+                    "x" + std::to_string(w.k) + " kernel");
+  check_loop(layer, uint64_t{w.cin} * w.k * w.k, "input channels x taps " + std::to_string(w.cin) + " x " + std::to_string(w.k * w.k));
+  const uint32_t out_h = (x.h + 2 * pad - w.k) / stride + 1, out_w = (x.w + 2 * pad - w.k) / stride + 1;
+  Tensor y = make_tensor(rec.context(), w.name, w.cout, out_h, out_w);
+  const gpu::NnConvStridedParams p{.cin = w.cin,
+                                   .cout = w.cout,
+                                   .in_height = x.h,
+                                   .in_width = x.w,
+                                   .out_height = out_h,
+                                   .out_width = out_w,
+                                   .kernel = w.k,
+                                   .stride = stride,
+                                   .pad = pad,
+                                   .flags = relu ? S4D_NN_FLAG_RELU : 0u,
+                                   .n_out = static_cast<uint32_t>(y.count()),
+                                   ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv_strided), {x.buffer, w.weight, w.bias, y.buffer}, p,
+               ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
 }
 
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
@@ -147,6 +175,11 @@ Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   if (x.h < 2 || x.w < 2) fail("maxpool", "floor mode needs H, W >= 2, got " + x.shape());
   // nn_maxpool with floor(in / 2) outputs: every window lies inside the input, so no clamping applies.
   return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
+}
+
+Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 3 || x.w < 3) fail("maxpool3s2", "needs H, W >= 3, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_maxpool3s2, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1, "maxpool3s2");
 }
 
 Tensor l2pool(engine::Recorder& rec, const Tensor& x) {

@@ -1,19 +1,23 @@
-// LPIPS v0.1 with the VGG16 backbone (Zhang et al. 2018, richzhang/PerceptualSimilarity; METRICS.md
-// 9): RGB in [0, 1] -> 2x - 1 -> the scaling layer (x - shift) / scale -> torchvision VGG16
-// `features` on the GPU, taps relu1_2, relu2_2, relu3_3, relu4_3, relu5_3; per tap and pixel the
-// channel vector is unit-normalised (f / (sqrt(sum_c f^2) + 1e-10)); the distance is
-// sum over taps of the spatial mean of sum_c w_c (na_c - nb_c)^2, w the lin heads. The head runs on
-// the host in double (it is O(C H W), against the backbone's O(C^2 H W)). Symmetric; 0 for
-// identical images; lower is better.
-// Weights: torchvision's vgg16-397923af.pth ("features.<i>.weight/bias") and LPIPS's
-// weights/v0.1/vgg.pth ("lin<l>.model.1.weight" [1, C_l, 1, 1]), both converted to safetensors.
+// LPIPS v0.1 (Zhang et al. 2018, richzhang/PerceptualSimilarity; METRICS.md 9) with the VGG16 or
+// AlexNet backbone: RGB in [0, 1] -> 2x - 1 -> the scaling layer (x - shift) / scale -> torchvision
+// VGG16 `features` (taps relu1_2, relu2_2, relu3_3, relu4_3, relu5_3) or AlexNet `features` (taps
+// relu1..relu5) on the GPU; per tap and pixel the channel vector is unit-normalised
+// (f / (sqrt(sum_c f^2) + 1e-10)); the distance is sum over taps of the spatial mean of
+// sum_c w_c (na_c - nb_c)^2, w the lin heads. The head runs on the host in double (it is O(C H W),
+// against the backbone's O(C^2 H W)). Symmetric; 0 for identical images; lower is better.
+// Weights: torchvision's vgg16-397923af.pth or alexnet-owt-7be5be79.pth ("features.<i>.weight/bias")
+// and LPIPS's weights/v0.1/vgg.pth or alex.pth ("lin<l>.model.1.weight" [1, C_l, 1, 1]), converted
+// to safetensors.
 #pragma once
 #include <array>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/io/safetensors.h"
+#include "s4d/nn/torchvision_alexnet.h"
 #include "s4d/nn/torchvision_vgg.h"
 #include "s4d/ref/nn_ref.h"
 
@@ -36,20 +40,27 @@ double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vec
 // Unit-normalises every pixel's channel vector in place (LPIPS's normalize_tensor).
 void normalise_channels(ref::Chw<double>& f);
 
-class LpipsVgg {
- public:
-  // Throws std::runtime_error naming the file and tensor when a weight is missing or wrongly shaped.
-  LpipsVgg(engine::Context& ctx, const io::SafetensorsFile& vgg16, const io::SafetensorsFile& heads,
-           const nn::VggWidths& widths = {});
+enum class LpipsNet { vgg, alex };
 
-  // The normalised taps of an RGB image in [0, 1]; at least 16x16 (relu5_3 follows 4 poolings).
+class Lpips {
+ public:
+  // `widths`: the backbone's five tap widths (tests shrink them); nullopt: the published ones.
+  // Throws std::runtime_error naming the file and tensor when a weight is missing or wrongly shaped.
+  Lpips(engine::Context& ctx, const io::SafetensorsFile& backbone, const io::SafetensorsFile& heads, LpipsNet net,
+        const std::optional<std::array<uint32_t, 5>>& widths = std::nullopt);
+
+  // The normalised taps of an RGB image in [0, 1]; at least 16x16 (VGG: relu5_3 follows 4 poolings)
+  // or 31x31 (AlexNet).
   LpipsFeatures features(const io::ImageF& rgb) const;
   double distance(const LpipsFeatures& a, const LpipsFeatures& b) const { return lpips_head(a, b, lin_); }
   double operator()(const io::ImageF& a, const io::ImageF& b) const { return distance(features(a), features(b)); }
+  LpipsNet net() const { return net_; }
 
  private:
   engine::Context& ctx_;
-  nn::TorchVgg vgg_;
+  LpipsNet net_;
+  std::unique_ptr<nn::TorchVgg> vgg_;
+  std::unique_ptr<nn::TorchAlexNet> alex_;
   std::vector<std::vector<double>> lin_;
 };
 

@@ -5,6 +5,8 @@
 // files are absent from DIR (or with no DIR) gets the reason and the file names. Files, in DIR:
 //   vgg16.safetensors           torchvision vgg16-397923af.pth    ("features.<i>.weight/bias")
 //   lpips_vgg.safetensors       LPIPS weights/v0.1/vgg.pth        ("lin<l>.model.1.weight")
+//   alexnet.safetensors         torchvision alexnet-owt-7be5be79.pth  ("features.<i>"; --lpips-net alex)
+//   lpips_alex.safetensors      LPIPS weights/v0.1/alex.pth       (--lpips-net alex)
 //   dists.safetensors           DISTS_pytorch/weights.pt          ("alpha", "beta")
 //   vgg_normalised.safetensors  AdaIN vgg_normalised.pth          ("0", "2", ...; --gram-vgg normalised, default)
 //   vgg19.safetensors           torchvision vgg19-dcbb9e9d.pth    ("features.<i>"; --gram-vgg torchvision)
@@ -27,6 +29,7 @@ namespace s4d::bench {
 struct NativeLearnedOptions {
   std::optional<std::filesystem::path> weights_dir;  // --metric-weights
   metrics::GramBackbone gram = metrics::GramBackbone::vgg_normalised;
+  metrics::LpipsNet lpips = metrics::LpipsNet::vgg;
 };
 
 // The keys NativeLearned may compute.
@@ -56,7 +59,7 @@ class NativeLearned {
 
  private:
   NativeLearnedOptions options_;
-  std::unique_ptr<metrics::LpipsVgg> lpips_;
+  std::unique_ptr<metrics::Lpips> lpips_;
   std::unique_ptr<metrics::GramStyleLoss> gram_;
   std::unique_ptr<metrics::Dists> dists_;
   std::map<std::string, std::string> unavailable_;

@@ -73,6 +73,43 @@ Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std
   return y;
 }
 
+// Conv2d(cin, cout, k, stride, padding) with zero padding: weight [cout, cin, k, k].
+template <class T>
+Chw<T> conv2d(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout, uint32_t k,
+              uint32_t stride, uint32_t pad, bool with_relu) {
+  Chw<T> y(cout, (x.h + 2 * pad - k) / stride + 1, (x.w + 2 * pad - k) / stride + 1);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i)
+          for (uint32_t ky = 0; ky < k; ++ky)
+            for (uint32_t kx = 0; kx < k; ++kx) {
+              const int64_t sy = int64_t{py} * stride + ky - pad, sx = int64_t{px} * stride + kx - pad;
+              if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+              acc += weight[((size_t{o} * x.c + i) * k + ky) * k + kx] *
+                     x.at(i, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            }
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
+// MaxPool2d(3, 2) (floor mode).
+template <class T>
+Chw<T> maxpool3s2(const Chw<T>& x) {
+  Chw<T> y(x.c, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T m = x.at(ch, 2 * py, 2 * px);
+        for (uint32_t dy = 0; dy < 3; ++dy)
+          for (uint32_t dx = 0; dx < 3; ++dx) m = std::max(m, x.at(ch, 2 * py + dy, 2 * px + dx));
+        y.at(ch, py, px) = m;
+      }
+  return y;
+}
+
 // Conv2d(cin, cout, 1), or Linear(cin, cout) on a [cin, 1, 1] tensor: weight [cout, cin].
 template <class T>
 Chw<T> conv1x1(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
