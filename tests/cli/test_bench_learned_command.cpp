@@ -108,12 +108,18 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   const auto none = run_bench(f, "", "none").at("results")[0];
   CHECK(none.at("content_lpips").at("unavailable").get<std::string>().find("--metric-weights DIR") != std::string::npos);
   // A folder without the LPIPS files: named.
-  fs::remove(weights / "lpips_vgg.safetensors");
-  const auto partial = run_bench(f, "--metric-weights " + weights.string(), "partial").at("results")[0];
-  CHECK(partial.at("style_lpips").at("unavailable").get<std::string>().find("lpips_vgg.safetensors") != std::string::npos);
-  CHECK(partial.at("style_loss_gram").is_number());
-  // --lpips-net alex reads alexnet.safetensors and lpips_alex.safetensors instead: named when absent.
-  const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex", "alex").at("results")[0];
+  // A folder with only dists.safetensors (nothing loads: every network lacks a file): each key names
+  // what its network is missing, and --lpips-net alex asks for the AlexNet files instead.
+  const fs::path partial_dir = f.root / "partial_weights";
+  fs::create_directories(partial_dir);
+  fs::copy_file(weights / "dists.safetensors", partial_dir / "dists.safetensors");
+  const auto partial = run_bench(f, "--metric-weights " + partial_dir.string(), "partial").at("results")[0];
+  CHECK(partial.at("style_lpips").at("unavailable").get<std::string>().find("vgg16.safetensors and lpips_vgg.safetensors") !=
+        std::string::npos);
+  CHECK(partial.at("dists").at("unavailable").get<std::string>().find("add vgg16.safetensors and dists.safetensors to") !=
+        std::string::npos);
+  CHECK(partial.at("style_loss_gram").at("unavailable").get<std::string>().find("vgg_normalised.safetensors") != std::string::npos);
+  const auto alex = run_bench(f, "--metric-weights " + partial_dir.string() + " --lpips-net alex", "alex").at("results")[0];
   CHECK(alex.at("content_lpips").at("unavailable").get<std::string>().find("alexnet.safetensors and lpips_alex.safetensors") !=
         std::string::npos);
   fs::remove_all(f.root);
