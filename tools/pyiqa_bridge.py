@@ -5,7 +5,8 @@ Run by `style4d bench --python PY` as `PY pyiqa_bridge.py REQUEST.json`. Reads t
 keys and PNG frame files per sequence), computes each metric with pyiqa (DINO through torch.hub),
 and writes the response JSON to the request's "output": per sequence and key, one value per frame
 (clipiqa_plus, musiq, qalign, musiq_paq2piq, ckdn) or per consecutive pair (dists, dino_score).
-A metric that fails is reported under "errors" with the exception; the others still run.
+A metric that cannot be created is reported under "errors", a failure on one sequence as
+{"error": ...} in place of that sequence's list; the others still run.
 Needs: pip install pyiqa (PolyForm Noncommercial licence) torch torchvision.
 """
 import json
@@ -67,12 +68,17 @@ def main():
             response["errors"][k] = "cannot import pyiqa/torch in %s: %s" % (sys.executable, e)
         keys = []
     for key in keys:
-        try:
+        try:  # a metric that cannot be built fails for every sequence
             metric = None if key == "dino_score" else pyiqa.create_metric(PYIQA_NAMES[key], device=device)
-            for seq in request["sequences"]:
-                if key not in seq["metrics"]:
-                    continue
-                frames = seq["frames"]
+        except Exception as e:
+            traceback.print_exc()
+            response["errors"][key] = "%s: %s" % (type(e).__name__, e)
+            continue
+        for seq in request["sequences"]:
+            if key not in seq["metrics"]:
+                continue
+            frames = seq["frames"]
+            try:  # a failure on one sequence is reported for that sequence only
                 if key == "dino_score":
                     values = dino_scores(frames, device)
                 elif key == "dists":
@@ -85,10 +91,10 @@ def main():
                     values = per_frame(metric, frames, task_="aesthetic")
                 else:
                     values = per_frame(metric, frames)
-                response["results"].setdefault(seq["id"], {})[key] = values
-        except Exception as e:
-            traceback.print_exc()
-            response["errors"][key] = "%s: %s" % (type(e).__name__, e)
+            except Exception as e:
+                traceback.print_exc()
+                values = {"error": "%s: %s" % (type(e).__name__, e)}
+            response["results"].setdefault(seq["id"], {})[key] = values
     with open(request["output"], "w") as out:
         json.dump(response, out)
 

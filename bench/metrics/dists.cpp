@@ -73,12 +73,7 @@ DistsFeatures Dists::features(const io::ImageF& rgb) const {
   for (size_t i = 0; i < plane; ++i)
     for (size_t c = 0; c < 3; ++c) raw.v[c * plane + i] = rgb.data[3 * i + c];
   out.push_back(std::move(raw));
-  for (const nn::Tensor& t : taps) {
-    ref::Chw<double> f(t.c, t.h, t.w);
-    const std::vector<float> v = nn::download(ctx_, t);
-    f.v.assign(v.begin(), v.end());
-    out.push_back(std::move(f));
-  }
+  for (const nn::Tensor& t : taps) out.push_back(download_double(ctx_, t));
   return out;
 }
 

@@ -79,11 +79,8 @@ LpipsFeatures Lpips::features(const io::ImageF& rgb) const {
   ctx_.run(std::move(rec));
   LpipsFeatures out;
   for (const nn::Tensor& t : taps) {
-    ref::Chw<double> f(t.c, t.h, t.w);
-    const std::vector<float> v = nn::download(ctx_, t);
-    f.v.assign(v.begin(), v.end());
-    normalise_channels(f);
-    out.push_back(std::move(f));
+    out.push_back(download_double(ctx_, t));
+    normalise_channels(out.back());
   }
   return out;
 }

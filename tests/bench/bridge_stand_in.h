@@ -3,8 +3,8 @@
 // filters) and answers with numbers a test can recompute: per-frame keys get the frame's mean value
 // in [0, 1], pair keys (dists, dino_score) the mean |f_i+1 - f_i|, ckdn the frame's mean minus the
 // style image's. MODE in the environment variable S4D_STAND_IN_MODE changes its behaviour:
-// "crash" (prints to stderr, exits 3), "error" (musiq reports an error), "short" (one value too few
-// for clipiqa_plus), "garbage" (writes invalid JSON).
+// "crash" (prints to stderr, exits 3), "error" (musiq reports an error), "seq_error" (ckdn fails on
+// sequence seq0 only), "short" (one value too few for clipiqa_plus), "garbage" (writes invalid JSON).
 #pragma once
 
 namespace s4d::test {
@@ -65,6 +65,8 @@ for seq in req["sequences"]:
             res[key] = [mean(f) for f in frames]
 if mode == "error":
     out["errors"]["musiq"] = "no MUSIQ weights here"
+if mode == "seq_error":
+    out["results"]["seq0"]["ckdn"] = {"error": "frame 2 is unreadable"}
 if mode == "short":
     for res in out["results"].values(): res["clipiqa_plus"] = res["clipiqa_plus"][:-1]
 with open(req["output"], "w") as f:

@@ -1,7 +1,8 @@
 // The pyiqa bridge's protocol (bench/report/pyiqa_bridge.cpp, bridge_process.cpp) with a stand-in
 // script run by python3 (bridge_stand_in.h): the numbers it computes from the frame files reach
-// the result and report.json; a crash, a metric's error, a short list, invalid JSON and a missing
-// interpreter each make the affected keys unavailable with the reason. No pyiqa needed.
+// the result and report.json; a crash, a metric's error, one sequence's error, a short list, invalid
+// JSON and a missing interpreter each make the affected keys unavailable with the reason. No pyiqa
+// needed.
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -140,6 +141,12 @@ TEST_CASE("every failure of the bridge makes the affected keys unavailable with 
     const auto o = b::run_bridge(s.options, s.seqs);
     CHECK(reason(o, "seq0", "musiq") == "pyiqa bridge: no MUSIQ weights here");
     CHECK(o.values.at("seq0").count("musiq_paq2piq") == 1);  // the other keys still score
+  }
+  {
+    const Mode m("seq_error");
+    const auto o = b::run_bridge(s.options, s.seqs);
+    CHECK(reason(o, "seq0", "ckdn") == "pyiqa bridge: frame 2 is unreadable");
+    CHECK(o.values.at("seq1").count("ckdn") == 1);  // the other sequence keeps its values
   }
   {
     const Mode m("short");

@@ -151,8 +151,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
                        "--ground-truth) of each --frames video against --original. Run mode: renders RUN's test and "
                        "spiral protocols for the original scene and each --style into DIR/renders and scores them the "
                        "same way (warp_loss on the spiral, the rest on the test cameras). Merge: one table from the "
-                       "report.json of several runs of bench (a sweep's jobs). Learned metrics are reported as "
-                       "unavailable with the weights they need (METRICS.md).",
+                       "report.json of several runs of bench (a sweep's jobs). Learned metrics: content_lpips, "
+                       "style_lpips, dists and style_loss_gram natively with --metric-weights DIR, the others through the "
+                       "pyiqa bridge with --python PY; any left are reported as unavailable, naming what to supply "
+                       "(README, \"Learned metrics\").",
                        kSpecs);
     return 0;
   }

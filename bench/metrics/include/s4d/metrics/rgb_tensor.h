@@ -1,6 +1,7 @@
-// An RGB frame (io::ImageF [H, W, 3]) as a network input [3, H, W] on the device, each channel
-// mapped to (v * mul[c] + add[c]): the learned metrics' preprocessing (LPIPS's [-1, 1] + scaling
-// layer, ImageNet normalisation) applied on the host before the upload.
+// The learned metrics' host <-> device tensors: an RGB frame (io::ImageF [H, W, 3]) as a network
+// input [3, H, W] on the device, each channel mapped to (v * mul[c] + add[c]) (LPIPS's [-1, 1] +
+// scaling layer, ImageNet normalisation, applied on the host before the upload), and a network's
+// output back as a double tensor for the heads computed on the host.
 #pragma once
 #include <array>
 #include <string>
@@ -8,6 +9,7 @@
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/nn/tensor.h"
+#include "s4d/ref/nn_ref.h"
 
 namespace s4d::metrics {
 
@@ -24,5 +26,8 @@ ChannelAffine normalisation(const std::array<float, 3>& mean, const std::array<f
 
 // Throws std::invalid_argument naming `metric` when the image is not RGB.
 nn::Tensor upload_rgb(engine::Context& ctx, const io::ImageF& image, const ChannelAffine& map, const std::string& metric);
+
+// The tensor's values (after all work submitted so far) as double.
+ref::Chw<double> download_double(engine::Context& ctx, const nn::Tensor& t);
 
 }  // namespace s4d::metrics
