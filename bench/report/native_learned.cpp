@@ -1,6 +1,7 @@
 #include "s4d/bench/native_learned.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "s4d/stylize/image_file.h"
@@ -29,7 +30,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
   const std::string where = o.weights_dir ? "add " + list + " to " + o.weights_dir->string() + " (--metric-weights)"
                                           : "pass --metric-weights DIR holding " + list;
   return "needs weights: " + where + ", converted from " + published +
-         " with their state-dict names (README, \"Style4D-Bench\"), or pass --python PY for the pyiqa bridge";
+         " with their state-dict names (README, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
 }
 
 bool all_present(const NativeLearnedOptions& o, const std::vector<std::string>& files) {
@@ -49,19 +50,25 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
     throw std::invalid_argument("--metric-weights " + options.weights_dir->string() + ": not a folder");
   const bool vgg = options.lpips == metrics::LpipsNet::vgg;
   const std::vector<std::string> lpips_files = {vgg ? kVgg16 : kAlexnet, vgg ? kLpipsVgg : kLpipsAlex};
+  const std::vector<std::string> dists_files = {kVgg16, kDists};
+  // vgg16.safetensors (about 528 MB with torchvision's classifier) is read once for LPIPS and DISTS.
+  std::optional<io::SafetensorsFile> vgg16;
+  if ((vgg && all_present(options, lpips_files)) || all_present(options, dists_files))
+    vgg16.emplace(*options.weights_dir / kVgg16);
   if (all_present(options, lpips_files)) {
-    lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / lpips_files[0]),
-                                              io::SafetensorsFile(*options.weights_dir / lpips_files[1]), options.lpips);
+    const io::SafetensorsFile heads(*options.weights_dir / lpips_files[1]);
+    if (vgg)
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, *vgg16, heads, options.lpips);
+    else
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / kAlexnet), heads, options.lpips);
   } else {
     const std::string why = missing(options, lpips_files,
                                     vgg ? "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth"
                                         : "torchvision alexnet-owt-7be5be79.pth and LPIPS weights/v0.1/alex.pth");
     unavailable_["content_lpips"] = unavailable_["style_lpips"] = why;
   }
-  const std::vector<std::string> dists_files = {kVgg16, kDists};
   if (all_present(options, dists_files))
-    dists_ = std::make_unique<metrics::Dists>(ctx, io::SafetensorsFile(*options.weights_dir / kVgg16),
-                                              io::SafetensorsFile(*options.weights_dir / kDists));
+    dists_ = std::make_unique<metrics::Dists>(ctx, *vgg16, io::SafetensorsFile(*options.weights_dir / kDists));
   else
     unavailable_["dists"] = missing(options, dists_files, "torchvision vgg16-397923af.pth and DISTS_pytorch/weights.pt");
   const bool normalised = options.gram == metrics::GramBackbone::vgg_normalised;
