@@ -45,8 +45,8 @@ double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vec
 }
 
 Lpips::Lpips(engine::Context& ctx, const io::SafetensorsFile& backbone, const io::SafetensorsFile& heads, LpipsNet net,
-             const std::optional<std::array<uint32_t, 5>>& widths)
-    : ctx_(ctx), net_(net) {
+             const std::optional<std::array<uint32_t, 5>>& widths, LpipsInput input)
+    : ctx_(ctx), net_(net), input_(input) {
   std::vector<uint32_t> channels;
   if (net == LpipsNet::vgg) {
     nn::VggWidths w;
@@ -67,11 +67,12 @@ Lpips::Lpips(engine::Context& ctx, const io::SafetensorsFile& backbone, const io
 }
 
 LpipsFeatures Lpips::features(const io::ImageF& rgb) const {
-  // [0, 1] -> 2x - 1 -> (x - shift) / scale, one affine map per channel.
+  // [0, 1] -> 2x - 1 (signed_unit) -> (x - shift) / scale, one affine map per channel.
+  const bool pm1 = input_ == LpipsInput::signed_unit;
   ChannelAffine map;
   for (int c = 0; c < 3; ++c) {
-    map.mul[c] = 2.0f / kLpipsScale[c];
-    map.add[c] = (-1.0f - kLpipsShift[c]) / kLpipsScale[c];
+    map.mul[c] = (pm1 ? 2.0f : 1.0f) / kLpipsScale[c];
+    map.add[c] = ((pm1 ? -1.0f : 0.0f) - kLpipsShift[c]) / kLpipsScale[c];
   }
   const nn::Tensor x = upload_rgb(ctx_, rgb, map, "lpips");
   engine::Recorder rec(ctx_, vgg_ ? "lpips vgg16" : "lpips alexnet");

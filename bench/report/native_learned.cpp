@@ -58,9 +58,10 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
   if (all_present(options, lpips_files)) {
     const io::SafetensorsFile heads(*options.weights_dir / lpips_files[1]);
     if (vgg)
-      lpips_ = std::make_unique<metrics::Lpips>(ctx, *vgg16, heads, options.lpips);
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, *vgg16, heads, options.lpips, std::nullopt, options.lpips_input);
     else
-      lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / kAlexnet), heads, options.lpips);
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / kAlexnet), heads, options.lpips,
+                                                std::nullopt, options.lpips_input);
   } else {
     const std::string why = missing(options, lpips_files,
                                     vgg ? "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth"
@@ -107,7 +108,9 @@ std::string NativeLearned::convention(const std::string& key) const {
                 ? "AdaIN vgg_normalised (raw [0,1] RGB, reflection padding, ceil-mode pooling)"
                 : "torchvision vgg19 (ImageNet mean/std, zero padding)") +
            "; mean over frames";
-  const std::string lpips = std::string("RGB [0,1] -> 2x-1 -> scaling layer, ") +
+  const std::string lpips = std::string(options_.lpips_input == metrics::LpipsInput::signed_unit
+                                            ? "RGB [0,1] -> 2x-1 -> scaling layer, "
+                                            : "RGB [0,1] as is (3DGS lpipsPyTorch, no 2x-1) -> scaling layer, ") +
                             (options_.lpips == metrics::LpipsNet::vgg ? "VGG16 relu1_2..relu5_3" : "AlexNet relu1..relu5") +
                             ", channel unit-normalisation (eps 1e-10), lin heads, spatial mean, sum over layers; ";
   if (key == "style_lpips")

@@ -79,10 +79,13 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   s4d::io::write_safetensors(weights / "dists.safetensors", {{"alpha", ab, s4d::test::random_values(1475, 0.01f, 0.03f, rng)},
                                                              {"beta", ab, s4d::test::random_values(1475, 0.0f, 0.02f, rng)}});
 
-  const auto report = run_bench(f, "--metric-weights " + weights.string(), "with");
+  // The authors' 3DGS-style LPIPS input ([0, 1] as is), checked against the library's; the standard
+  // input is the default (test_lpips covers both).
+  const auto report = run_bench(f, "--metric-weights " + weights.string() + " --lpips-input 3dgs", "with");
   const auto& r = report.at("results")[0];
   const s4d::metrics::Lpips lpips(s4d::test::context(), s4d::io::SafetensorsFile(weights / "vgg16.safetensors"),
-                                  s4d::io::SafetensorsFile(weights / "lpips_vgg.safetensors"), s4d::metrics::LpipsNet::vgg);
+                                  s4d::io::SafetensorsFile(weights / "lpips_vgg.safetensors"), s4d::metrics::LpipsNet::vgg,
+                                  std::nullopt, s4d::metrics::LpipsInput::unit);
   double content = 0;
   for (int t = 0; t < 3; ++t) content += lpips(f.s[t], f.o[t]) / 3;
   // The same kernels on the same device and frames: measured identical.
@@ -101,6 +104,7 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   const double d1 = dists(f.s[1], f.s[0]);
   CHECK(std::abs(r.at("per_frame").at("dists")[0].get<double>() - d1) <= 1e-9 * d1);  // same kernels: measured identical
   CHECK(report.at("metrics_info").at("content_lpips").at("impl").get<std::string>().find("native LPIPS") == 0);
+  CHECK(report.at("metrics_info").at("content_lpips").at("convention").get<std::string>().find("no 2x-1") != std::string::npos);
   CHECK(report.at("metrics_info").at("dists").at("impl").get<std::string>().find("native DISTS") == 0);
   CHECK(r.at("musiq").at("unavailable").get<std::string>().find("--python") != std::string::npos);
 

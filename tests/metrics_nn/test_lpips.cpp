@@ -50,11 +50,12 @@ struct LpipsFiles {
 
 // The twin: [0, 1] -> scaling layer -> VGG16 twin -> unit-normalised taps -> weighted squared
 // differences, spatial mean, sum over taps, all in double.
-double twin_lpips(const LpipsFiles& f, const io::ImageF& a, const io::ImageF& b) {
+// `pm1`: the frame goes through 2x - 1 first (the standard input), else as is (3DGS-style).
+double twin_lpips(const LpipsFiles& f, const io::ImageF& a, const io::ImageF& b, bool pm1 = true) {
   double mul[3], add[3];
   for (int c = 0; c < 3; ++c) {
-    mul[c] = 2.0 / metrics::kLpipsScale[c];
-    add[c] = (-1.0 - metrics::kLpipsShift[c]) / metrics::kLpipsScale[c];
+    mul[c] = (pm1 ? 2.0 : 1.0) / metrics::kLpipsScale[c];
+    add[c] = ((pm1 ? -1.0 : 0.0) - metrics::kLpipsShift[c]) / metrics::kLpipsScale[c];
   }
   const std::vector<int> taps = {3, 8, 15, 22, 29};
   const auto backbone = [&](const io::ImageF& im) {
@@ -128,6 +129,20 @@ TEST_CASE("lpips-vgg at the published widths (64..512 channels) matches its doub
   // Sums of up to 4608 float products per output (512 channels x 9 taps): measured 2.5e-8 relative
   // (lavapipe, Mesa 22.3.6).
   CHECK(std::abs(gpu - twin) <= 1e-6 * twin);
+}
+
+TEST_CASE("lpips with 3DGS-style [0, 1] inputs matches its twin and differs from the standard input") {
+  std::mt19937 rng(24);
+  const LpipsFiles files(rng, metrics::LpipsNet::vgg);
+  const metrics::Lpips unit(test::context(), io::SafetensorsFile(files.dir / "backbone.safetensors"),
+                            io::SafetensorsFile(files.dir / "heads.safetensors"), metrics::LpipsNet::vgg, kWidths,
+                            metrics::LpipsInput::unit);
+  const io::ImageF a = test::random_image(20, 18, rng), b = test::random_image(20, 18, rng);
+  const double gpu = unit(a, b), twin = twin_lpips(files, a, b, false);
+  REQUIRE(std::isfinite(gpu));
+  CHECK(std::abs(gpu - twin) <= 1e-6 * twin);  // measured 2.4e-7 relative (lavapipe, Mesa 22.3.6)
+  // The two conventions give different numbers (measured: the standard one differs by 4.1x this value).
+  CHECK(std::abs(gpu - files.open()(a, b)) > 0.1 * gpu);
 }
 
 TEST_CASE("lpips head: hand-computed values on unit channel vectors") {

@@ -43,6 +43,9 @@ const std::vector<OptionSpec> kSpecs = {
                  "(vgg19.safetensors)", true, "WHICH"},
     {"lpips-net", "backbone of content_lpips and style_lpips: vgg (vgg16 + lpips_vgg, default) or alex (alexnet + "
                   "lpips_alex)", true, "NET"},
+    {"lpips-input", "what LPIPS's scaling layer gets: standard (2x - 1 of the [0,1] frame: richzhang lpips, pyiqa; "
+                    "default) or 3dgs (the [0,1] frame as is: the 3DGS lpipsPyTorch of the Style4D authors' metrics.py)",
+     true, "WHICH"},
     {"python", "a Python with pyiqa: computes clipiqa_plus, musiq, qalign, musiq_paq2piq, dists, dino_score, ckdn through "
                "the pyiqa bridge (OUT/bridge: request.json, response.json, bridge.log)", true, "PY"},
     {"bridge-script", "the bridge script to run instead of the embedded tools/pyiqa_bridge.py (same protocol)", true, "FILE"},
@@ -132,13 +135,16 @@ std::optional<bench::NativeLearnedOptions> learned_options(const Args& args) {
       metrics::GramBackbone::vgg_normalised);
   const auto dir = args.get("metric-weights");
   if (!dir) {
-    for (const char* o : {"gram-vgg", "lpips-net"})
+    for (const char* o : {"gram-vgg", "lpips-net", "lpips-input"})
       if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --metric-weights DIR (the folder holding the network)");
     return std::nullopt;
   }
   const auto net = choose<metrics::LpipsNet>(args, "lpips-net", {{"vgg", metrics::LpipsNet::vgg}, {"alex", metrics::LpipsNet::alex}},
                                             metrics::LpipsNet::vgg);
-  return bench::NativeLearnedOptions{std::filesystem::path(*dir), gram, net};
+  const auto input = choose<metrics::LpipsInput>(
+      args, "lpips-input", {{"standard", metrics::LpipsInput::signed_unit}, {"3dgs", metrics::LpipsInput::unit}},
+      metrics::LpipsInput::signed_unit);
+  return bench::NativeLearnedOptions{std::filesystem::path(*dir), gram, net, input};
 }
 
 int cmd_bench(const std::vector<std::string>& argv) {

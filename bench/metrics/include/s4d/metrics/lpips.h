@@ -41,13 +41,17 @@ double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vec
 void normalise_channels(ref::Chw<double>& f);
 
 enum class LpipsNet { vgg, alex };
+// What the scaling layer receives: 2x - 1 of the [0, 1] frame (richzhang's lpips, pyiqa: the
+// published convention), or the [0, 1] frame itself (the 3DGS-style lpipsPyTorch that Style4D's
+// authors' metrics.py calls; METRICS.md 9 asks to expose both).
+enum class LpipsInput { signed_unit, unit };
 
 class Lpips {
  public:
   // `widths`: the backbone's five tap widths (tests shrink them); nullopt: the published ones.
   // Throws std::runtime_error naming the file and tensor when a weight is missing or wrongly shaped.
   Lpips(engine::Context& ctx, const io::SafetensorsFile& backbone, const io::SafetensorsFile& heads, LpipsNet net,
-        const std::optional<std::array<uint32_t, 5>>& widths = std::nullopt);
+        const std::optional<std::array<uint32_t, 5>>& widths = std::nullopt, LpipsInput input = LpipsInput::signed_unit);
 
   // The normalised taps of an RGB image in [0, 1]; at least 16x16 (VGG: relu5_3 follows 4 poolings)
   // or 31x31 (AlexNet).
@@ -59,6 +63,7 @@ class Lpips {
  private:
   engine::Context& ctx_;
   LpipsNet net_;
+  LpipsInput input_;
   std::unique_ptr<nn::TorchVgg> vgg_;
   std::unique_ptr<nn::TorchAlexNet> alex_;
   std::vector<std::vector<double>> lin_;

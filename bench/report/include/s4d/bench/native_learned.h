@@ -30,6 +30,7 @@ struct NativeLearnedOptions {
   std::optional<std::filesystem::path> weights_dir;  // --metric-weights
   metrics::GramBackbone gram = metrics::GramBackbone::vgg_normalised;
   metrics::LpipsNet lpips = metrics::LpipsNet::vgg;
+  metrics::LpipsInput lpips_input = metrics::LpipsInput::signed_unit;
 };
 
 // The keys NativeLearned may compute.
