@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "s4d/bench/frame_sequence.h"
+#include "s4d/bench/native_learned.h"
 #include "s4d/metrics/flow.h"
 #include "s4d/metrics/psnr.h"
 #include "s4d/metrics/ssim.h"
@@ -80,6 +81,7 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     r.per_frame["content_ssim"].push_back(metrics::ssim(s, g));
     r.per_frame["uiqm"].push_back(metrics::uiqm(s, o.uiqm));
     if (truth) r.per_frame["psnr"].push_back(metrics::psnr(g, truth->next()));
+    if (o.learned) o.learned->score_frame(s, g, o.style_image, i > 0, o.learned_keys, r.per_frame);
     if (i > 0) {
       const bool on_orig = o.flow_on == FlowFrames::original;
       const auto [fw, bw] = flow(on_orig ? prev_o : prev_s, on_orig ? g : s, i - 1);
@@ -97,6 +99,18 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     r.unavailable["psnr"] = "needs the captured frames: pass --ground-truth DIR (frames of the same cameras and times as --original) "
                             "to score the original-scene render";
   if (styl.size() < 2) r.unavailable["warp_loss"] = "needs at least 2 frames";
+  if (o.learned) {
+    const auto scored_here = [&](const std::string& key) {
+      return o.learned_keys.empty() || std::find(o.learned_keys.begin(), o.learned_keys.end(), key) != o.learned_keys.end();
+    };
+    for (const auto& [key, why] : o.learned->unavailable())
+      if (scored_here(key)) r.unavailable[key] = why;
+    if (styl.size() < 2 && o.learned->computes("dists") && scored_here("dists")) r.unavailable["dists"] = "needs at least 2 frames";
+    if (o.style_image.empty())
+      for (const char* key : {"style_lpips", "style_loss_gram"})
+        if (o.learned->computes(key) && scored_here(key))
+          r.unavailable[key] = "no style image: this method is the unstylised original scene";
+  }
   return r;
 }
 

@@ -1,8 +1,10 @@
 // report.json for the frames mode, and the convention text of the weight-free metrics as run.
 #include <cmath>
+#include <stdexcept>
 
 #include "s4d/bench/frames_report.h"
 #include "s4d/bench/metric_catalog.h"
+#include "s4d/bench/native_learned.h"
 
 namespace s4d::bench {
 
@@ -37,23 +39,36 @@ std::string native_convention(const std::string& key, const FramesOptions& o) {
 
 nlohmann::json metric_values(const MethodResult& m) {
   nlohmann::json values = nlohmann::json::object();
+  // A value when this evaluation scored the key; else its reason; else (a learned key nothing
+  // computed) the catalog's note on what to supply.
   for (const auto& e : metric_catalog()) {
-    if (e.unavailable)
-      values[e.key] = {{"unavailable", *e.unavailable}};
-    else if (auto it = m.unavailable.find(e.key); it != m.unavailable.end())
+    if (auto it = m.unavailable.find(e.key); it != m.unavailable.end())
       values[e.key] = {{"unavailable", it->second}};
+    else if (auto v = m.means.find(e.key); v != m.means.end())
+      values[e.key] = v->second;
+    else if (e.unavailable)
+      values[e.key] = {{"unavailable", *e.unavailable}};
     else
-      values[e.key] = m.means.at(e.key);
+      throw std::logic_error("metric_values: " + m.name + " has no value or reason for " + e.key);
   }
   return values;
 }
 
 nlohmann::json metrics_info(const FramesOptions& options) {
   nlohmann::json info = nlohmann::json::object();
-  for (const auto& e : metric_catalog())
-    info[e.key] = {{"impl", e.impl},
-                   {"convention", e.unavailable ? e.convention : native_convention(e.key, options)},
+  for (const auto& e : metric_catalog()) {
+    const bool learned = options.learned != nullptr && options.learned->computes(e.key);
+    if (auto b = options.bridged.find(e.key); b != options.bridged.end()) {
+      info[e.key] = {{"impl", b->second},
+                     {"convention", e.convention + "; mean over " + (e.key == "dists" || e.key == "dino_score" ? "pairs" : "frames")},
+                     {"direction", e.higher_is_better ? "higher" : "lower"}};
+      continue;
+    }
+    info[e.key] = {{"impl", learned ? options.learned->impl(e.key) : e.impl},
+                   {"convention", learned ? options.learned->convention(e.key)
+                                          : e.unavailable ? e.convention : native_convention(e.key, options)},
                    {"direction", e.higher_is_better ? "higher" : "lower"}};
+  }
   return info;
 }
 

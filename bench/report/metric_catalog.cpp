@@ -6,39 +6,44 @@ namespace s4d::bench {
 
 namespace {
 
-// The learned metrics: no native network is built yet, and the pyiqa bridge (--python) is not built
-// yet either, so each says which files its native implementation will load.
-std::string needs(const std::string& what, const std::string& files) {
-  return "not built yet: the native " + what + " network is not implemented, and the pyiqa bridge (--python) is not built; it will need " +
-         files + " (PyTorch state dicts converted to safetensors with their original names)";
+// The learned metrics when this call computes them neither natively nor through the pyiqa bridge:
+// what to supply. `native_files` names the --metric-weights files (README, "Learned metrics"); empty
+// for metrics only the bridge computes.
+std::string needs(const std::string& native_files, const std::string& published) {
+  const std::string bridge = "pass --python PY, a Python with pyiqa, to compute it through the pyiqa bridge";
+  if (native_files.empty()) return "needs " + published + ": " + bridge + " (no native implementation)";
+  return "needs weights: pass --metric-weights DIR holding " + native_files + " (converted from " + published +
+         " with their state-dict names; README, \"Learned metrics\"), or " + bridge;
 }
 
 std::vector<MetricEntry> build() {
   return {
       {"uiqm", "UIQM", true, "native (s4d::metrics::uiqm)", "", std::nullopt},
       {"clipiqa_plus", "CLIP-IQA+", true, "pyiqa clipiqa+ (RN50)", "[0,1] RGB, no resize, CLIP mean/std",
-       needs("CLIP-IQA+", "CLIP-IQA+_learned_prompts-603f3273.pth and OpenAI RN50.pt")},
+       needs("", "CLIP-IQA+_learned_prompts-603f3273.pth and OpenAI RN50.pt")},
       {"musiq", "MUSIQ", true, "pyiqa musiq (KonIQ)", "multi-scale 224/384 + full resolution",
-       needs("MUSIQ", "musiq_koniq_ckpt-e95806b9.pth")},
+       needs("", "musiq_koniq_ckpt-e95806b9.pth")},
       {"qalign", "Q-Align", true, "pyiqa qalign, task aesthetic", "q-future/one-align (8B parameters)",
-       std::string("not built yet: Q-Align (q-future/one-align, about 16 GB) is planned through the pyiqa bridge "
-                   "(--python) only, which is not built yet")},
+       needs("", "q-future/one-align (about 16 GB)")},
       {"musiq_paq2piq", "MUSIQ-PaQ2PiQ", true, "pyiqa musiq-paq2piq", "multi-scale 224/384 + full resolution",
-       needs("MUSIQ-PaQ2PiQ", "musiq_paq2piq_ckpt-364c0c84.pth")},
+       needs("", "musiq_paq2piq_ckpt-364c0c84.pth")},
       {"dists", "DISTS", false, "DISTS (VGG16 + alpha/beta)", "consecutive frames DISTS(f_t+1, f_t), mean over pairs",
-       needs("DISTS", "DISTS_pytorch/weights.pt (alpha, beta) and torchvision vgg16-397923af.pth")},
+       needs("vgg16.safetensors and dists.safetensors", "torchvision vgg16-397923af.pth and DISTS_pytorch/weights.pt")},
       {"warp_loss", "Warp", false, "native (s4d::metrics::warp_error)", "", std::nullopt},
       {"dino_score", "Subject", true, "VBench subject consistency (DINO ViT-B/16)", "CLS cosine to previous and first frame",
-       needs("DINO ViT-B/16", "dino_vitbase16_pretrain.pth")},
+       needs("", "DINO ViT-B/16 dino_vitbase16_pretrain.pth")},
       {"ckdn", "CKDN", true, "pyiqa ckdn", "x = stylised frame, y = style image, 288x288 centre crop",
-       needs("CKDN", "CKDN_model_best-38b27dc6.pth")},
-      {"style_lpips", "Style LPIPS", false, "LPIPS v0.1 (frame vs style image resized to the frame)", "[0,1] -> [-1,1]",
-       needs("LPIPS", "lpips v0.1 vgg.pth or alex.pth and torchvision vgg16-397923af.pth or alexnet-owt-7be5be79.pth")},
+       needs("", "CKDN_model_best-38b27dc6.pth")},
+      {"style_lpips", "Style LPIPS", false, "LPIPS v0.1 VGG or AlexNet (frame vs style image resized to the frame)", "[0,1] -> [-1,1]",
+       needs("vgg16.safetensors and lpips_vgg.safetensors (or alexnet.safetensors and lpips_alex.safetensors with --lpips-net alex)",
+             "torchvision vgg16-397923af.pth / alexnet-owt-7be5be79.pth and LPIPS v0.1 weights/v0.1/vgg.pth / alex.pth")},
       {"content_ssim", "Content SSIM", true, "native (s4d::metrics::ssim)", "", std::nullopt},
-      {"content_lpips", "Content LPIPS", false, "LPIPS v0.1 (stylised vs original frame)", "[0,1] -> [-1,1]",
-       needs("LPIPS", "lpips v0.1 vgg.pth or alex.pth and torchvision vgg16-397923af.pth or alexnet-owt-7be5be79.pth")},
+      {"content_lpips", "Content LPIPS", false, "LPIPS v0.1 VGG or AlexNet (stylised vs original frame)", "[0,1] -> [-1,1]",
+       needs("vgg16.safetensors and lpips_vgg.safetensors (or alexnet.safetensors and lpips_alex.safetensors with --lpips-net alex)",
+             "torchvision vgg16-397923af.pth / alexnet-owt-7be5be79.pth and LPIPS v0.1 weights/v0.1/vgg.pth / alex.pth")},
       {"style_loss_gram", "Gram loss", false, "VGG19 relu1_1..relu5_1 Gram, 1/(C H W)", "frame vs style image",
-       needs("VGG19", "torchvision vgg19-dcbb9e9d.pth or AdaIN vgg_normalised.pth")},
+       needs("vgg_normalised.safetensors (or vgg19.safetensors with --gram-vgg torchvision)",
+             "AdaIN's vgg_normalised.pth or torchvision vgg19-dcbb9e9d.pth")},
       {"psnr", "PSNR", true, "native (s4d::metrics::psnr)", "", std::nullopt},
   };
 }

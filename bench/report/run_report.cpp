@@ -56,7 +56,8 @@ nlohmann::json protocol_scores(const MethodResult& r) {
   nlohmann::json scores = {{"frames", r.frame_count}, {"frames_dir", r.frames.string()}};
   const nlohmann::json values = metric_values(r);
   for (const auto& e : metric_catalog())
-    if (!e.unavailable) scores[e.key] = values.at(e.key);  // the learned keys say the same in both
+    // Learned keys nothing computed say the same in both protocols; they are left out here.
+    if (!e.unavailable || r.means.count(e.key) != 0 || r.unavailable.count(e.key) != 0) scores[e.key] = values.at(e.key);
   return scores;
 }
 

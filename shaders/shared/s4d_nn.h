@@ -28,6 +28,10 @@
 #define S4D_B_CONV_BIAS 2    // [cout]
 #define S4D_B_CONV_OUT 3     // [cout, h, w]
 
+// nn_conv_strided: any k x k convolution with stride and zero padding (AlexNet's 11x11 stride 4 and
+// 5x5), one invocation per output value looping over cin * k * k (the host keeps that under
+// S4D_NN_MAX_LOOP); bindings S4D_B_CONV_*; flags S4D_NN_FLAG_RELU.
+
 // Element-wise kernels (ReLU, pooling, upsampling, AdaIN, channel scaling): one invocation per
 // output element.
 #define S4D_NN_WG 64
@@ -39,6 +43,9 @@
 #define S4D_B_BLEND_A 0       // nn_blend: out = alpha a + beta b, [n] each
 #define S4D_B_BLEND_B 1
 #define S4D_B_BLEND_OUT 2
+
+// DISTS's L2 pooling (nn_l2pool): sqrt(3x3 Hann-weighted mean of squares + eps), eps as DISTS_pt.py.
+#define S4D_NN_L2POOL_EPS 1e-12
 
 // Channel statistics: one workgroup per channel, two passes over its H*W values (mean, then the
 // centred squares). nn_channel_stats writes mean and std = sqrt(unbiased variance + eps);
@@ -100,6 +107,22 @@ struct NnConvParams {
   uint _pad0;
 };
 
+// Push constants of nn_conv_strided: out = floor((in + 2 pad - kernel) / stride) + 1 per side.
+struct NnConvStridedParams {
+  uint cin;
+  uint cout;
+  uint in_height;
+  uint in_width;
+  uint out_height;
+  uint out_width;
+  uint kernel;
+  uint stride;
+  uint pad;
+  uint flags;  // S4D_NN_FLAG_RELU
+  uint n_out;  // cout * out_height * out_width
+  uint _pad0;
+};
+
 // Push constants of nn_relu and nn_scale_channels (count: values per channel).
 struct NnEltParams {
   uint n;
@@ -116,8 +139,9 @@ struct NnBlendParams {
   uint _pad0;
 };
 
-// Push constants of nn_maxpool (2x2, stride 2, ceil mode), nn_upsample (nearest, x2) and
-// nn_resize_nearest (any size).
+// Push constants of nn_maxpool (2x2, stride 2, ceil or floor mode by the output size),
+// nn_maxpool3s2 (3x3, stride 2, floor mode: AlexNet), nn_l2pool (3x3 Hann window, stride 2),
+// nn_upsample (nearest, x2) and nn_resize_nearest (any size).
 struct NnResizeParams {
   uint channels;
   uint in_height;

@@ -1,11 +1,15 @@
 // style4d bench --run on the shared 4DGS run (run4d_fixture.h) with a style trained as
 // test_stylize_command.cpp trains it: both protocols rendered for the original scene and the style,
 // the report's key contract (every METRICS.md key a number or {"unavailable": why}, each weight-free
-// one from its protocol), the report files, the merge of reports, and the refusals.
+// one from its protocol), the pyiqa bridge with a stand-in script (bridge_stand_in.h) on each
+// protocol, the report files, the merge of reports, and the refusals.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+
+#include "../bench/bridge_stand_in.h"
 #include "run4d_fixture.h"
 
 namespace {
@@ -33,9 +37,12 @@ TEST_CASE("bench --run renders both protocols for the original scene and a style
   const test::Run4d& r = test::run4d();
   const fs::path out = r.root / "bench_run";
   fs::remove_all(out);
-  const fs::path log = r.root / "bench_run.log";
+  const fs::path log = r.root / "bench_run.log", stand_in = r.root / "bridge_stand_in.py";
+  std::ofstream(stand_in) << test::kBridgeStandIn;
   REQUIRE_MESSAGE(test::run_style4d("bench", "--run " + r.run.string() + " --style full --style original --spiral-frames 4 --out " +
-                                                 out.string(), log) == 0,
+                                                 out.string() + " --python python3 --bridge-script " + stand_in.string() +
+                                                 " --bridge-metrics musiq,dists,ckdn",
+                                    log) == 0,
                   test::read_text(log));
   for (const char* f : {"report.json", "report.md", "report.csv", "contact_sheet.png", "plots/warp_loss.png", "plots/uiqm.png",
                         "renders/original/spiral/0003.png", "renders/original/spiral/flow/fw_0002.exr",
@@ -68,6 +75,20 @@ TEST_CASE("bench --run renders both protocols for the original scene and a style
   CHECK(full.at("psnr") == original.at("psnr"));
   CHECK(original.at("psnr").get<double>() > 15.0);
   CHECK(test::read_text(out / "report.md").find("| full |") != std::string::npos);
+  // The bridge (stand-in: each frame's mean value; mean |difference| of consecutive frames): musiq
+  // and ckdn from the test cameras' videos, dists from the spiral; the original has no style image,
+  // so no ckdn.
+  for (const nlohmann::json* m : {&full, &original}) {
+    CHECK(m->at("musiq").get<double>() > 0.0);
+    CHECK(m->at("musiq").get<double>() < 1.0);
+    CHECK(m->at("per_frame").at("musiq").size() == m->at("protocols").at("test").at("frames"));
+    CHECK(m->at("per_frame").at("dists").size() == 3);  // the 4-frame spiral's pairs
+    CHECK(m->at("dists") == m->at("protocols").at("spiral").at("dists"));
+  }
+  CHECK(full.at("ckdn").is_number());
+  CHECK(original.at("ckdn").at("unavailable").get<std::string>().find("no style image") != std::string::npos);
+  CHECK(j.at("metrics_info").at("musiq").at("impl").get<std::string>().find("pyiqa bridge") == 0);
+  CHECK(j.at("metrics_info").at("dists").at("protocol") == "spiral");
 
   // A sweep's merge step over this job's report: one table, rows tagged with their source.
   const fs::path merged = r.root / "bench_merged";

@@ -48,6 +48,60 @@ TEST_CASE("conv3x3 with reflection padding matches its twin, with and without Re
   }
 }
 
+// Kernel nn_conv3x3_zero.
+TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
+  std::mt19937 rng(11);
+  for (const auto& [cin, cout, h, w] :
+       {std::array<uint32_t, 4>{5, 11, 9, 13}, {3, 8, 1, 1}, {4, 3, 1, 5}, {16, 9, 8, 8}}) {
+    const auto x = test::random_chw(cin, h, w, rng);
+    const auto params = test::random_conv(cin, cout, 3, rng);
+    const auto gx = test::upload(x);
+    const auto weights = test::upload(params);
+    for (const bool relu : {false, true}) {
+      const auto gpu =
+          nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, relu); }));
+      const auto twin = ref::conv3x3_zero_pad(to_double(x), to_double(params.weight), to_double(params.bias), cout, relu);
+      // Float sums of at most 144 products of O(1) terms against double: measured 2.1e-7.
+      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+    }
+  }
+  // The zero border differs from the reflected one: the two variants must disagree at the edges.
+  const auto x = test::random_chw(2, 4, 4, rng, 0.5f, 1.0f);
+  const auto params = test::random_conv(2, 8, 3, rng);
+  const auto gx = test::upload(x);
+  const auto weights = test::upload(params);
+  const auto zero = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, false); }));
+  const auto reflect = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), 8, false);
+  CHECK(max_rel(zero, reflect.v) > 1e-2);
+}
+
+// Kernel nn_conv_strided.
+TEST_CASE("strided convolutions of any kernel size (AlexNet's 11x11 stride 4, 5x5) match their twin") {
+  std::mt19937 rng(13);
+  struct Case {
+    uint32_t cin, cout, k, stride, pad, h, w;
+  };
+  for (const Case c : {Case{3, 5, 11, 4, 2, 35, 31}, Case{4, 6, 5, 1, 2, 9, 7}, Case{6, 3, 3, 1, 1, 5, 4}, Case{2, 3, 3, 2, 0, 7, 8}}) {
+    const auto x = test::random_chw(c.cin, c.h, c.w, rng);
+    const auto params = test::random_conv(c.cin, c.cout, c.k, rng);
+    const auto gx = test::upload(x);
+    const auto weights = test::upload(params);
+    for (const bool relu : {false, true}) {
+      const auto gpu = nn::download(
+          context(), run([&](engine::Recorder& r) { return nn::conv_strided(r, gx, weights, c.stride, c.pad, relu); }));
+      const auto twin = ref::conv2d(to_double(x), to_double(params.weight), to_double(params.bias), c.cout, c.k, c.stride, c.pad, relu);
+      // Float sums of at most 363 products against double: measured 6.0e-7 (the 11x11 stride-4 case).
+      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, "k " << c.k << " stride " << c.stride << " " << c.h << "x" << c.w);
+    }
+  }
+  // cin * k * k past llvmpipe's loop cap is refused before recording.
+  const auto wide = test::random_conv(600, 1, 11, rng);
+  const auto gw = test::upload(wide);
+  const auto x = test::upload(test::random_chw(600, 11, 11, rng));
+  engine::Recorder rec(context(), "refused");
+  CHECK_THROWS_AS(nn::conv_strided(rec, x, gw, 4, 2, true), std::invalid_argument);
+}
+
 TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
   // Were the kernel rows, taps, strip pixels and channel block runtime loops, each invocation would
   // run over 100,000 iterations and llvmpipe would end it early: this test then fails (checked
@@ -93,8 +147,8 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
-// Kernels nn_relu, nn_maxpool, nn_upsample.
-TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their twins exactly") {
+// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample.
+TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
     const auto x = test::random_chw(3, h, w, rng);
@@ -104,6 +158,20 @@ TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their tw
     const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
     CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
   }
+  // Floor mode (torchvision's VGG) through the same kernel: odd last rows and columns are dropped.
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {2, 3}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2_floor(r, gx); }));
+    CHECK(max_rel(pooled, ref::maxpool2_floor(to_double(x)).v) == 0.0);
+  }
+  // 3x3 stride 2 (AlexNet, kernel nn_maxpool3s2): floor((in - 3) / 2) + 1 outputs.
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 9}, {3, 3}, {8, 6}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool3s2(r, gx); }));
+    CHECK(max_rel(pooled, ref::maxpool3s2(to_double(x)).v) == 0.0);
+  }
   auto x = test::random_chw(2, 9, 11, rng);
   auto gx = test::upload(x);
   run([&](engine::Recorder& r) {
@@ -111,6 +179,29 @@ TEST_CASE("relu, 2x2 ceil-mode max pooling and nearest upsampling match their tw
     return 0;
   });
   CHECK(max_rel(nn::download(context(), gx), ref::relu(to_double(x)).v) == 0.0);
+}
+
+// Kernel nn_l2pool.
+TEST_CASE("DISTS's L2 pooling matches its twin and the hand-computed values of a constant image") {
+  std::mt19937 rng(12);
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 1}, {1, 3}}) {
+    const auto x = test::random_chw(3, h, w, rng);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::l2pool(r, gx); }));
+    // 9 float squares summed, then a square root: measured 6.4e-8.
+    CHECK_MESSAGE(max_rel(pooled, ref::l2pool(to_double(x), 1e-12).v) < 1e-6, h << "x" << w);
+  }
+  // Constant 0.8 on 4x4: every output window's weights sum to 1 inside, so sqrt(0.64) = 0.8, except
+  // where the zero padding cuts the window: the top-left output sees rows and columns 0, 1 with
+  // weights (2 + 1) / 4 each way, sqrt(9/16 * 0.64) = 0.6; the others lose one side: sqrt(12/16 * 0.64).
+  ref::Chw<float> c(1, 4, 4);
+  c.v.assign(16, 0.8f);
+  const auto gc = test::upload(c);
+  const auto out = nn::download(context(), run([&](engine::Recorder& r) { return nn::l2pool(r, gc); }));
+  REQUIRE(out.size() == 4);
+  CHECK(out[0] == doctest::Approx(0.6).epsilon(1e-6));
+  CHECK(out[1] == doctest::Approx(std::sqrt(0.75 * 0.64)).epsilon(1e-6));
+  CHECK(out[3] == doctest::Approx(0.8).epsilon(1e-6));
 }
 
 // Kernels nn_channel_stats (both variants).

@@ -51,6 +51,7 @@ static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4
 static_assert(sizeof(FlowDisplaceParams) == 16);
 static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
+static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -155,6 +156,12 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnConvParams, S4D_MEMBER(NnConvParams, cin), S4D_MEMBER(NnConvParams, cout),
                  S4D_MEMBER(NnConvParams, height), S4D_MEMBER(NnConvParams, width), S4D_MEMBER(NnConvParams, tiles_x),
                  S4D_MEMBER(NnConvParams, tiles_y), S4D_MEMBER(NnConvParams, flags), S4D_MEMBER(NnConvParams, _pad0)),
+      S4D_STRUCT(NnConvStridedParams, S4D_MEMBER(NnConvStridedParams, cin), S4D_MEMBER(NnConvStridedParams, cout),
+                 S4D_MEMBER(NnConvStridedParams, in_height), S4D_MEMBER(NnConvStridedParams, in_width),
+                 S4D_MEMBER(NnConvStridedParams, out_height), S4D_MEMBER(NnConvStridedParams, out_width),
+                 S4D_MEMBER(NnConvStridedParams, kernel), S4D_MEMBER(NnConvStridedParams, stride),
+                 S4D_MEMBER(NnConvStridedParams, pad), S4D_MEMBER(NnConvStridedParams, flags),
+                 S4D_MEMBER(NnConvStridedParams, n_out), S4D_MEMBER(NnConvStridedParams, _pad0)),
       S4D_STRUCT(NnEltParams, S4D_MEMBER(NnEltParams, n), S4D_MEMBER(NnEltParams, count), S4D_MEMBER(NnEltParams, _pad0),
                  S4D_MEMBER(NnEltParams, _pad1)),
       S4D_STRUCT(NnResizeParams, S4D_MEMBER(NnResizeParams, channels), S4D_MEMBER(NnResizeParams, in_height),

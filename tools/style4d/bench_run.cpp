@@ -11,6 +11,7 @@
 
 #include "bench_ground_truth.h"
 #include "bench_modes.h"
+#include "s4d/bench/pyiqa_bridge.h"
 #include "s4d/bench/run_report.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
@@ -89,11 +90,14 @@ void render_source(engine::Context& ctx, const scene::TrainedRun& run, const std
   protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), spiral, dir / "spiral", options);
 }
 
-// Frames-mode options for one sequence: its original render, ground truth and exact flow folders.
-bench::FramesOptions sequence_options(bench::FramesOptions o, const fs::path& original, const std::optional<fs::path>& truth) {
+// Frames-mode options for one sequence: its original render, ground truth, exact flow folders and
+// the method's style image.
+bench::FramesOptions sequence_options(bench::FramesOptions o, const fs::path& original, const std::optional<fs::path>& truth,
+                                      const fs::path& style_image = {}) {
   o.original = original;
   o.ground_truth = truth;
   o.flow_dir = original / "flow";
+  o.style_image = style_image;
   return o;
 }
 
@@ -114,6 +118,13 @@ int bench_run(const Args& args, bench::FramesOptions options) {
   const std::vector<protocols::Sequence> spiral = protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), spiral_frames);
 
   engine::Context ctx;
+  // Weights and bridge options are checked before the renders, which take minutes.
+  std::optional<bench::NativeLearned> learned;
+  if (const auto lo = learned_options(args)) {
+    learned.emplace(ctx, *lo);
+    options.learned = &*learned;
+  }
+  const std::optional<bench::BridgeOptions> bridge = bridge_options(args, out, options.learned);
   // The original is always rendered: it is every method's content reference and carries the flow.
   render_source(ctx, run, "original", renders / "original", test, spiral, options.flow == bench::FlowSource::exact);
   for (const Method& m : methods)
@@ -121,22 +132,68 @@ int bench_run(const Args& args, bench::FramesOptions options) {
   fs::remove_all(renders / "ground_truth");
   const std::optional<std::string> no_truth = write_ground_truth(run.dataset, test, renders / "ground_truth" / "test");
 
-  std::vector<bench::RunMethodResult> results;
-  for (const Method& m : methods) {
+  // Each native learned metric on the protocol its headline comes from (run_report.h): dists on the
+  // spiral, the others on the test cameras (each VGG pass costs seconds on a CPU device).
+  std::vector<std::string> test_learned, spiral_learned;
+  for (const std::string& k : bench::native_learned_keys())
+    (bench::metric_protocol(k) == bench::Protocol::spiral ? spiral_learned : test_learned).push_back(k);
+  const auto spiral_options = [&](const fs::path& style_image) {
+    bench::FramesOptions o = sequence_options(options, renders / "original" / "spiral", std::nullopt, style_image);
+    o.learned_keys = spiral_learned;
+    return o;
+  };
+  options.learned_keys = test_learned;
+  std::vector<std::vector<bench::MethodResult>> cameras(methods.size());
+  std::vector<bench::MethodResult> spirals;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const Method& m = methods[i];
     std::cerr << "bench: scoring " << m.name << "\n";
-    std::vector<bench::MethodResult> cameras;
     for (const protocols::Sequence& seq : test) {
       const auto truth = no_truth ? std::nullopt : std::optional<fs::path>(renders / "ground_truth" / "test" / seq.name);
-      cameras.push_back(bench::evaluate_frames(m.name, renders / m.name / "test" / seq.name,
-                                               sequence_options(options, renders / "original" / "test" / seq.name, truth)));
-      if (no_truth) cameras.back().unavailable["psnr"] = *no_truth;
+      cameras[i].push_back(bench::evaluate_frames(m.name, renders / m.name / "test" / seq.name,
+                                                  sequence_options(options, renders / "original" / "test" / seq.name, truth,
+                                                                   m.style_image)));
+      if (no_truth) cameras[i].back().unavailable["psnr"] = *no_truth;
     }
-    bench::RunMethodResult r{bench::pool_sequences(m.name, cameras),
-                             bench::evaluate_frames(m.name, renders / m.name / "spiral",
-                                                    sequence_options(options, renders / "original" / "spiral", std::nullopt)),
+    spirals.push_back(bench::evaluate_frames(m.name, renders / m.name / "spiral", spiral_options(m.style_image)));
+    spirals.back().unavailable["psnr"] = "the spiral path has no captured frames; psnr is scored on the test protocol";
+  }
+  if (bridge) {
+    // One process for every sequence: each test camera's video for the test-protocol keys, the
+    // spiral for dists (run_report.h's protocols).
+    std::vector<bench::BridgeSequence> seqs;
+    std::vector<std::string> test_keys, spiral_keys;
+    for (const std::string& k : bridge->metrics)
+      (bench::metric_protocol(k) == bench::Protocol::spiral ? spiral_keys : test_keys).push_back(k);
+    const fs::path decoded = bridge->work_dir / "frames";
+    for (size_t i = 0; i < methods.size(); ++i) {
+      const fs::path style = methods[i].style_image.empty() ? fs::path() : fs::absolute(methods[i].style_image);
+      // ckdn compares with the style image: the unstylised original has none.
+      std::vector<std::string> keys = test_keys;
+      if (style.empty() && std::erase(keys, "ckdn") != 0)
+        for (bench::MethodResult& cam : cameras[i]) cam.unavailable["ckdn"] = "no style image: this method is the unstylised original scene";
+      for (size_t c = 0; c < test.size() && !keys.empty(); ++c)
+        seqs.push_back({methods[i].name + "/test/" + test[c].name,
+                        bench::frame_files(renders / methods[i].name / "test" / test[c].name, decoded), style, keys});
+      if (!spiral_keys.empty())
+        seqs.push_back({methods[i].name + "/spiral", bench::frame_files(renders / methods[i].name / "spiral", decoded), style,
+                        spiral_keys});
+    }
+    std::cerr << "bench: running the pyiqa bridge (" << bridge->python.string() << ") on " << seqs.size() << " sequence(s)\n";
+    const bench::BridgeOutcome outcome = bench::run_bridge(*bridge, seqs);
+    for (size_t i = 0; i < methods.size(); ++i) {
+      for (size_t c = 0; c < test.size(); ++c)
+        bench::apply_bridge(outcome, methods[i].name + "/test/" + test[c].name, test_keys, cameras[i][c]);
+      bench::apply_bridge(outcome, methods[i].name + "/spiral", spiral_keys, spirals[i]);
+    }
+    for (const std::string& k : bridge->metrics) options.bridged[k] = bench::bridge_impl(*bridge, outcome);
+  }
+  std::vector<bench::RunMethodResult> results;
+  for (size_t i = 0; i < methods.size(); ++i) {
+    const Method& m = methods[i];
+    bench::RunMethodResult r{bench::pool_sequences(m.name, cameras[i]), std::move(spirals[i]),
                              m.style_image.empty() ? "none" : m.style_image.stem().string(), m.style_image};
     r.test.frames = renders / m.name / "test";
-    r.spiral.unavailable["psnr"] = "the spiral path has no captured frames; psnr is scored on the test protocol";
     results.push_back(std::move(r));
   }
   const bench::RunReportContext context{args.get_or("scene", fs::weakly_canonical(run.root).filename().string()), run.root,

@@ -2,8 +2,10 @@
 // --original B --style-image S --out DIR, scores frames another program made; run mode, --run RUN
 // --style NAME [--style NAME2 ...] --out DIR, renders a trained run's styles first (bench_run.cpp);
 // merge, --merge DIR1 DIR2 ... --out DIR, puts the reports of a sweep's jobs in one table.
-// The weight-free metrics are computed; every learned metric is reported as {"unavailable": ...}
-// naming the weights it needs.
+// The weight-free metrics are computed; the native learned ones (LPIPS-VGG, Gram loss) with
+// --metric-weights DIR; the others through the pyiqa bridge (--python); any learned metric left is
+// reported as {"unavailable": ...} naming what it needs.
+#include <algorithm>
 #include <iostream>
 #include <stdexcept>
 
@@ -12,6 +14,8 @@
 #include "commands.h"
 #include "s4d/bench/frames_report.h"
 #include "s4d/bench/merge_report.h"
+#include "s4d/bench/native_learned.h"
+#include "s4d/engine/context.h"
 
 namespace s4d::cli {
 
@@ -33,7 +37,19 @@ const std::vector<OptionSpec> kSpecs = {
     {"raft", "RAFT exported to ONNX (with --flow raft)", true, "FILE"},
     {"raft-inputs", "the ONNX graph's two input names (default image1,image2)", true, "A,B"},
     {"flow-dir", "exact flow: fw_NNNN.exr and bw_NNNN.exr (channels u, v in pixels) per pair", true, "DIR"},
-    {"python", "Python with pyiqa for the learned metrics (the bridge is not built yet)", true, "EXE"},
+    {"metric-weights", "folder of safetensors weights for the native learned metrics: vgg16, lpips_vgg (content_lpips, "
+                       "style_lpips), vgg_normalised or vgg19 (style_loss_gram); README, \"Learned metrics\"", true, "DIR"},
+    {"gram-vgg", "VGG19 of style_loss_gram: normalised (AdaIN vgg_normalised.safetensors, default) or torchvision "
+                 "(vgg19.safetensors)", true, "WHICH"},
+    {"lpips-net", "backbone of content_lpips and style_lpips: vgg (vgg16 + lpips_vgg, default) or alex (alexnet + "
+                  "lpips_alex)", true, "NET"},
+    {"lpips-input", "what LPIPS's scaling layer gets: standard (2x - 1 of the [0,1] frame: richzhang lpips, pyiqa; "
+                    "default) or 3dgs (the [0,1] frame as is: the 3DGS lpipsPyTorch of the Style4D authors' metrics.py)",
+     true, "WHICH"},
+    {"python", "a Python with pyiqa: computes clipiqa_plus, musiq, qalign, musiq_paq2piq, dists, dino_score, ckdn through "
+               "the pyiqa bridge (OUT/bridge: request.json, response.json, bridge.log)", true, "PY"},
+    {"bridge-script", "the bridge script to run instead of the embedded tools/pyiqa_bridge.py (same protocol)", true, "FILE"},
+    {"bridge-metrics", "the keys to ask the bridge for, comma-separated (default: all seven)", true, "LIST"},
     {"run", "run mode: a trained run, rendered along the test and spiral protocols", true, "RUN"},
     {"style", "a style of --run (style4d stylize --name), or original; repeat for several methods", true, "NAME"},
     {"spiral-frames", "run mode: frames of the spiral video (default 120)", true, "N"},
@@ -77,6 +93,60 @@ bench::FramesOptions options_from(const Args& args, bench::FlowSource flow) {
 
 }  // namespace
 
+std::optional<bench::BridgeOptions> bridge_options(const Args& args, const std::filesystem::path& out,
+                                                   const bench::NativeLearned* learned) {
+  const auto python = args.get("python");
+  if (!python) {
+    for (const char* o : {"bridge-script", "bridge-metrics"})
+      if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --python PY (the bridge's interpreter)");
+    return std::nullopt;
+  }
+  bench::BridgeOptions b{*python, std::nullopt, out / "bridge", bench::bridge_keys()};
+  if (auto script = args.get("bridge-script")) {
+    if (!std::filesystem::is_regular_file(*script)) throw std::invalid_argument("--bridge-script " + *script + ": no such file");
+    b.script = *script;
+  }
+  if (auto list = args.get("bridge-metrics")) {
+    b.metrics.clear();
+    std::string rest = *list;
+    while (!rest.empty()) {
+      const size_t comma = rest.find(',');
+      const std::string key = rest.substr(0, comma);
+      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+      const auto& keys = bench::bridge_keys();
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+        std::string known;
+        for (const std::string& k : keys) known += (known.empty() ? "" : ", ") + k;
+        throw std::invalid_argument("--bridge-metrics: '" + key + "' is not a bridge key (" + known + ")");
+      }
+      if (std::find(b.metrics.begin(), b.metrics.end(), key) == b.metrics.end()) b.metrics.push_back(key);
+    }
+    if (b.metrics.empty()) throw std::invalid_argument("--bridge-metrics: empty list");
+  }
+  // A key the native networks compute is not asked of the bridge.
+  std::erase_if(b.metrics, [&](const std::string& k) { return learned != nullptr && learned->computes(k); });
+  if (b.metrics.empty()) return std::nullopt;
+  return b;
+}
+
+std::optional<bench::NativeLearnedOptions> learned_options(const Args& args) {
+  const auto gram = choose<metrics::GramBackbone>(
+      args, "gram-vgg", {{"normalised", metrics::GramBackbone::vgg_normalised}, {"torchvision", metrics::GramBackbone::torchvision_vgg19}},
+      metrics::GramBackbone::vgg_normalised);
+  const auto dir = args.get("metric-weights");
+  if (!dir) {
+    for (const char* o : {"gram-vgg", "lpips-net", "lpips-input"})
+      if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --metric-weights DIR (the folder holding the network)");
+    return std::nullopt;
+  }
+  const auto net = choose<metrics::LpipsNet>(args, "lpips-net", {{"vgg", metrics::LpipsNet::vgg}, {"alex", metrics::LpipsNet::alex}},
+                                            metrics::LpipsNet::vgg);
+  const auto input = choose<metrics::LpipsInput>(
+      args, "lpips-input", {{"standard", metrics::LpipsInput::signed_unit}, {"3dgs", metrics::LpipsInput::unit}},
+      metrics::LpipsInput::signed_unit);
+  return bench::NativeLearnedOptions{std::filesystem::path(*dir), gram, net, input};
+}
+
 int cmd_bench(const std::vector<std::string>& argv) {
   const Args args(argv, kSpecs);
   if (args.help()) {
@@ -87,13 +157,13 @@ int cmd_bench(const std::vector<std::string>& argv) {
                        "--ground-truth) of each --frames video against --original. Run mode: renders RUN's test and "
                        "spiral protocols for the original scene and each --style into DIR/renders and scores them the "
                        "same way (warp_loss on the spiral, the rest on the test cameras). Merge: one table from the "
-                       "report.json of several runs of bench (a sweep's jobs). Learned metrics are reported as "
-                       "unavailable with the weights they need (METRICS.md).",
+                       "report.json of several runs of bench (a sweep's jobs). Learned metrics: content_lpips, "
+                       "style_lpips, dists and style_loss_gram natively with --metric-weights DIR, the others through the "
+                       "pyiqa bridge with --python PY; any left are reported as unavailable, naming what to supply "
+                       "(README, \"Learned metrics\").",
                        kSpecs);
     return 0;
   }
-  if (args.get("python"))
-    throw std::invalid_argument("--python: the pyiqa bridge is not built yet; the learned metrics are reported as unavailable");
   if (args.get("merge")) {
     for (const char* o : {"run", "frames"})
       if (args.get(o)) throw std::invalid_argument(std::string("--merge reads finished reports; --") + o + " belongs to another mode");
@@ -124,11 +194,31 @@ int cmd_bench(const std::vector<std::string>& argv) {
   if (context.options.flow == bench::FlowSource::exact) context.options.flow_dir = args.require("flow-dir");
   if (context.scene.empty()) context.scene = context.options.original.filename().string();
 
+  context.options.style_image = style_image;
+  std::optional<engine::Context> ctx;
+  std::optional<bench::NativeLearned> learned;
+  if (const auto lo = learned_options(args)) {
+    ctx.emplace();
+    learned.emplace(*ctx, *lo);
+    context.options.learned = &*learned;
+  }
+  const std::optional<bench::BridgeOptions> bridge = bridge_options(args, out, context.options.learned);
+
   std::vector<bench::MethodResult> results;
   for (size_t i = 0; i < frames.size(); ++i) {
     const std::string name = names.empty() ? std::filesystem::path(frames[i]).filename().string() : names[i];
     std::cerr << "bench: scoring " << name << " (" << frames[i] << ")\n";
     results.push_back(bench::evaluate_frames(name, frames[i], context.options));
+  }
+  if (bridge) {
+    std::vector<bench::BridgeSequence> seqs;
+    for (size_t i = 0; i < frames.size(); ++i)
+      seqs.push_back({"method" + std::to_string(i), bench::frame_files(frames[i], bridge->work_dir / "frames" / std::to_string(i)),
+                      std::filesystem::absolute(style_image), bridge->metrics});
+    std::cerr << "bench: running the pyiqa bridge (" << bridge->python.string() << ") on " << seqs.size() << " method(s)\n";
+    const bench::BridgeOutcome outcome = bench::run_bridge(*bridge, seqs);
+    for (size_t i = 0; i < frames.size(); ++i) bench::apply_bridge(outcome, seqs[i].id, bridge->metrics, results[i]);
+    for (const std::string& k : bridge->metrics) context.options.bridged[k] = bench::bridge_impl(*bridge, outcome);
   }
   bench::write_frames_report(out, results, context);
   std::cerr << "bench: wrote " << (out / "report.json").string() << ", report.md, report.csv, plots/, contact_sheet.png\n";

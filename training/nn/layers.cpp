@@ -34,10 +34,12 @@ void check_stats(const std::string& layer, const Tensor& x, const engine::Buffer
     fail(layer, "statistics '" + stats.name() + "' hold fewer than 2 x " + std::to_string(x.c) + " values");
 }
 
-Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t flags, Tensor* into) {
+Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t flags, Tensor* into,
+            shaders::Id id) {
   const std::string layer = "conv " + w.name;
   if (x.c != w.cin) fail(layer, "expects " + std::to_string(w.cin) + " input channels, got " + x.shape());
-  if (w.k == 3 && (x.h < 2 || x.w < 2)) fail(layer, "reflection padding needs H, W >= 2, got " + x.shape());
+  if (id == shaders::Id::nn_conv3x3 && (x.h < 2 || x.w < 2))
+    fail(layer, "reflection padding needs H, W >= 2, got " + x.shape());
   check_loop(layer, w.cin, "input channels " + std::to_string(w.cin));
   Tensor out;
   if (into == nullptr) out = make_tensor(rec.context(), w.name, w.cout, x.h, x.w);
@@ -51,7 +53,6 @@ Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32
                             .tiles_y = ceil_div(x.h, S4D_NN_CONV_WG_Y),
                             .flags = flags,
                             ._pad0 = 0};
-  const auto id = w.k == 3 ? shaders::Id::nn_conv3x3 : shaders::Id::nn_conv1x1;
   rec.dispatch(shader_pipeline(rec.context(), id), {x.buffer, w.weight, w.bias, y.buffer}, p,
                p.tiles_x * p.tiles_y * ceil_div(w.cout, S4D_NN_CONV_COUT));
   rec.barrier();
@@ -102,7 +103,7 @@ Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, flo
 
 ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
                         std::span<const float> weight, std::span<const float> bias) {
-  if (k != 1 && k != 3) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1 or 3");
+  if (k == 0 || k > 11) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1..11");
   if (weight.size() != size_t{cout} * cin * k * k || bias.size() != cout)
     fail("conv " + name, std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
                              " biases do not match " + std::to_string(cin) + " -> " + std::to_string(cout));
@@ -114,17 +115,50 @@ ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t 
 
 Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
   if (w.k != 3) fail("conv " + w.name, "is not a 3x3 convolution");
-  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr);
+  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr, shaders::Id::nn_conv3x3);
+}
+
+Tensor conv3x3_zero_pad(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
+  if (w.k != 3) fail("conv " + w.name, "is not a 3x3 convolution");
+  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr, shaders::Id::nn_conv3x3_zero);
+}
+
+Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t stride, uint32_t pad, bool relu) {
+  const std::string layer = "conv " + w.name;
+  if (x.c != w.cin) fail(layer, "expects " + std::to_string(w.cin) + " input channels, got " + x.shape());
+  if (stride == 0) fail(layer, "stride 0");
+  if (x.h + 2 * pad < w.k || x.w + 2 * pad < w.k)
+    fail(layer, "input " + x.shape() + " with padding " + std::to_string(pad) + " is smaller than the " + std::to_string(w.k) +
+                    "x" + std::to_string(w.k) + " kernel");
+  check_loop(layer, uint64_t{w.cin} * w.k * w.k, "input channels x taps " + std::to_string(w.cin) + " x " + std::to_string(w.k * w.k));
+  const uint32_t out_h = (x.h + 2 * pad - w.k) / stride + 1, out_w = (x.w + 2 * pad - w.k) / stride + 1;
+  Tensor y = make_tensor(rec.context(), w.name, w.cout, out_h, out_w);
+  const gpu::NnConvStridedParams p{.cin = w.cin,
+                                   .cout = w.cout,
+                                   .in_height = x.h,
+                                   .in_width = x.w,
+                                   .out_height = out_h,
+                                   .out_width = out_w,
+                                   .kernel = w.k,
+                                   .stride = stride,
+                                   .pad = pad,
+                                   .flags = relu ? S4D_NN_FLAG_RELU : 0u,
+                                   .n_out = static_cast<uint32_t>(y.count()),
+                                   ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv_strided), {x.buffer, w.weight, w.bias, y.buffer}, p,
+               ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
 }
 
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
   if (w.k != 1) fail("conv " + w.name, "is not a 1x1 convolution");
-  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr);
+  return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr, shaders::Id::nn_conv1x1);
 }
 
 void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, Tensor& out) {
   if (w.k != 1) fail("conv " + w.name, "is not a 1x1 convolution");
-  conv(rec, x, w, S4D_NN_FLAG_ACCUMULATE, &out);
+  conv(rec, x, w, S4D_NN_FLAG_ACCUMULATE, &out, shaders::Id::nn_conv1x1);
 }
 
 void relu_inplace(engine::Recorder& rec, Tensor& x) {
@@ -135,6 +169,21 @@ void relu_inplace(engine::Recorder& rec, Tensor& x) {
 
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, (x.h + 1) / 2, (x.w + 1) / 2, "maxpool");
+}
+
+Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 2 || x.w < 2) fail("maxpool", "floor mode needs H, W >= 2, got " + x.shape());
+  // nn_maxpool with floor(in / 2) outputs: every window lies inside the input, so no clamping applies.
+  return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
+}
+
+Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 3 || x.w < 3) fail("maxpool3s2", "needs H, W >= 3, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_maxpool3s2, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1, "maxpool3s2");
+}
+
+Tensor l2pool(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_l2pool, (x.h + 1) / 2, (x.w + 1) / 2, "l2pool");
 }
 
 Tensor upsample2(engine::Recorder& rec, const Tensor& x) {

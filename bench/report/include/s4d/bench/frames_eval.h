@@ -1,6 +1,7 @@
 // Frames mode of `style4d bench`: score one method's stylised frames against the original-scene
-// frames of the same cameras and times, with the weight-free metrics. Frames are read one at a time
-// (a long video never sits in memory whole).
+// frames of the same cameras and times, with the weight-free metrics and, given their networks
+// (native_learned.h), the native learned ones. Frames are read one at a time (a long video never
+// sits in memory whole).
 #pragma once
 #include <filesystem>
 #include <map>
@@ -13,6 +14,8 @@
 #include "s4d/metrics/warp_loss.h"
 
 namespace s4d::bench {
+
+class NativeLearned;
 
 enum class FlowSource { dis, raft, exact };
 enum class FlowFrames { original, stylized };  // which frames the flow is computed on
@@ -28,6 +31,10 @@ struct FramesOptions {
   std::pair<std::string, std::string> raft_inputs{"image1", "image2"};
   std::filesystem::path flow_dir;                          // FlowSource::exact: fw_NNNN.exr, bw_NNNN.exr
   int sample_frames = 4;                                   // frames kept for the contact sheet
+  const NativeLearned* learned = nullptr;                  // the native learned metrics, when loaded
+  std::vector<std::string> learned_keys;                   // the learned keys to score here (empty: all)
+  std::filesystem::path style_image;                       // for style_lpips, style_loss_gram; empty: none
+  std::map<std::string, std::string> bridged;              // keys the pyiqa bridge computed -> its impl text
 };
 
 struct MethodResult {
@@ -36,7 +43,7 @@ struct MethodResult {
   int frame_count = 0;
   std::map<std::string, double> means;                       // metric key -> value over the video
   std::map<std::string, std::vector<double>> per_frame;      // warp_loss: per pair (frame t, t+1)
-  std::map<std::string, std::string> unavailable;            // weight-free keys that could not be scored
+  std::map<std::string, std::string> unavailable;            // keys this evaluation could not score, and why
   std::vector<int> sample_index;
   std::vector<io::ImageF> samples, original_samples;
 };

@@ -1,6 +1,6 @@
 // The report contract of METRICS.md: the 14 keys `style4d bench` reports, each with its direction,
-// implementation and convention, and for those this build cannot compute, the reason and what the
-// user must supply.
+// implementation and convention, and for the learned ones, the reason they are unavailable when a
+// call supplies neither their weights nor the pyiqa bridge.
 #pragma once
 #include <optional>
 #include <string>
@@ -14,7 +14,8 @@ struct MetricEntry {
   bool higher_is_better;
   std::string impl;        // what computes it
   std::string convention;  // inputs, preprocessing, pooling
-  // Set when this build has no implementation: the "unavailable" text, naming the files to supply.
+  // Set for the learned metrics: the "unavailable" text when neither --metric-weights nor the bridge
+  // (--python) computed the key, naming what to supply.
   std::optional<std::string> unavailable;
 };
 

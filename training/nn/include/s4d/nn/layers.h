@@ -13,7 +13,7 @@
 
 namespace s4d::nn {
 
-// One Conv2d (k = 1 or 3) or Linear (k = 1) layer's parameters on the device.
+// One Conv2d (k = 1..11) or Linear (k = 1) layer's parameters on the device.
 struct ConvWeights {
   std::string name;  // for messages and buffer names, e.g. "vgg_normalised.safetensors 2"
   uint32_t cin = 0, cout = 0, k = 1;
@@ -27,6 +27,11 @@ ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t 
 
 // ReflectionPad2d(1) + Conv2d(k=3) (+ ReLU). Needs H, W >= 2, as PyTorch's reflection padding does.
 Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
+// Conv2d(k=3, padding=1) (+ ReLU): zero padding, as torchvision's VGG; any H, W >= 1.
+Tensor conv3x3_zero_pad(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
+// Conv2d(k, stride, padding) with zero padding (+ ReLU), any k: [cout, (h + 2 pad - k) / stride + 1, ...].
+// Needs cin * k * k <= S4D_NN_MAX_LOOP (kernel nn_conv_strided).
+Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t stride, uint32_t pad, bool relu);
 // Conv2d(k=1) (+ ReLU); a Linear layer when x is [in, 1, 1].
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
 // out += Conv2d(k=1)(x): a residual connection into `out`.
@@ -34,6 +39,13 @@ void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeight
 void relu_inplace(engine::Recorder& rec, Tensor& x);
 // MaxPool2d(2, 2, ceil_mode=True): [c, ceil(h/2), ceil(w/2)].
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
+// MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
+Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
+// MaxPool2d(3, 2) (floor mode, torchvision's AlexNet): [c, (h - 3) / 2 + 1, (w - 3) / 2 + 1]; needs H, W >= 3.
+Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x);
+// DISTS's L2pooling(filter_size=5, stride=2): sqrt(conv(x^2, [1 2 1]^T [1 2 1] / 16, stride 2,
+// zero padding 1) + 1e-12) per channel: [c, ceil(h/2), ceil(w/2)].
+Tensor l2pool(engine::Recorder& rec, const Tensor& x);
 // Upsample(scale_factor=2, mode='nearest').
 Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 

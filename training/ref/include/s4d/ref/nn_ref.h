@@ -51,6 +51,65 @@ Chw<T> conv3x3(const Chw<T>& x, const std::vector<T>& weight, const std::vector<
   return y;
 }
 
+// Conv2d(cin, cout, 3, padding=1) (zero padding, torchvision's VGG): weight [cout, cin, 3, 3].
+template <class T>
+Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
+                        bool with_relu) {
+  Chw<T> y(cout, x.h, x.w);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int64_t sy = int64_t{py} + dy, sx = int64_t{px} + dx;
+              if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+              acc += weight[((size_t{o} * x.c + i) * 3 + (dy + 1)) * 3 + (dx + 1)] *
+                     x.at(i, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            }
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
+// Conv2d(cin, cout, k, stride, padding) with zero padding: weight [cout, cin, k, k].
+template <class T>
+Chw<T> conv2d(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout, uint32_t k,
+              uint32_t stride, uint32_t pad, bool with_relu) {
+  Chw<T> y(cout, (x.h + 2 * pad - k) / stride + 1, (x.w + 2 * pad - k) / stride + 1);
+  for (uint32_t o = 0; o < cout; ++o)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T acc = bias[o];
+        for (uint32_t i = 0; i < x.c; ++i)
+          for (uint32_t ky = 0; ky < k; ++ky)
+            for (uint32_t kx = 0; kx < k; ++kx) {
+              const int64_t sy = int64_t{py} * stride + ky - pad, sx = int64_t{px} * stride + kx - pad;
+              if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+              acc += weight[((size_t{o} * x.c + i) * k + ky) * k + kx] *
+                     x.at(i, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            }
+        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
+      }
+  return y;
+}
+
+// MaxPool2d(3, 2) (floor mode).
+template <class T>
+Chw<T> maxpool3s2(const Chw<T>& x) {
+  Chw<T> y(x.c, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T m = x.at(ch, 2 * py, 2 * px);
+        for (uint32_t dy = 0; dy < 3; ++dy)
+          for (uint32_t dx = 0; dx < 3; ++dx) m = std::max(m, x.at(ch, 2 * py + dy, 2 * px + dx));
+        y.at(ch, py, px) = m;
+      }
+  return y;
+}
+
 // Conv2d(cin, cout, 1), or Linear(cin, cout) on a [cin, 1, 1] tensor: weight [cout, cin].
 template <class T>
 Chw<T> conv1x1(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
@@ -77,6 +136,40 @@ Chw<T> maxpool2_ceil(const Chw<T>& x) {
         for (uint32_t yy = 2 * py; yy < std::min(2 * py + 2, x.h); ++yy)
           for (uint32_t xx = 2 * px; xx < std::min(2 * px + 2, x.w); ++xx) m = std::max(m, x.at(ch, yy, xx));
         y.at(ch, py, px) = m;
+      }
+  return y;
+}
+
+// MaxPool2d(2, 2) (floor mode): a last odd row or column is dropped.
+template <class T>
+Chw<T> maxpool2_floor(const Chw<T>& x) {
+  Chw<T> y(x.c, x.h / 2, x.w / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px)
+        y.at(ch, py, px) = std::max(std::max(x.at(ch, 2 * py, 2 * px), x.at(ch, 2 * py, 2 * px + 1)),
+                                    std::max(x.at(ch, 2 * py + 1, 2 * px), x.at(ch, 2 * py + 1, 2 * px + 1)));
+  return y;
+}
+
+// DISTS's L2pooling: sqrt(sum_{dy,dx} g[dy] g[dx] x^2 + eps) with g = (1, 2, 1) / 4, stride 2,
+// zero padding 1: [c, ceil(h/2), ceil(w/2)].
+template <class T>
+Chw<T> l2pool(const Chw<T>& x, T eps) {
+  Chw<T> y(x.c, (x.h + 1) / 2, (x.w + 1) / 2);
+  const T g[3] = {T(0.25), T(0.5), T(0.25)};
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T sum = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int64_t sy = 2 * int64_t{py} + dy, sx = 2 * int64_t{px} + dx;
+            if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
+            const T v = x.at(ch, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
+            sum += g[dy + 1] * g[dx + 1] * v * v;
+          }
+        y.at(ch, py, px) = std::sqrt(sum + eps);
       }
   return y;
 }

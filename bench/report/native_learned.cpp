@@ -1,0 +1,154 @@
+#include "s4d/bench/native_learned.h"
+
+#include <algorithm>
+#include <optional>
+#include <stdexcept>
+
+#include "s4d/stylize/image_file.h"
+
+namespace s4d::bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kVgg16 = "vgg16.safetensors";
+constexpr const char* kLpipsVgg = "lpips_vgg.safetensors";
+constexpr const char* kAlexnet = "alexnet.safetensors";
+constexpr const char* kLpipsAlex = "lpips_alex.safetensors";
+constexpr const char* kVggNormalised = "vgg_normalised.safetensors";
+constexpr const char* kVgg19 = "vgg19.safetensors";
+constexpr const char* kDists = "dists.safetensors";
+
+bool wanted(const std::vector<std::string>& keys, const char* key) {
+  return keys.empty() || std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+std::string missing(const NativeLearnedOptions& o, const std::vector<std::string>& files, const std::string& published) {
+  std::string list;
+  for (const std::string& f : files) list += (list.empty() ? "" : " and ") + f;
+  const std::string where = o.weights_dir ? "add " + list + " to " + o.weights_dir->string() + " (--metric-weights)"
+                                          : "pass --metric-weights DIR holding " + list;
+  return "needs weights: " + where + ", converted from " + published +
+         " with their state-dict names (README, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
+}
+
+bool all_present(const NativeLearnedOptions& o, const std::vector<std::string>& files) {
+  if (!o.weights_dir) return false;
+  return std::all_of(files.begin(), files.end(), [&](const std::string& f) { return fs::is_regular_file(*o.weights_dir / f); });
+}
+
+}  // namespace
+
+const std::vector<std::string>& native_learned_keys() {
+  static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram"};
+  return keys;
+}
+
+NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& options) : options_(options) {
+  if (options.weights_dir && !fs::is_directory(*options.weights_dir))
+    throw std::invalid_argument("--metric-weights " + options.weights_dir->string() + ": not a folder");
+  const bool vgg = options.lpips == metrics::LpipsNet::vgg;
+  const std::vector<std::string> lpips_files = {vgg ? kVgg16 : kAlexnet, vgg ? kLpipsVgg : kLpipsAlex};
+  const std::vector<std::string> dists_files = {kVgg16, kDists};
+  // vgg16.safetensors (about 528 MB with torchvision's classifier) is read once for LPIPS and DISTS.
+  std::optional<io::SafetensorsFile> vgg16;
+  if ((vgg && all_present(options, lpips_files)) || all_present(options, dists_files))
+    vgg16.emplace(*options.weights_dir / kVgg16);
+  if (all_present(options, lpips_files)) {
+    const io::SafetensorsFile heads(*options.weights_dir / lpips_files[1]);
+    if (vgg)
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, *vgg16, heads, options.lpips, std::nullopt, options.lpips_input);
+    else
+      lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / kAlexnet), heads, options.lpips,
+                                                std::nullopt, options.lpips_input);
+  } else {
+    const std::string why = missing(options, lpips_files,
+                                    vgg ? "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth"
+                                        : "torchvision alexnet-owt-7be5be79.pth and LPIPS weights/v0.1/alex.pth");
+    unavailable_["content_lpips"] = unavailable_["style_lpips"] = why;
+  }
+  if (all_present(options, dists_files))
+    dists_ = std::make_unique<metrics::Dists>(ctx, *vgg16, io::SafetensorsFile(*options.weights_dir / kDists));
+  else
+    unavailable_["dists"] = missing(options, dists_files, "torchvision vgg16-397923af.pth and DISTS_pytorch/weights.pt");
+  const bool normalised = options.gram == metrics::GramBackbone::vgg_normalised;
+  const std::string gram_file = normalised ? kVggNormalised : kVgg19;
+  if (all_present(options, {gram_file}))
+    gram_ = std::make_unique<metrics::GramStyleLoss>(ctx, io::SafetensorsFile(*options.weights_dir / gram_file), options.gram);
+  else
+    unavailable_["style_loss_gram"] =
+        missing(options, {gram_file}, normalised ? "AdaIN's vgg_normalised.pth" : "torchvision vgg19-dcbb9e9d.pth");
+}
+
+bool NativeLearned::computes(const std::string& key) const {
+  return std::find(native_learned_keys().begin(), native_learned_keys().end(), key) != native_learned_keys().end() &&
+         unavailable_.count(key) == 0;
+}
+
+std::string NativeLearned::impl(const std::string& key) const {
+  if (key == "dists") return "native DISTS, VGG16 with L2 pooling (vgg16.safetensors + dists.safetensors) on the GPU";
+  if (key == "style_loss_gram")
+    return std::string("native VGG19 (") +
+           (options_.gram == metrics::GramBackbone::vgg_normalised ? kVggNormalised : kVgg19) + ") on the GPU";
+  return options_.lpips == metrics::LpipsNet::vgg
+             ? "native LPIPS v0.1 VGG16 (vgg16.safetensors + lpips_vgg.safetensors) on the GPU"
+             : "native LPIPS v0.1 AlexNet (alexnet.safetensors + lpips_alex.safetensors) on the GPU";
+}
+
+std::string NativeLearned::convention(const std::string& key) const {
+  if (key == "dists")
+    return "DISTS(f_t+1, f_t) of consecutive stylised frames: RGB [0,1], no resize (pyiqa), stage 0 the raw input, "
+           "VGG16 relu1_2..relu5_3 of the ImageNet-normalised input with L2 pooling, global per-channel statistics, "
+           "c1 = c2 = 1e-6; mean over pairs";
+  if (key == "style_loss_gram")
+    return std::string("relu1_1..relu5_1 Gram matrices F F^T / (C H W), sum over layers of the mean squared "
+                       "difference, frame vs the style image at its own size; ") +
+           (options_.gram == metrics::GramBackbone::vgg_normalised
+                ? "AdaIN vgg_normalised (raw [0,1] RGB, reflection padding, ceil-mode pooling)"
+                : "torchvision vgg19 (ImageNet mean/std, zero padding)") +
+           "; mean over frames";
+  const std::string lpips = std::string(options_.lpips_input == metrics::LpipsInput::signed_unit
+                                            ? "RGB [0,1] -> 2x-1 -> scaling layer, "
+                                            : "RGB [0,1] as is (3DGS lpipsPyTorch, no 2x-1) -> scaling layer, ") +
+                            (options_.lpips == metrics::LpipsNet::vgg ? "VGG16 relu1_2..relu5_3" : "AlexNet relu1..relu5") +
+                            ", channel unit-normalisation (eps 1e-10), lin heads, spatial mean, sum over layers; ";
+  if (key == "style_lpips")
+    return lpips + "frame vs the style image resized to the frame (area when shrinking, bilinear when enlarging); mean over frames";
+  return lpips + "stylised vs original frame; mean over frames";
+}
+
+void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& original, const fs::path& style_image,
+                                bool follows, const std::vector<std::string>& keys,
+                                std::map<std::string, std::vector<double>>& per_frame) const {
+  if (!style_image.empty() && style_image != style_path_) {
+    style_ = stylize::read_image_rgb(style_image);
+    style_path_ = style_image;
+    style_lpips_.clear();
+    style_gram_.reset();
+  }
+  const bool content = lpips_ && wanted(keys, "content_lpips");
+  const bool style = lpips_ && !style_image.empty() && wanted(keys, "style_lpips");
+  if (content || style) {
+    const metrics::LpipsFeatures frame = lpips_->features(stylised);
+    if (content) per_frame["content_lpips"].push_back(lpips_->distance(frame, lpips_->features(original)));
+    if (style) {
+      const std::pair<int, int> size{stylised.width, stylised.height};
+      auto it = style_lpips_.find(size);
+      if (it == style_lpips_.end())
+        it = style_lpips_.emplace(size, lpips_->features(stylize::resize_image(style_, size.first, size.second))).first;
+      per_frame["style_lpips"].push_back(lpips_->distance(frame, it->second));
+    }
+  }
+  if (gram_ && !style_image.empty() && wanted(keys, "style_loss_gram")) {
+    if (!style_gram_) style_gram_ = gram_->grams(style_);
+    per_frame["style_loss_gram"].push_back(metrics::gram_loss(gram_->grams(stylised), *style_gram_));
+  }
+  if (dists_ && wanted(keys, "dists")) {
+    metrics::DistsFeatures current = dists_->features(stylised);
+    if (follows && previous_) per_frame["dists"].push_back(dists_->distance(current, *previous_));
+    previous_ = std::move(current);
+  }
+}
+
+}  // namespace s4d::bench
