@@ -2,7 +2,9 @@
 // deform_reg) against the
 // double CPU twin on lavapipe: a small random field (8^3 x 6 base planes, 2 levels, C = 4, W = 16, one
 // extra trunk layer, all five heads) and 300 Gaussians, some outside the AABB (border clamp) and
-// some static. Each twin is fed the exact float values the GPU holds.
+// some static. Static Gaussians are drawn anywhere and then put last (deform::split_static, as the
+// trainer does), so the field's moving prefix + copied tail is checked against the twin's
+// per-Gaussian masked rule. Each twin is fed the exact float values (and order) the GPU holds.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,9 +12,11 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/static_split.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
@@ -43,14 +47,23 @@ deform::FieldConfig test_config() {
   return c;
 }
 
-// Host copies of the Gaussians and their device buffers.
+// Host copies of the Gaussians (static ones last, host.static_mask marks them) and their device buffers.
 struct Scene {
   ref::DeformGaussians<float> host;
-  engine::Buffer means, log_scales, quats, opacity, sh, mask;
+  uint32_t static_count = 0;
+  std::vector<uint32_t> order;  // Gaussian order[j] as drawn is at j
+  engine::Buffer means, log_scales, quats, opacity, sh;
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, &mask, kN, S4D_DEFORM_SH_COEFFS};
+    return {&means, &log_scales, &quats, &opacity, &sh, kN, static_count, S4D_DEFORM_SH_COEFFS};
   }
 };
+
+// The Gaussians in the split's order: every array's rows and the mask move together.
+ref::DeformGaussians<float> reorder(const ref::DeformGaussians<float>& g, const deform::StaticSplit& split) {
+  auto rows = [&](const std::vector<float>& v) { return deform::gather_rows<float>(v, split.order, v.size() / kN); };
+  return {rows(g.means), rows(g.log_scales), rows(g.quats), rows(g.opacity_logits), rows(g.sh),
+          deform::gather_rows<uint32_t>(g.static_mask, split.order, 1)};
+}
 
 Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_every) {
   std::mt19937 rng(seed);
@@ -59,13 +72,16 @@ Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_ev
   s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, kN, rng,
                                         {.outside_every = 10, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
   for (uint32_t i = 0; i < kN; ++i) s.host.static_mask.push_back(static_every != 0 && i % static_every == 0 ? 1u : 0u);
+  const deform::StaticSplit split = deform::split_static(s.host.static_mask);
+  s.host = reorder(s.host, split);
+  s.static_count = split.static_count;
+  s.order = split.order;
   engine::Context& ctx = test::context();
   s.means = engine::buffer_from(ctx, "means", s.host.means);
   s.log_scales = engine::buffer_from(ctx, "log_scales", s.host.log_scales);
   s.quats = engine::buffer_from(ctx, "quats", s.host.quats);
   s.opacity = engine::buffer_from(ctx, "opacity_logits", s.host.opacity_logits);
   s.sh = engine::buffer_from(ctx, "sh", s.host.sh);
-  s.mask = engine::buffer_from(ctx, "static_mask", s.host.static_mask);
   return s;
 }
 
@@ -172,6 +188,10 @@ void check_backward(deform::DeformOptions options) {
   CHECK(e_means < 1e-5);
   CHECK(e_planes < 1e-5);
   CHECK(e_mlp < 1e-5);
+  const std::vector<float> v_means = ctx.download<float>(v.v_means, 3 * kN);
+  REQUIRE(s.static_count == 43);  // i % 7 == 0 of 300, now the last 43
+  for (uint32_t k = 3 * (kN - s.static_count); k < 3 * kN; ++k)  // static: cotangents pass through, bit for bit
+    REQUIRE(v_means[k] == v.host.means[k]);
 }
 
 }  // namespace
@@ -191,12 +211,41 @@ TEST_CASE("deform_fwd matches the twin: every head's output, static Gaussians co
   CHECK(max_rel(ctx.download<float>(d.quats, 4 * kN), r.quats) < 2e-6);
   CHECK(max_rel(ctx.download<float>(d.opacity, kN), r.opacity_logits) < 2e-6);
   CHECK(max_rel(sh, r.sh) < 2e-6);
-  for (uint32_t i = 0; i < kN; i += 5) {  // static: bit-for-bit copies
+  REQUIRE(s.static_count == 60);  // i % 5 == 0 of 300, now the last 60; 240 moving (a partial workgroup)
+  for (uint32_t i = kN - s.static_count; i < kN; ++i) {  // static: bit-for-bit copies
     for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == s.host.means[3 * i + k]);
     for (int k = 0; k < 48; ++k) REQUIRE(sh[48 * i + k] == s.host.sh[48 * i + k]);
   }
-  // Non-static Gaussians do move.
-  CHECK(std::abs(means[3] - s.host.means[3]) > 1e-4);
+  // Non-static Gaussians do move, up to the last one of the prefix.
+  CHECK(std::abs(means[0] - s.host.means[0]) > 1e-4);
+  CHECK(std::abs(means[3 * 239] - s.host.means[3 * 239]) > 1e-4);
+}
+
+TEST_CASE("the moving prefix gives every moving Gaussian the bits of a run with nothing static (fwd, v_means)") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 7);
+  Scene all = make_scene(c, 8, 0), split = make_scene(c, 8, 4);  // the same Gaussians; every fourth static
+  const std::vector<uint32_t>& order = split.order;
+  Deformed a = run_forward(f, all), b = run_forward(f, split);
+  Cotangents va = make_cotangents(9), vb = make_cotangents(9);
+  engine::Context& ctx = test::context();
+  // The split scene's cotangents in its order, so Gaussian order[j] has the same ones in both runs.
+  for (auto [host, buffer] : {std::pair{&vb.host.means, &vb.v_means}, {&vb.host.log_scales, &vb.v_log_scales},
+                              {&vb.host.quats, &vb.v_quats}, {&vb.host.opacity_logits, &vb.v_opacity}, {&vb.host.sh, &vb.v_sh}}) {
+    *host = deform::gather_rows<float>(*host, order, host->size() / kN);
+    ctx.upload(*buffer, std::span<const float>(*host));
+  }
+  run_backward(f, all, va);
+  run_backward(f, split, vb);
+  const std::vector<float> means_a = ctx.download<float>(a.means, 3 * kN), means_b = ctx.download<float>(b.means, 3 * kN);
+  const std::vector<float> sh_a = ctx.download<float>(a.sh, 48 * kN), sh_b = ctx.download<float>(b.sh, 48 * kN);
+  const std::vector<float> v_a = ctx.download<float>(va.v_means, 3 * kN), v_b = ctx.download<float>(vb.v_means, 3 * kN);
+  for (uint32_t j = 0; j < kN - split.static_count; ++j) {  // per-Gaussian work: no reordering of sums
+    const uint32_t i = order[j];
+    for (int k = 0; k < 3; ++k) REQUIRE(means_b[3 * j + k] == means_a[3 * i + k]);
+    for (int k = 0; k < 48; ++k) REQUIRE(sh_b[48 * j + k] == sh_a[48 * i + k]);
+    for (int k = 0; k < 3; ++k) REQUIRE(v_b[3 * j + k] == v_a[3 * i + k]);
+  }
 }
 
 TEST_CASE("deform_fwd is deterministic: a rerun gives identical bits") {
