@@ -67,14 +67,14 @@ splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
                         static_cast<float>(time), deformed);
   if (!static_runs_.empty()) {  // the old mask: static Gaussians get their canonical values back
     rec.barrier();
-    const std::pair<const engine::Buffer*, engine::Buffer*> heads_on[] = {
+    const std::pair<const engine::Buffer*, engine::Buffer*> pairs[] = {  // canonical, deformed (null: head off)
         {p.means, deformed.means}, {p.log_scales, deformed.log_scales}, {p.quats, deformed.quats},
         {p.opacity_logits, deformed.opacity_logits}, {p.sh, deformed.sh}};
     const size_t widths[] = {3, 3, 4, 1, size_t{3} * p.sh_coeffs};
-    for (size_t h = 0; h < std::size(heads_on); ++h)
+    for (size_t h = 0; h < std::size(pairs); ++h)
       for (const auto& [first, end] : static_runs_)
-        if (heads_on[h].second)
-          rec.copy(*heads_on[h].first, *heads_on[h].second, (end - first) * widths[h] * 4, first * widths[h] * 4,
+        if (pairs[h].second)
+          rec.copy(*pairs[h].first, *pairs[h].second, (end - first) * widths[h] * 4, first * widths[h] * 4,
                    first * widths[h] * 4);
   }
   ctx_->run(std::move(rec));
