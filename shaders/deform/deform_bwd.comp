@@ -74,18 +74,16 @@ void linear_bwd_input(uint offset, uint in_dim, uint out_dim, uint in_at, bool r
   }
 }
 
-// dL/d head h's output for Gaussian i (zero when inactive) into g_v[ACT_Y2 ..].
-void load_head_cotangent(uint h, uint i, bool live) {
+// dL/d head h's output for Gaussian i into g_v[ACT_Y2 ..].
+void load_head_cotangent(uint h, uint i) {
   uint count = deform_head_out(h);
   for (uint k = 0u; k < count; ++k) {
-    float v = 0.0;
-    if (live) {
-      if (h == 0u) v = v_means[3u * i + k];
-      else if (h == 1u) v = v_log_scales[3u * i + k];
-      else if (h == 2u) v = v_quats[4u * i + k];
-      else if (h == 3u) v = v_opacity[i];
-      else v = v_sh[i * 3u * p.sh_coeffs + k];
-    }
+    float v;
+    if (h == 0u) v = v_means[3u * i + k];
+    else if (h == 1u) v = v_log_scales[3u * i + k];
+    else if (h == 2u) v = v_quats[4u * i + k];
+    else if (h == 3u) v = v_opacity[i];
+    else v = v_sh[i * 3u * p.sh_coeffs + k];
     g_v[ACT_Y2 + k] = v;
   }
 }
@@ -140,7 +138,7 @@ void main() {
     if (!deform_head_on(p.shape, h)) continue;
     uint o1 = deform_head_offset(p.shape, h), o2 = o1 + deform_linear_floats(W, W), out_dim = deform_head_out(h);
     head_hidden_fwd(h);
-    load_head_cotangent(h, i, true);
+    load_head_cotangent(h, i);
     stage_layer(row, l + 1u, ACT_Y1, true, ACT_Y2);
     linear_bwd_input(o2, W, out_dim, ACT_Y1, true, ACT_Y2, false);
     stage_layer(row, l, last, true, ACT_Y1);
