@@ -7,8 +7,9 @@
 //  - dL/d canonical mean: the field's term (through the grid coordinates) is added in place to
 //    v_means, which holds dL/d deformed mean on entry. The other raw parameters' gradients pass
 //    through unchanged (deformed = canonical + delta), so their buffers are only read.
-// One pass covers Gaussians p.first .. p.n - 1 (scratch rows 0 ..). Static (masked) Gaussians write a
-// zero scratch row and change nothing else. There are no barriers: every invocation may return early.
+// One pass covers Gaussians p.first .. p.n - 1 (scratch rows 0 ..) of the moving prefix; static
+// Gaussians follow it and are never visited (their cotangents pass through unchanged). There are no
+// barriers: every invocation may return early.
 // S4D_FLOAT_ATOMICS=1 adds with float atomics; 0 with compare-and-swap loops.
 // Specialization constants S4D_DEFORM_SPEC_* size the private arrays (capacity only, never results).
 #version 450
@@ -24,7 +25,6 @@ layout(push_constant) uniform Push { DeformParams p; };
 layout(std430, binding = S4D_B_DBWD_PLANES) readonly buffer Planes { float planes[]; };
 layout(std430, binding = S4D_B_DBWD_MLP) readonly buffer Mlp { float mlp[]; };
 layout(std430, binding = S4D_B_DBWD_MEANS) readonly buffer Means { float means[]; };              // [N, 3]
-layout(std430, binding = S4D_B_DBWD_MASK) readonly buffer Mask { uint static_mask[]; };           // [N]
 layout(std430, binding = S4D_B_DBWD_V_MEANS) buffer VMeans { float v_means[]; };                  // [N, 3] in/out
 layout(std430, binding = S4D_B_DBWD_V_LOG_SCALES) readonly buffer VLogScales { float v_log_scales[]; };
 layout(std430, binding = S4D_B_DBWD_V_QUATS) readonly buffer VQuats { float v_quats[]; };
@@ -74,18 +74,16 @@ void linear_bwd_input(uint offset, uint in_dim, uint out_dim, uint in_at, bool r
   }
 }
 
-// dL/d head h's output for Gaussian i (zero when inactive) into g_v[ACT_Y2 ..].
-void load_head_cotangent(uint h, uint i, bool live) {
+// dL/d head h's output for Gaussian i into g_v[ACT_Y2 ..].
+void load_head_cotangent(uint h, uint i) {
   uint count = deform_head_out(h);
   for (uint k = 0u; k < count; ++k) {
-    float v = 0.0;
-    if (live) {
-      if (h == 0u) v = v_means[3u * i + k];
-      else if (h == 1u) v = v_log_scales[3u * i + k];
-      else if (h == 2u) v = v_quats[4u * i + k];
-      else if (h == 3u) v = v_opacity[i];
-      else v = v_sh[i * 3u * p.sh_coeffs + k];
-    }
+    float v;
+    if (h == 0u) v = v_means[3u * i + k];
+    else if (h == 1u) v = v_log_scales[3u * i + k];
+    else if (h == 2u) v = v_quats[4u * i + k];
+    else if (h == 3u) v = v_opacity[i];
+    else v = v_sh[i * 3u * p.sh_coeffs + k];
     g_v[ACT_Y2 + k] = v;
   }
 }
@@ -129,11 +127,6 @@ vec3 deform_features_bwd(vec4 g) {
 void main() {
   uint row = flat_group_id() * S4D_DEFORM_WG + gl_LocalInvocationIndex, i = p.first + row;
   if (i >= p.n) return;
-  if ((p.flags & S4D_DEFORM_HAS_MASK) != 0u && static_mask[i] != 0u) {
-    uint floats = deform_scratch_floats(p.shape);
-    for (uint k = 0u; k < floats; ++k) scratch[row * floats + k] = 0.0;
-    return;
-  }
   vec4 g = deform_coords(vec3(means[3u * i], means[3u * i + 1u], means[3u * i + 2u]));
   deform_features(g);
   trunk_fwd();
@@ -145,7 +138,7 @@ void main() {
     if (!deform_head_on(p.shape, h)) continue;
     uint o1 = deform_head_offset(p.shape, h), o2 = o1 + deform_linear_floats(W, W), out_dim = deform_head_out(h);
     head_hidden_fwd(h);
-    load_head_cotangent(h, i, true);
+    load_head_cotangent(h, i);
     stage_layer(row, l + 1u, ACT_Y1, true, ACT_Y2);
     linear_bwd_input(o2, W, out_dim, ACT_Y1, true, ACT_Y2, false);
     stage_layer(row, l, last, true, ACT_Y1);

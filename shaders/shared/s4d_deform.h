@@ -84,9 +84,6 @@
 #define S4D_DEFORM_SCRATCH_BYTES (32u * 1024u * 1024u)
 #define S4D_DEFORM_SCRATCH_MAX_ROWS 65536u
 
-// Bits of DeformParams.flags.
-#define S4D_DEFORM_HAS_MASK 1u  // the static-mask buffer is bound: Gaussians with mask != 0 are not deformed
-
 // deform_fwd bindings. Per-Gaussian arrays are flat floats (s4d_splat.h layouts).
 #define S4D_B_DFWD_PLANES 0           // [plane floats] f32
 #define S4D_B_DFWD_MLP 1              // [mlp floats] f32
@@ -95,25 +92,23 @@
 #define S4D_B_DFWD_QUATS 4            // [N, 4] (w, x, y, z)
 #define S4D_B_DFWD_OPACITY_LOGITS 5   // [N]
 #define S4D_B_DFWD_SH 6               // [N, K, 3], K = sh_coeffs
-#define S4D_B_DFWD_MASK 7             // [N] u32, read only with S4D_DEFORM_HAS_MASK
-#define S4D_B_DFWD_OUT_MEANS 8        // deformed outputs, same layouts; written only for heads that are on
-#define S4D_B_DFWD_OUT_LOG_SCALES 9
-#define S4D_B_DFWD_OUT_QUATS 10
-#define S4D_B_DFWD_OUT_OPACITY_LOGITS 11
-#define S4D_B_DFWD_OUT_SH 12
+#define S4D_B_DFWD_OUT_MEANS 7        // deformed outputs, same layouts; written only for heads that are on
+#define S4D_B_DFWD_OUT_LOG_SCALES 8
+#define S4D_B_DFWD_OUT_QUATS 9
+#define S4D_B_DFWD_OUT_OPACITY_LOGITS 10
+#define S4D_B_DFWD_OUT_SH 11
 
 // deform_bwd bindings.
 #define S4D_B_DBWD_PLANES 0
 #define S4D_B_DBWD_MLP 1
 #define S4D_B_DBWD_MEANS 2            // [N, 3] canonical
-#define S4D_B_DBWD_MASK 3             // [N] u32, read only with S4D_DEFORM_HAS_MASK
-#define S4D_B_DBWD_V_MEANS 4          // [N, 3] in: dL/d deformed means; out: dL/d canonical means
-#define S4D_B_DBWD_V_LOG_SCALES 5     // [N, 3] dL/d deformed log-scales (read for the scales head)
-#define S4D_B_DBWD_V_QUATS 6          // [N, 4]
-#define S4D_B_DBWD_V_OPACITY_LOGITS 7 // [N]
-#define S4D_B_DBWD_V_SH 8             // [N, K, 3]
-#define S4D_B_DBWD_V_PLANES 9         // [plane floats] accumulated (+=) with atomics
-#define S4D_B_DBWD_SCRATCH 10         // [rows, deform_scratch_floats] f32 out: per Gaussian, each layer's [input | output cotangent]
+#define S4D_B_DBWD_V_MEANS 3          // [N, 3] in: dL/d deformed means; out: dL/d canonical means
+#define S4D_B_DBWD_V_LOG_SCALES 4     // [N, 3] dL/d deformed log-scales (read for the scales head)
+#define S4D_B_DBWD_V_QUATS 5          // [N, 4]
+#define S4D_B_DBWD_V_OPACITY_LOGITS 6 // [N]
+#define S4D_B_DBWD_V_SH 7             // [N, K, 3]
+#define S4D_B_DBWD_V_PLANES 8         // [plane floats] accumulated (+=) with atomics
+#define S4D_B_DBWD_SCRATCH 9          // [rows, deform_scratch_floats] f32 out: per Gaussian, each layer's [input | output cotangent]
 
 // deform_wgrad bindings.
 #define S4D_B_DWG_SCRATCH 0           // [rows, deform_scratch_floats] f32, written by deform_bwd
@@ -145,14 +140,10 @@ struct DeformParams {
   DeformShape shape;
   vec4 aabb_max;    // xyz: the AABB's max corner (4DGaussians' aabb[0]); w unused
   vec4 aabb_scale;  // xyz: 2 / (aabb_min - aabb_max), computed in float on the host; w unused
-  uint n;           // Gaussians
+  uint n;           // end of the Gaussians deformed: the moving prefix (static ones follow; the host copies them)
   uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
-  uint flags;       // S4D_DEFORM_HAS_MASK
   float time;       // raw time, used unnormalised as the fourth grid coordinate
   uint first;       // deform_bwd: first Gaussian of this pass (scratch row 0); Gaussians first..n-1
-  uint _pad0;
-  uint _pad1;
-  uint _pad2;
 };
 
 // Push constants of deform_wgrad.

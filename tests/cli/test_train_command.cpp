@@ -108,7 +108,7 @@ struct SingleThreadedLavapipe {
 };
 
 const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "60", "--fine-iters", "40", "--batch", "2",
-                                              "--checkpoint-every", "20", "--static-motion", "0.01"};
+                                              "--checkpoint-every", "20", "--static-motion", "0.002"};
 
 // Trains into `run`, stops it with `signal` once its first checkpoint exists, then resumes it.
 // Returns false when the run finished before the signal arrived (nothing was interrupted).
@@ -154,11 +154,12 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   REQUIRE(j["test_views"].size() == 3);
   CHECK(j["test_views"][1]["time"].get<double>() == doctest::Approx(0.5));
   REQUIRE(j["static"]["test_views"].size() == 3);
-  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.30 dB (19.19 vs 18.89)
+  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.29 dB (19.18 vs 18.89)
   const train::Checkpoint cp = train::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
   CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the static mask
   // Deform only what moves: from the end of densification on, Gaussians under the threshold skip the field
-  // (after this short a stage nothing has moved far yet: measured 0 of 4000 moving, 260k of 388k evaluations).
+  // and are moved behind the moving ones in memory, every per-Gaussian array with them, so the resumes
+  // below also check that reorder (measured 474 of 4000 moving, 275k of 388k evaluations).
   CHECK(j["moving_gaussians"].get<double>() < j["num_gaussians"].get<double>());
   CHECK(j["deform_evaluations"].get<double>() < j["deform_evaluations_unmasked"].get<double>());
   for (int signal : {SIGINT, SIGKILL}) {

@@ -2,7 +2,9 @@
 // deform_reg) against the
 // double CPU twin on lavapipe: a small random field (8^3 x 6 base planes, 2 levels, C = 4, W = 16, one
 // extra trunk layer, all five heads) and 300 Gaussians, some outside the AABB (border clamp) and
-// some static. Each twin is fed the exact float values the GPU holds.
+// some static. Static Gaussians are drawn anywhere and then put last (deform::split_static, as the
+// trainer does), so the field's moving prefix + copied tail is checked against the twin's
+// per-Gaussian masked rule. Each twin is fed the exact float values (and order) the GPU holds.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,13 +12,16 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/static_split.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
 #include "s4d/ref/random_deform.h"
+#include "s4d/scene/deformed_scene.h"
 #include "test_context.h"
 
 namespace {
@@ -43,14 +48,23 @@ deform::FieldConfig test_config() {
   return c;
 }
 
-// Host copies of the Gaussians and their device buffers.
+// Host copies of the Gaussians (static ones last, host.static_mask marks them) and their device buffers.
 struct Scene {
   ref::DeformGaussians<float> host;
-  engine::Buffer means, log_scales, quats, opacity, sh, mask;
+  uint32_t static_count = 0;
+  std::vector<uint32_t> order;  // Gaussian order[j] as drawn is at j
+  engine::Buffer means, log_scales, quats, opacity, sh;
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, &mask, kN, S4D_DEFORM_SH_COEFFS};
+    return {&means, &log_scales, &quats, &opacity, &sh, kN, static_count, S4D_DEFORM_SH_COEFFS};
   }
 };
+
+// The Gaussians in the split's order: every array's rows and the mask move together.
+ref::DeformGaussians<float> reorder(const ref::DeformGaussians<float>& g, const deform::StaticSplit& split) {
+  auto rows = [&](const std::vector<float>& v) { return deform::gather_rows<float>(v, split.order, v.size() / kN); };
+  return {rows(g.means), rows(g.log_scales), rows(g.quats), rows(g.opacity_logits), rows(g.sh),
+          deform::gather_rows<uint32_t>(g.static_mask, split.order, 1)};
+}
 
 Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_every) {
   std::mt19937 rng(seed);
@@ -59,13 +73,16 @@ Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_ev
   s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, kN, rng,
                                         {.outside_every = 10, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
   for (uint32_t i = 0; i < kN; ++i) s.host.static_mask.push_back(static_every != 0 && i % static_every == 0 ? 1u : 0u);
+  const deform::StaticSplit split = deform::split_static(s.host.static_mask);
+  s.host = reorder(s.host, split);
+  s.static_count = split.static_count;
+  s.order = split.order;
   engine::Context& ctx = test::context();
   s.means = engine::buffer_from(ctx, "means", s.host.means);
   s.log_scales = engine::buffer_from(ctx, "log_scales", s.host.log_scales);
   s.quats = engine::buffer_from(ctx, "quats", s.host.quats);
   s.opacity = engine::buffer_from(ctx, "opacity_logits", s.host.opacity_logits);
   s.sh = engine::buffer_from(ctx, "sh", s.host.sh);
-  s.mask = engine::buffer_from(ctx, "static_mask", s.host.static_mask);
   return s;
 }
 
@@ -164,14 +181,19 @@ void check_backward(deform::DeformOptions options) {
   engine::Context& ctx = test::context();
   // Float accumulation over 300 Gaussians in atomic order against double (deform_wgrad: row order
   // within its 256-row spans, so the default single pass also covers a span boundary). Measured worst
-  // on lavapipe (Mesa 22.3.6), relative to the largest entry: v_means 5.3e-7, v_planes 9.5e-7, v_mlp
-  // 3.2e-7 (float atomics, CAS and 100-row passes alike); 1e-5 leaves room for other summation orders.
+  // on lavapipe (Mesa 22.3.6), relative to the largest entry, static Gaussians last: v_means 4.1e-7,
+  // v_planes 7.5e-7, v_mlp 5.0e-7 (float atomics, CAS and 100-row passes alike; 5.3e-7, 9.5e-7, 3.2e-7
+  // with the old in-kernel mask); 1e-5 leaves room for other summation orders.
   const double e_means = max_rel(ctx.download<float>(v.v_means, 3 * kN), r.v.means);
   const double e_planes = max_rel(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), r.v_planes);
   const double e_mlp = max_rel(ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats()), r.v_mlp);
   CHECK(e_means < 1e-5);
   CHECK(e_planes < 1e-5);
   CHECK(e_mlp < 1e-5);
+  const std::vector<float> v_means = ctx.download<float>(v.v_means, 3 * kN);
+  REQUIRE(s.static_count == 43);  // i % 7 == 0 of 300, now the last 43
+  for (uint32_t k = 3 * (kN - s.static_count); k < 3 * kN; ++k)  // static: cotangents pass through, bit for bit
+    REQUIRE(v_means[k] == v.host.means[k]);
 }
 
 }  // namespace
@@ -191,12 +213,41 @@ TEST_CASE("deform_fwd matches the twin: every head's output, static Gaussians co
   CHECK(max_rel(ctx.download<float>(d.quats, 4 * kN), r.quats) < 2e-6);
   CHECK(max_rel(ctx.download<float>(d.opacity, kN), r.opacity_logits) < 2e-6);
   CHECK(max_rel(sh, r.sh) < 2e-6);
-  for (uint32_t i = 0; i < kN; i += 5) {  // static: bit-for-bit copies
+  REQUIRE(s.static_count == 60);  // i % 5 == 0 of 300, now the last 60; 240 moving (a partial workgroup)
+  for (uint32_t i = kN - s.static_count; i < kN; ++i) {  // static: bit-for-bit copies
     for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == s.host.means[3 * i + k]);
     for (int k = 0; k < 48; ++k) REQUIRE(sh[48 * i + k] == s.host.sh[48 * i + k]);
   }
-  // Non-static Gaussians do move.
-  CHECK(std::abs(means[3] - s.host.means[3]) > 1e-4);
+  // Non-static Gaussians do move, up to the last one of the prefix.
+  CHECK(std::abs(means[0] - s.host.means[0]) > 1e-4);
+  CHECK(std::abs(means[3 * 239] - s.host.means[3 * 239]) > 1e-4);
+}
+
+TEST_CASE("the moving prefix gives every moving Gaussian the bits of a run with nothing static (fwd, v_means)") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 7);
+  Scene all = make_scene(c, 8, 0), split = make_scene(c, 8, 4);  // the same Gaussians; every fourth static
+  const std::vector<uint32_t>& order = split.order;
+  Deformed a = run_forward(f, all), b = run_forward(f, split);
+  Cotangents va = make_cotangents(9), vb = make_cotangents(9);
+  engine::Context& ctx = test::context();
+  // The split scene's cotangents in its order, so Gaussian order[j] has the same ones in both runs.
+  for (auto [host, buffer] : {std::pair{&vb.host.means, &vb.v_means}, {&vb.host.log_scales, &vb.v_log_scales},
+                              {&vb.host.quats, &vb.v_quats}, {&vb.host.opacity_logits, &vb.v_opacity}, {&vb.host.sh, &vb.v_sh}}) {
+    *host = deform::gather_rows<float>(*host, order, host->size() / kN);
+    ctx.upload(*buffer, std::span<const float>(*host));
+  }
+  run_backward(f, all, va);
+  run_backward(f, split, vb);
+  const std::vector<float> means_a = ctx.download<float>(a.means, 3 * kN), means_b = ctx.download<float>(b.means, 3 * kN);
+  const std::vector<float> sh_a = ctx.download<float>(a.sh, 48 * kN), sh_b = ctx.download<float>(b.sh, 48 * kN);
+  const std::vector<float> v_a = ctx.download<float>(va.v_means, 3 * kN), v_b = ctx.download<float>(vb.v_means, 3 * kN);
+  for (uint32_t j = 0; j < kN - split.static_count; ++j) {  // per-Gaussian work: no reordering of sums
+    const uint32_t i = order[j];
+    for (int k = 0; k < 3; ++k) REQUIRE(means_b[3 * j + k] == means_a[3 * i + k]);
+    for (int k = 0; k < 48; ++k) REQUIRE(sh_b[48 * j + k] == sh_a[48 * i + k]);
+    for (int k = 0; k < 3; ++k) REQUIRE(v_b[3 * j + k] == v_a[3 * i + k]);
+  }
 }
 
 TEST_CASE("deform_fwd is deterministic: a rerun gives identical bits") {
@@ -251,6 +302,29 @@ TEST_CASE("static Gaussians give the field no gradient and keep their cotangents
   CHECK(std::all_of(v_planes.begin(), v_planes.end(), [](float x) { return x == 0.0f; }));
   CHECK(std::all_of(v_mlp.begin(), v_mlp.end(), [](float x) { return x == 0.0f; }));
   CHECK(ctx.download<float>(v.v_means, 3 * kN) == v.host.means);
+}
+
+TEST_CASE("rendering a run whose checkpoint marks static Gaussians anywhere (before the split) keeps them canonical") {
+  const deform::FieldConfig c = test_config();
+  Field f = make_field(c, 35);
+  const Scene s = make_scene(c, 36, 0);
+  io::GaussianCloud cloud;
+  cloud.means = s.host.means, cloud.log_scales = s.host.log_scales, cloud.quats = s.host.quats;
+  cloud.opacity_logits = s.host.opacity_logits, cloud.sh = s.host.sh, cloud.sh_degree = 3;
+  std::vector<uint32_t> mask(kN, 0);
+  for (uint32_t i = 0; i < kN; i += 3) mask[i] = mask[i + 1] = 1;  // runs of two static Gaussians
+  const std::vector<float> planes = f.gpu.download_planes(), mlp = f.gpu.download_mlp();
+  engine::Context& ctx = test::context();
+  scene::DeformedScene all(ctx, cloud, c, planes, mlp, {}, 3), old(ctx, cloud, c, planes, mlp, mask, 3);
+  const std::vector<float> means_all = ctx.download<float>(*all.at(kTime, {}).means, 3 * kN);
+  const splat::GaussianParams p = old.at(kTime, {});
+  const std::vector<float> means = ctx.download<float>(*p.means, 3 * kN), sh = ctx.download<float>(*p.sh, 48 * kN);
+  for (uint32_t i = 0; i < kN; ++i) {  // the checkpoint's order, every value bit for bit
+    const std::vector<float>& want = mask[i] ? s.host.means : means_all;
+    for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == want[3 * i + k]);
+    if (mask[i])
+      for (int k = 0; k < 48; ++k) REQUIRE(sh[48 * i + k] == s.host.sh[48 * i + k]);
+  }
 }
 
 TEST_CASE("deform_reg matches the twin: regulariser value and accumulated plane gradient") {

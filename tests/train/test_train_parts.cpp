@@ -9,9 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "s4d/deform/static_split.h"
 #include "s4d/train/checkpoint.h"
 #include "s4d/train/evaluate.h"
 #include "s4d/train/init_cloud.h"
+#include "s4d/train/split_state.h"
 #include "s4d/train/train_config.h"
 #include "s4d/train/view_sampler.h"
 
@@ -157,4 +159,35 @@ TEST_CASE("psnr_of clamps the render and uses the mean over all channels") {
   CHECK(train::psnr_of(image, target) == doctest::Approx(20.0));  // mse 0.01
   image.assign(12, 7.0f);                                         // clamped to 1: mse 0.25
   CHECK(train::psnr_of(image, target) == doctest::Approx(-10 * std::log10(0.25)));
+}
+
+TEST_CASE("the static split puts static Gaussians last, stably, and moves every per-Gaussian array with them") {
+  const std::vector<uint32_t> mask = {1, 0, 0, 1, 0, 1, 0};
+  const deform::StaticSplit split = deform::split_static(mask);
+  CHECK(split.order == std::vector<uint32_t>{1, 2, 4, 6, 0, 3, 5});
+  CHECK(split.static_count == 3);
+  CHECK_FALSE(split.identity());
+  CHECK(deform::split_static(deform::tail_mask(7, 3)).identity());  // what checkpoints hold: already in order
+  CHECK(deform::tail_mask(4, 1) == std::vector<uint32_t>{0, 0, 0, 1});
+  const model::HostState s = small_state(mask.size(), 1);
+  const model::HostState g = train::gather_state(s, split.order);
+  auto row = [](const std::vector<float>& v, size_t width, size_t i) {
+    return std::vector<float>(v.begin() + i * width, v.begin() + (i + 1) * width);
+  };
+  const size_t widths[] = {3, 3, 4, 1, 12};
+  for (size_t j = 0; j < mask.size(); ++j) {
+    const size_t i = split.order[j];
+    CHECK(row(g.cloud.means, 3, j) == row(s.cloud.means, 3, i));
+    CHECK(row(g.cloud.log_scales, 3, j) == row(s.cloud.log_scales, 3, i));
+    CHECK(row(g.cloud.quats, 4, j) == row(s.cloud.quats, 4, i));
+    CHECK(row(g.cloud.opacity_logits, 1, j) == row(s.cloud.opacity_logits, 1, i));
+    CHECK(row(g.cloud.sh, 12, j) == row(s.cloud.sh, 12, i));
+    for (uint32_t a = 0; a < model::kAttrCount; ++a) {
+      CHECK(row(g.m[a], widths[a], j) == row(s.m[a], widths[a], i));
+      CHECK(row(g.v[a], widths[a], j) == row(s.v[a], widths[a], i));
+    }
+    for (uint32_t k = 0; k < model::kStatCount; ++k) CHECK(g.stats[k][j] == s.stats[k][i]);
+  }
+  CHECK(g.cloud.sh_degree == 1);
+  CHECK_THROWS_AS(train::gather_state(s, std::vector<uint32_t>{0, 1}), std::invalid_argument);
 }

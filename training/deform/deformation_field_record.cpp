@@ -75,7 +75,9 @@ void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
   const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h)) require(inputs[h], kHeadNames[h], n * head_floats(h, g.sh_coeffs) * 4, name_);
-  if (g.static_mask) require(g.static_mask, "static_mask", n * 4, name_);
+  if (g.static_count > g.count)
+    throw std::invalid_argument(name_ + ": " + std::to_string(g.static_count) + " static Gaussians of " +
+                                std::to_string(g.count));
 }
 
 gpu::DeformParams DeformationField::params(const CanonicalGaussians& g, float time) const {
@@ -84,9 +86,8 @@ gpu::DeformParams DeformationField::params(const CanonicalGaussians& g, float ti
   p.shape = shape_;
   p.aabb_max = {config_.aabb_max[0], config_.aabb_max[1], config_.aabb_max[2], 0.0f};
   p.aabb_scale = {scale[0], scale[1], scale[2], 0.0f};
-  p.n = g.count;
+  p.n = g.count - g.static_count;
   p.sh_coeffs = g.sh_coeffs;
-  p.flags = g.static_mask ? S4D_DEFORM_HAS_MASK : 0u;
   p.time = time;
   return p;
 }
@@ -111,14 +112,21 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
     if (gpu::deform_head_on(shape_, h))
       require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   check_llvmpipe(ctx_->info(), shape_, false, false, name_);
-  if (g.count == 0) return;
-  // Bindings of heads that are off (and of an absent mask) are never accessed; the means stand in.
+  // Bindings of heads that are off are never accessed; the means stand in.
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  const gpu::DeformParams p = params(g, time);
   rec.begin_label(name_ + " deform_fwd");
-  rec.dispatch(sized_pipeline(*ctx_, shaders::Id::deform_fwd, shape_),
-               {planes_, mlp_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh), in(g.static_mask),
-                in(out.means), in(out.log_scales), in(out.quats), in(out.opacity_logits), in(out.sh)},
-               params(g, time), ceil_div(g.count, S4D_DEFORM_WG));
+  if (p.n > 0)
+    rec.dispatch(sized_pipeline(*ctx_, shaders::Id::deform_fwd, shape_),
+                 {planes_, mlp_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh), in(out.means),
+                  in(out.log_scales), in(out.quats), in(out.opacity_logits), in(out.sh)},
+                 p, ceil_div(p.n, S4D_DEFORM_WG));
+  const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
+  for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
+    if (gpu::deform_head_on(shape_, h) && g.static_count > 0) {  // static: deformed = canonical
+      const size_t row = head_floats(h, g.sh_coeffs) * 4;
+      rec.copy(*inputs[h], *outputs[h], g.static_count * row, p.n * row, p.n * row);
+    }
   rec.end_label();
 }
 
@@ -133,7 +141,8 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
   check_llvmpipe(info, shape_, true, !float_atomics, name_);
-  if (g.count == 0) return;
+  const uint32_t moving = g.count - g.static_count;
+  if (moving == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   const uint32_t rows = scratch_rows();
   gpu::DeformWgradParams wp{};
@@ -145,14 +154,14 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
   const engine::Pipeline& wgrad =
       shader_pipeline(*ctx_, float_atomics ? shaders::Id::deform_wgrad : shaders::Id::deform_wgrad_cas);
   rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
-  for (uint32_t first = 0; first < g.count; first += rows) {
+  for (uint32_t first = 0; first < moving; first += rows) {
     gpu::DeformParams p = params(g, time);
     p.first = first;
-    p.n = std::min(g.count - first, rows) + first;
+    p.n = std::min(moving - first, rows) + first;
     wp.rows = p.n - first;
     rec.barrier();  // the scratch's previous readers are done
     rec.dispatch(bwd,
-                 {planes_, mlp_, *g.means, in(g.static_mask), *v.v_means, in(v.v_log_scales), in(v.v_quats),
+                 {planes_, mlp_, *g.means, *v.v_means, in(v.v_log_scales), in(v.v_quats),
                   in(v.v_opacity_logits), in(v.v_sh), v_planes_, scratch_},
                  p, ceil_div(wp.rows, S4D_DEFORM_WG));
     rec.barrier();

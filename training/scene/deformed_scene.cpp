@@ -1,9 +1,10 @@
 #include "s4d/scene/deformed_scene.h"
 
+#include <iterator>
 #include <string>
 #include <utility>
 
-#include "s4d/engine/buffer_from.h"
+#include "s4d/deform/static_split.h"
 
 namespace s4d::scene {
 namespace {
@@ -28,7 +29,16 @@ DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& cano
     if (static_mask.size() != n)
       throw std::invalid_argument("static mask: " + std::to_string(static_mask.size()) + " entries for " +
                                   std::to_string(n) + " Gaussians");
-    static_mask_ = engine::buffer_from(ctx, "static mask", static_mask);
+    const deform::StaticSplit split = deform::split_static(static_mask);
+    if (split.identity()) {
+      static_count_ = split.static_count;
+    } else {  // written before the trainer put static Gaussians last: keep the checkpoint's order
+      for (uint32_t i = 0; i < n; ++i)
+        if (static_mask[i] != 0) {
+          if (static_runs_.empty() || static_runs_.back().second != i) static_runs_.emplace_back(i, i);
+          static_runs_.back().second = i + 1;
+        }
+    }
   }
   means_ = head_buffer(ctx, field.heads, S4D_DEFORM_HEAD_POS, "means", n * 3);
   log_scales_ = head_buffer(ctx, field.heads, S4D_DEFORM_HEAD_SCALES, "log_scales", n * 3);
@@ -51,10 +61,22 @@ splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
                          .quats = p.quats,
                          .opacity_logits = p.opacity_logits,
                          .sh = p.sh,
-                         .static_mask = static_mask_.valid() ? &static_mask_ : nullptr,
                          .count = p.count,
+                         .static_count = static_count_,
                          .sh_coeffs = p.sh_coeffs},
                         static_cast<float>(time), deformed);
+  if (!static_runs_.empty()) {  // the old mask: static Gaussians get their canonical values back
+    rec.barrier();
+    const std::pair<const engine::Buffer*, engine::Buffer*> pairs[] = {  // canonical, deformed (null: head off)
+        {p.means, deformed.means}, {p.log_scales, deformed.log_scales}, {p.quats, deformed.quats},
+        {p.opacity_logits, deformed.opacity_logits}, {p.sh, deformed.sh}};
+    const size_t widths[] = {3, 3, 4, 1, size_t{3} * p.sh_coeffs};
+    for (size_t h = 0; h < std::size(pairs); ++h)
+      for (const auto& [first, end] : static_runs_)
+        if (pairs[h].second)
+          rec.copy(*pairs[h].first, *pairs[h].second, (end - first) * widths[h] * 4, first * widths[h] * 4,
+                   first * widths[h] * 4);
+  }
   ctx_->run(std::move(rec));
   if (deformed.means) p.means = deformed.means;
   if (deformed.log_scales) p.log_scales = deformed.log_scales;

@@ -10,8 +10,8 @@
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/static_split.h"
 #include "s4d/densify/densifier.h"
-#include "s4d/engine/buffer_from.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
@@ -22,6 +22,7 @@
 #include "s4d/splat/scene_upload.h"
 #include "s4d/train/checkpoint.h"
 #include "s4d/train/init_cloud.h"
+#include "s4d/train/split_state.h"
 #include "s4d/train/view_sampler.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
@@ -105,9 +106,9 @@ struct Trainer::Impl {
   std::array<engine::Buffer, model::kAttrCount> deformed, scratch_grad;
   engine::Buffer batch_stats;
   uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
-  // Gaussians that do not move skip the field (config.static_motion); valid until the count changes.
-  engine::Buffer static_mask;
-  uint32_t mask_for = UINT32_MAX, moving = 0;
+  // The last static_count Gaussians do not move and skip the field (config.static_motion); 0 until
+  // measured and again after densification.
+  uint32_t static_count = 0;
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
 
   std::string stage = "static";
@@ -174,8 +175,8 @@ struct Trainer::Impl {
                   {"field.planes.adam_v", ctx.download<float>(planes_v, field->plane_floats())},
                   {"field.mlp.adam_m", ctx.download<float>(mlp_m, field->mlp_floats())},
                   {"field.mlp.adam_v", ctx.download<float>(mlp_v, field->mlp_floats())}};
-      if (mask_for == gaussians->size()) {
-        const std::vector<uint32_t> mask = ctx.download<uint32_t>(static_mask, mask_for);
+      if (static_count > 0) {
+        const std::vector<uint32_t> mask = deform::tail_mask(gaussians->size(), static_count);
         cp.extra.emplace_back("field.static_mask", std::vector<float>(mask.begin(), mask.end()));
       }
     }
@@ -195,7 +196,7 @@ struct Trainer::Impl {
     static_scores = cp.meta.at("static_test");
     deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
     deform_evaluations_unmasked = cp.meta.at("deform_evaluations_unmasked").get<double>();
-    mask_for = UINT32_MAX;
+    static_count = 0;
     if (!field) {
       aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
       aabb_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
@@ -215,17 +216,22 @@ struct Trainer::Impl {
       if (v.size() * 4 != buffer->size()) throw std::runtime_error(std::string("checkpoint: array '") + name + "' has the wrong size");
       ctx.upload(*buffer, std::span<const float>(v));
     }
-    for (const auto& [name, values] : cp.extra)
-      if (name == "field.static_mask") set_mask(std::vector<uint32_t>(values.begin(), values.end()));
+    for (const auto& [name, values] : cp.extra) {
+      if (name != "field.static_mask") continue;
+      if (values.size() != gaussians->size())
+        throw std::runtime_error("checkpoint: field.static_mask holds " + std::to_string(values.size()) + " entries for " +
+                                 std::to_string(gaussians->size()) + " Gaussians");
+      apply_mask(std::vector<uint32_t>(values.begin(), values.end()));  // checkpoints since the split: already in order
+    }
   }
 
-  void set_mask(const std::vector<uint32_t>& mask) {
-    if (mask.size() != gaussians->size())
-      throw std::runtime_error("checkpoint: field.static_mask holds " + std::to_string(mask.size()) + " entries for " +
-                               std::to_string(gaussians->size()) + " Gaussians");
-    static_mask = engine::buffer_from(ctx, "static mask", mask);
-    mask_for = gaussians->size();
-    moving = static_cast<uint32_t>(std::count(mask.begin(), mask.end(), 0u));
+  // Moves the Gaussians `mask` marks static to the end of memory, every per-Gaussian array with
+  // them, so that the field runs over the moving prefix only.
+  void apply_mask(const std::vector<uint32_t>& mask) {
+    const deform::StaticSplit split = deform::split_static(mask);
+    if (!split.identity())
+      gaussians = std::make_unique<model::TrainableGaussians>(ctx, gather_state(gaussians->download(), split.order), "gaussians");
+    static_count = split.static_count;
   }
 
   // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
@@ -233,7 +239,7 @@ struct Trainer::Impl {
   // only what moves").
   void update_mask() {
     const uint32_t n = gaussians->size();
-    mask_for = UINT32_MAX;  // measure with every Gaussian deformed
+    static_count = 0;  // measure with every Gaussian deformed
     std::vector<float> lo(size_t{n} * 3, INFINITY), hi(size_t{n} * 3, -INFINITY);
     const uint32_t samples = std::max<uint32_t>(2, config.motion_samples);
     for (uint32_t k = 0; k < samples; ++k) {
@@ -247,7 +253,7 @@ struct Trainer::Impl {
       const double dx = hi[i * 3] - lo[i * 3], dy = hi[i * 3 + 1] - lo[i * 3 + 1], dz = hi[i * 3 + 2] - lo[i * 3 + 2];
       mask[i] = std::sqrt(dx * dx + dy * dy + dz * dz) < limit ? 1u : 0u;
     }
-    set_mask(mask);
+    apply_mask(mask);
   }
 
   bool mask_due() const {
@@ -339,8 +345,8 @@ struct Trainer::Impl {
             .quats = &g.param(model::kQuats),
             .opacity_logits = &g.param(model::kOpacity),
             .sh = &g.param(model::kSh),
-            .static_mask = mask_for == g.size() ? &static_mask : nullptr,
             .count = g.size(),
+            .static_count = static_count,
             .sh_coeffs = g.sh_coeffs()};
   }
 
@@ -348,7 +354,7 @@ struct Trainer::Impl {
   splat::GaussianParams deform_to(double time) {
     size_stage2_buffers();
     const uint32_t n = gaussians->size();
-    deform_evaluations += mask_for == n ? moving : n;
+    deform_evaluations += n - static_count;
     deform_evaluations_unmasked += n;
     const uint32_t bits[model::kAttrCount] = {S4D_DEFORM_HEAD_POS, S4D_DEFORM_HEAD_SCALES, S4D_DEFORM_HEAD_ROTATIONS,
                                               S4D_DEFORM_HEAD_OPACITY, S4D_DEFORM_HEAD_SH};
@@ -456,7 +462,7 @@ struct Trainer::Impl {
       rules.budget = config.budget;
       rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
       densifier.densify(*gaussians, rules);
-      mask_for = UINT32_MAX;  // the Gaussians moved in memory: the mask is measured again when due
+      static_count = 0;  // the Gaussians moved in memory: the split is measured again when due
     }
     // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000).
     if (!fine() && it % config.opacity_reset_every == 0) densifier.reset_opacity(*gaussians);
@@ -549,7 +555,7 @@ struct Trainer::Impl {
                         {"static", static_scores},
                         {"deform_evaluations", deform_evaluations},
                         {"deform_evaluations_unmasked", deform_evaluations_unmasked},
-                        {"moving_gaussians", mask_for == gaussians->size() ? moving : gaussians->size()},
+                        {"moving_gaussians", gaussians->size() - static_count},
                         {"device", ctx.info().name},
                         {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                         {"data", fs::absolute(dataset.root).string()},

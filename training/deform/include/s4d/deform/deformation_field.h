@@ -21,15 +21,17 @@
 namespace s4d::deform {
 
 // Canonical (undeformed) Gaussians, flat float layouts as in s4d_splat.h. `means` is always read;
-// the others only when their head is on (they may be null otherwise).
+// the others only when their head is on (they may be null otherwise). The last `static_count`
+// Gaussians are static ("deform only what moves", static_split.h puts them last): the field skips
+// them, so their deformed values are copies of the canonical ones and they feed the field no gradient.
 struct CanonicalGaussians {
   const engine::Buffer* means = nullptr;           // [N*3]
   const engine::Buffer* log_scales = nullptr;      // [N*3]
   const engine::Buffer* quats = nullptr;           // [N*4] (w, x, y, z)
   const engine::Buffer* opacity_logits = nullptr;  // [N]
   const engine::Buffer* sh = nullptr;              // [N*K*3], K = sh_coeffs
-  const engine::Buffer* static_mask = nullptr;     // [N] u32, optional: non-zero = not deformed, no field gradient
   uint32_t count = 0;
+  uint32_t static_count = 0;  // <= count
   uint32_t sh_coeffs = 0;  // K; must be S4D_DEFORM_SH_COEFFS when the sh head is on
 };
 
@@ -97,11 +99,13 @@ class DeformationField {
   void upload_mlp(std::span<const float> values);
 
   void record_zero_grads(engine::Recorder& rec) const;
-  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised).
+  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): deform_fwd
+  // over the moving Gaussians, buffer copies of the static ones.
   void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
   // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
-  // Records deform_bwd then deform_wgrad per scratch_rows() Gaussians, with barriers before, between
-  // and after them (they share the field's scratch buffer).
+  // Records deform_bwd then deform_wgrad per scratch_rows() moving Gaussians, with barriers before,
+  // between and after them (they share the field's scratch buffer); static Gaussians' cotangents are
+  // left as they are (dL/d canonical = dL/d deformed).
   void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
   void record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const;

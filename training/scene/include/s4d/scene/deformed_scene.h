@@ -5,6 +5,8 @@
 #pragma once
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "s4d/deform/deformation_field.h"
 #include "s4d/engine/buffer.h"
@@ -38,7 +40,10 @@ class DeformedScene final : public SceneSource {
   int sh_degree_;
   // The deformed attributes; allocated only for the heads that are on.
   engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
-  engine::Buffer static_mask_;  // empty: every Gaussian is deformed
+  // The static Gaussians: the last static_count_, or (a checkpoint from before the trainer put them
+  // last) the ranges [first, end) in static_runs_, deformed with the rest and then copied back.
+  uint32_t static_count_ = 0;
+  std::vector<std::pair<uint32_t, uint32_t>> static_runs_;
 };
 
 }  // namespace s4d::scene

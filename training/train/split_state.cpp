@@ -1,0 +1,30 @@
+#include "s4d/train/split_state.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "s4d/deform/static_split.h"
+
+namespace s4d::train {
+
+model::HostState gather_state(const model::HostState& s, std::span<const uint32_t> order) {
+  const size_t n = s.cloud.size();
+  if (order.size() != n)
+    throw std::invalid_argument("gather_state: an order of " + std::to_string(order.size()) + " for " +
+                                std::to_string(n) + " Gaussians");
+  auto gather = [&](const std::vector<float>& values) {
+    return deform::gather_rows<float>(values, order, n == 0 ? 0 : values.size() / n);
+  };
+  model::HostState out;
+  out.cloud.sh_degree = s.cloud.sh_degree;
+  out.cloud.means = gather(s.cloud.means);
+  out.cloud.log_scales = gather(s.cloud.log_scales);
+  out.cloud.quats = gather(s.cloud.quats);
+  out.cloud.opacity_logits = gather(s.cloud.opacity_logits);
+  out.cloud.sh = gather(s.cloud.sh);
+  for (size_t a = 0; a < s.m.size(); ++a) out.m[a] = gather(s.m[a]), out.v[a] = gather(s.v[a]);
+  for (size_t k = 0; k < s.stats.size(); ++k) out.stats[k] = gather(s.stats[k]);
+  return out;
+}
+
+}  // namespace s4d::train
