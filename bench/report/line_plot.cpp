@@ -3,21 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <stdexcept>
+
+#include "plot_canvas.h"
 
 namespace s4d::bench {
 
 namespace {
 
 constexpr int kW = 800, kH = 450, kLeft = 90, kRight = 170, kTop = 55, kBottom = 60;
-
-std::string tick_text(double v) {
-  std::ostringstream s;
-  s.precision(std::abs(v) >= 100 ? 0 : 3);
-  s << std::fixed << v;
-  return s.str();
-}
 
 // Colours (RGB) that stay apart for a handful of methods.
 const cv::Scalar kColours[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14}, {148, 103, 189}, {140, 86, 75}};
@@ -47,7 +41,7 @@ io::ImageF line_plot(const std::string& title, const std::string& x_label, const
     const double v = lo + (hi - lo) * t / 5;
     cv::line(img, {x0, py(v)}, {x1, py(v)}, grid, 1);
     cv::line(img, {x0 - 5, py(v)}, {x0, py(v)}, black, 1);
-    cv::putText(img, tick_text(v), {8, py(v) + 4}, font, 0.4, black, 1, cv::LINE_AA);
+    cv::putText(img, tick_text(v, 3), {8, py(v) + 4}, font, 0.4, black, 1, cv::LINE_AA);
   }
   const int xticks = int(std::min<size_t>(n, 6));
   for (int t = 0; t < xticks; ++t) {  // x ticks at whole indices
@@ -69,11 +63,7 @@ io::ImageF line_plot(const std::string& title, const std::string& x_label, const
     cv::line(img, {x1 + 15, ly}, {x1 + 40, ly}, colour, 2);
     cv::putText(img, series[k].name, {x1 + 45, ly + 4}, font, 0.45, black, 1, cv::LINE_AA);
   }
-  io::ImageF out{kW, kH, 3, std::vector<float>(size_t(kW) * kH * 3)};
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      for (int c = 0; c < 3; ++c) out.data[(size_t(y) * kW + x) * 3 + c] = img.at<cv::Vec3b>(y, x)[c] / 255.0f;
-  return out;
+  return canvas_image(img);
 }
 
 }  // namespace s4d::bench

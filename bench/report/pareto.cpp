@@ -4,21 +4,15 @@
 #include <cmath>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <stdexcept>
+
+#include "plot_canvas.h"
 
 namespace s4d::bench {
 
 namespace {
 
 constexpr int kW = 900, kH = 500, kLeft = 70, kRight = 100, kTop = 50, kBottom = 60;
-
-std::string tick_text(double v) {
-  std::ostringstream s;
-  s.precision(std::abs(v) >= 100 ? 0 : 2);
-  s << std::fixed << v;
-  return s.str();
-}
 
 // [lo, hi] padded by 5%, or a unit range around a single value.
 std::pair<double, double> padded(double lo, double hi) {
@@ -76,9 +70,9 @@ io::ImageF pareto_plot(const std::string& title, const std::string& cost_label, 
     const double q = qlo + (qhi - qlo) * t / 5, c = clo + (chi - clo) * t / 5;
     const int y = y0 - (y0 - y1) * t / 5, x = x0 + (x1 - x0) * t / 5;
     cv::line(img, {x0, y}, {x1, y}, grid, 1);
-    cv::putText(img, tick_text(q), {8, y + 4}, font, 0.4, black, 1, cv::LINE_AA);
+    cv::putText(img, tick_text(q, 2), {8, y + 4}, font, 0.4, black, 1, cv::LINE_AA);
     cv::line(img, {x, y0}, {x, y0 + 5}, black, 1);
-    cv::putText(img, tick_text(log_cost ? std::pow(10.0, c) : c), {x - 14, y0 + 20}, font, 0.4, black, 1, cv::LINE_AA);
+    cv::putText(img, tick_text(log_cost ? std::pow(10.0, c) : c, 2), {x - 14, y0 + 20}, font, 0.4, black, 1, cv::LINE_AA);
   }
   cv::line(img, {x0, y0}, {x1, y0}, black, 1);
   cv::line(img, {x0, y0}, {x0, y1}, black, 1);
@@ -94,11 +88,7 @@ io::ImageF pareto_plot(const std::string& title, const std::string& cost_label, 
     cv::circle(img, at, best ? 5 : 4, best ? on_front : other, -1, cv::LINE_AA);
     cv::putText(img, points[i].label, {at.x + 7, at.y - 6}, font, 0.35, best ? on_front : other, 1, cv::LINE_AA);
   }
-  io::ImageF out{kW, kH, 3, std::vector<float>(size_t(kW) * kH * 3)};
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
-      for (int c = 0; c < 3; ++c) out.data[(size_t(y) * kW + x) * 3 + c] = img.at<cv::Vec3b>(y, x)[c] / 255.0f;
-  return out;
+  return canvas_image(img);
 }
 
 }  // namespace s4d::bench
