@@ -51,28 +51,6 @@ Chw<T> conv3x3(const Chw<T>& x, const std::vector<T>& weight, const std::vector<
   return y;
 }
 
-// Conv2d(cin, cout, 3, padding=1) (zero padding, torchvision's VGG): weight [cout, cin, 3, 3].
-template <class T>
-Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
-                        bool with_relu) {
-  Chw<T> y(cout, x.h, x.w);
-  for (uint32_t o = 0; o < cout; ++o)
-    for (uint32_t py = 0; py < x.h; ++py)
-      for (uint32_t px = 0; px < x.w; ++px) {
-        T acc = bias[o];
-        for (uint32_t i = 0; i < x.c; ++i)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int64_t sy = int64_t{py} + dy, sx = int64_t{px} + dx;
-              if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
-              acc += weight[((size_t{o} * x.c + i) * 3 + (dy + 1)) * 3 + (dx + 1)] *
-                     x.at(i, static_cast<uint32_t>(sy), static_cast<uint32_t>(sx));
-            }
-        y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
-      }
-  return y;
-}
-
 // Conv2d(cin, cout, k, stride, padding) with zero padding: weight [cout, cin, k, k].
 template <class T>
 Chw<T> conv2d(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout, uint32_t k,
@@ -93,6 +71,13 @@ Chw<T> conv2d(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T
         y.at(o, py, px) = with_relu ? std::max(acc, T(0)) : acc;
       }
   return y;
+}
+
+// Conv2d(cin, cout, 3, padding=1) (zero padding, torchvision's VGG): the twin of nn::conv3x3_zero_pad.
+template <class T>
+Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t cout,
+                        bool with_relu) {
+  return conv2d(x, weight, bias, cout, 3, 1, 1, with_relu);
 }
 
 // MaxPool2d(3, 2) (floor mode).
