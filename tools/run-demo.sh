@@ -3,5 +3,5 @@
 # Usage: tools/run-demo.sh [OUT_DIR]   (default: out/demo)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh
+tools/setup.sh style4d  # the program only: the tests' build is not the demo's
 exec "${S4D_BUILD_DIR:-build}/style4d" demo --out "${1:-out/demo}"

@@ -2,6 +2,7 @@
 # Sets up a fresh Debian 12 machine for style4d and builds it: installs the missing Debian
 # packages (with sudo when not root), configures and builds into build/ (override with
 # S4D_BUILD_DIR). Safe to re-run: installs only what is missing, rebuilds only what changed.
+# Usage: tools/setup.sh [TARGET...]   (default: every target, the tests included)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -29,4 +30,8 @@ build_dir="${S4D_BUILD_DIR:-build}"
 preset_flags=(-DCMAKE_BUILD_TYPE=Release)
 [ "${CI:-}" = "true" ] && preset_flags+=(-DS4D_WERROR=ON)
 cmake -S . -B "$build_dir" -G Ninja "${preset_flags[@]}" >/dev/null
-cmake --build "$build_dir" --parallel "$(nproc)"
+if [ $# -gt 0 ]; then
+  cmake --build "$build_dir" --parallel "$(nproc)" --target "$@"
+else
+  cmake --build "$build_dir" --parallel "$(nproc)"
+fi
