@@ -7,14 +7,14 @@
 # pareto_device_peak_mib.png. Finished points are kept, so an interrupted sweep continues.
 #
 # Usage: bench/pareto_sweep.sh [OUT_DIR]
-#   ITERS / FINE_ITERS (default 1200 / 1500, the fast preset's) set the base point's run length;
+#   ITERS / FINE_ITERS (default 900 / 1500, the fast preset's) set the base point's run length;
 #   smaller values give a quick sweep of the same shape. Wall-clock times: run it on a quiet machine
 #   (on two lavapipe cores each full-length point takes about 20 minutes).
 set -euo pipefail
 out="${1:-out/pareto_sweep}"
 build="${S4D_BUILD_DIR:-build}"
 exe="$build/style4d"
-iters="${ITERS:-1200}"
+iters="${ITERS:-900}"
 fine="${FINE_ITERS:-1500}"
 mkdir -p "$out"
 [ -f "$out/data/poses_bounds.npy" ] || "$exe" synth --out "$out/data" > "$out/synth.log" 2>&1

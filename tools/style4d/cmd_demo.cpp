@@ -67,9 +67,9 @@ int cmd_demo(const std::vector<std::string>& argv) {
       {"out", "output directory (created; default style4d-demo); an interrupted demo continues in it", true, "DIR"},
       {"keys", "keys for the GPU sort/scan check (default 1048576)", true, "N"},
       {"iters", "static-stage iterations (default: the fast preset's)", true, "N"},
-      {"fine-iters", "4DGS fine-stage iterations (default: the fast preset's)", true, "N"},
+      {"fine-iters", "4DGS fine-stage iterations (default 1200)", true, "N"},
       {"style-iters", "stage-4 iterations (default 500)", true, "N"},
-      {"mlp-iters", "the last N stage-4 iterations also train the style MLPs (default 100)", true, "N"},
+      {"mlp-iters", "the last N stage-4 iterations also train the style MLPs (default 60)", true, "N"},
       {"spiral-frames", "frames of the spiral protocol and video (default 60)", true, "N"},
   };
   Args args(argv, specs);
@@ -85,12 +85,13 @@ int cmd_demo(const std::vector<std::string>& argv) {
   const uint32_t keys = parse_number<uint32_t>("keys", args.get_or("keys", "1048576"));
   train::TrainConfig config = train::preset_config("fast");
   if (auto v = args.get("iters")) train::set_iterations(config, parse_number<uint32_t>("iters", *v));
-  if (auto v = args.get("fine-iters")) train::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", *v));
-  // Stage 4 is shortened from stylize's 1500/300 so the whole demo fits 30 minutes on two lavapipe
-  // cores (README, "The demo").
+  // The fine stage and stage 4 are shortened from fast's 1500 and stylize's 1500/300 so that the
+  // build and the demo fit 30 minutes on two lavapipe cores (README, "The demo": with fast's full
+  // fine stage and 100 MLP steps the demo alone took 29.5 minutes).
+  train::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
   StylizeRequest request;
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));
-  request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "100"));
+  request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
   const std::string spiral_frames = args.get_or("spiral-frames", "60");
   fs::create_directories(out);
   const auto start = Clock::now();
