@@ -1,6 +1,7 @@
 // s4d_pareto_report POINTS.jsonl OUT_DIR: the speed/accuracy report of a sweep (bench/pareto_sweep.sh).
 // Each line of POINTS.jsonl is one setting: {"label": ..., "seconds": ..., "device_peak_mib": ...,
-// "test_psnr": ..., "test_ssim": ..., more keys kept as they are}. Writes OUT_DIR/pareto.json (every
+// "test_psnr": ..., "test_ssim": ..., "warp_error" and "warp_error_2d" for stylized runs, more keys kept
+// as they are}. Writes OUT_DIR/pareto.json (every
 // point and, per cost, the labels on the front), pareto.md (a table by time with the fronts marked)
 // and one plot per cost, pareto_seconds.png and pareto_device_peak_mib.png (test PSNR against it).
 #include <nlohmann/json.hpp>
@@ -54,8 +55,12 @@ std::string table(const std::vector<json>& points, const json& fronts) {
   std::vector<size_t> order(points.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return points[a]["seconds"] < points[b]["seconds"]; });
+  // Stylized sweeps also carry the spiral render's warp error and the 2D stylizer's on the same path.
+  const bool warp = std::any_of(points.begin(), points.end(), [](const json& p) { return p.contains("warp_error"); });
   std::ostringstream md;
-  md << "| setting | seconds | device MiB | test PSNR (dB) | test SSIM | front (time) | front (memory) |\n|---|---|---|---|---|---|---|\n";
+  md << "| setting | seconds | device MiB | test PSNR (dB) | test SSIM |" << (warp ? " warp error (spiral) | 2D stylizer's warp error (spiral) |" : "")
+     << " front (time) | front (memory) |\n|---|---|---|---|---|" << (warp ? "---|---|" : "") << "---|---|\n";
+  auto optional = [](const json& p, const char* key) { return p.contains(key) ? p[key].dump() : std::string(); };
   auto on = [&](const char* cost, const std::string& label) {
     const json& f = fronts.at(cost);
     return std::find(f.begin(), f.end(), label) != f.end() ? "yes" : "";
@@ -64,8 +69,9 @@ std::string table(const std::vector<json>& points, const json& fronts) {
     const json& p = points[i];
     const std::string label = p.at("label");
     md << "| " << label << " | " << p.at("seconds").get<double>() << " | " << p.at("device_peak_mib").get<double>() << " | "
-       << p.at(kQuality).get<double>() << " | " << (p.contains("test_ssim") ? p["test_ssim"].dump() : "") << " | "
-       << on("seconds", label) << " | " << on("device_peak_mib", label) << " |\n";
+       << p.at(kQuality).get<double>() << " | " << optional(p, "test_ssim") << " | ";
+    if (warp) md << optional(p, "warp_error") << " | " << optional(p, "warp_error_2d") << " | ";
+    md << on("seconds", label) << " | " << on("device_peak_mib", label) << " |\n";
   }
   return md.str();
 }

@@ -35,13 +35,14 @@ TEST_CASE("stylize trains a style: stylize.json, the style file, the stylized fr
   CHECK(j.at("stage3").at("frames") == 12);  // 4 cameras x 3 frames
   CHECK(j.at("stage4").at("iterations") == 60);
   CHECK(std::isfinite(j.at("stage4").at("test_psnr_vs_stylized").get<double>()));
-  for (const char* k : {"spiral_styled_render", "spiral_original_render", "stylized_frames_2d", "content_frames"})
+  for (const char* k : {"spiral_styled_render", "spiral_original_render", "spiral_stylized_2d", "stylized_frames_2d", "content_frames"})
     CHECK(j.at("warp_error").at(k).get<double>() >= 0);
   const nlohmann::json& fixed = j.at("warp_error").at("test_camera");  // cam00 over its 3 frames
   CHECK(fixed.at("frames") == 3);
   for (const char* k : {"content", "stylized_frames_2d", "styled_render"}) CHECK(fixed.at(k).get<double>() >= 0);
   CHECK(fs::exists(dir / "style.s4dstyle"));
   CHECK(fs::exists(dir / "contact_sheet.png"));
+  CHECK(fs::exists(dir / "spiral" / "stylized_2d" / "0003.png"));  // the 2D baseline on the spiral's 4 frames
   CHECK(fs::exists(dir / "stylized" / "cam01" / "0002.png"));
   CHECK(fs::exists(dir / "spiral" / "styled" / "frames.json"));
   CHECK(fs::exists(dir / "eval"));

@@ -119,6 +119,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
             << out.dir.string() << "\n"
             << "  test PSNR against the stylized frames  " << s.at("stage4").at("test_psnr_vs_stylized").get<double>() << " dB\n"
             << "  warp error, spiral render of the style " << s.at("warp_error").at("spiral_styled_render").get<double>() << "\n"
+            << "  warp error, 2D stylizer on the spiral   " << s.at("warp_error").at("spiral_stylized_2d").get<double>() << "\n"
             << "  warp error, 2D stylized frames          " << s.at("warp_error").at("stylized_frames_2d").get<double>() << "\n"
             << "  seconds                                 " << s.at("seconds").get<double>() << "\n";
   return 0;

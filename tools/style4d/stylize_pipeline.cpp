@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -79,9 +80,12 @@ std::vector<io::ImageF> read_sequence(const fs::path& dir, const protocols::Sequ
 }
 
 // Renders the spiral path from the run's original scene and from the style, and measures the
-// temporal warp error of each (DIS flow of the original render, occlusions left out).
+// temporal warp error of each (DIS flow of the original render, occlusions left out). The 2D
+// baseline on the same path: the stage-3 stylizer run on the original spiral render as a video, which
+// is what restyling the spiral's frames in 2D gives; its frames go to DIR/spiral/stylized_2d.
 nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun& run, const std::string& name,
-                                  const fs::path& dir, int frames) {
+                                  const fs::path& dir, int frames, const stylize::Stylizer& stylizer,
+                                  const io::ImageF& style_image, const stylize::StylizeSettings& settings) {
   const std::vector<protocols::Sequence> seqs =
       protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), frames);
   std::vector<std::vector<io::ImageF>> rendered;
@@ -95,9 +99,19 @@ nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun&
         protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), seqs, out, options);
     rendered.push_back(read_sequence(out, r.record.sequences.front()));
   }
+  const std::vector<io::ImageF> stylized_2d = stylizer.stylize(rendered[0], style_image, settings);
+  const fs::path out_2d = dir / "spiral" / "stylized_2d";
+  fs::remove_all(out_2d);
+  fs::create_directories(out_2d);
+  for (size_t i = 0; i < stylized_2d.size(); ++i) {
+    char file[32];
+    std::snprintf(file, sizeof file, "%04zu.png", i);
+    io::write_png(out_2d / file, stylized_2d[i]);
+  }
   return {{"frames", frames},
           {"original_render", stylize::warp_error(rendered[0], rendered[0])},
-          {"styled_render", stylize::warp_error(rendered[0], rendered[1])}};
+          {"styled_render", stylize::warp_error(rendered[0], rendered[1])},
+          {"stylized_2d", stylize::warp_error(rendered[0], stylized_2d)}};
 }
 
 // The test camera's views in time order (DyNeRF: cam00 over its frames); empty when the test views
@@ -225,7 +239,8 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   // What the result looks like and how consistent it is.
   const scene::TrainedRun with_style = scene::read_trained_run(req.run);  // now lists the new style
   const int spiral = req.spiral_frames > 0 ? req.spiral_frames : static_cast<int>(std::max<size_t>(2, frames_per_camera(run.dataset)));
-  const nlohmann::json consistency = spiral_consistency(ctx, with_style, name, out.dir, spiral);
+  const nlohmann::json consistency =
+      spiral_consistency(ctx, with_style, name, out.dir, spiral, *stylizer, style_image, settings);
   double stylized_2d = 0, content_2d = 0;
   for (const auto& s : frames.sequences) stylized_2d += s.stylized_warp_error, content_2d += s.content_warp_error;
   const double sequences = static_cast<double>(std::max<size_t>(1, frames.sequences.size()));
@@ -243,6 +258,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                  {"stage4", stage4},
                  {"warp_error", {{"spiral_styled_render", consistency.at("styled_render")},
                                  {"spiral_original_render", consistency.at("original_render")},
+                                 {"spiral_stylized_2d", consistency.at("stylized_2d")},
                                  {"stylized_frames_2d", stylized_2d},
                                  {"content_frames", content_2d},
                                  {"spiral_frames", spiral},
