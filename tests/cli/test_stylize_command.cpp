@@ -37,6 +37,8 @@ TEST_CASE("stylize trains a style: stylize.json, the style file, the stylized fr
   CHECK(std::isfinite(j.at("stage4").at("test_psnr_vs_stylized").get<double>()));
   for (const char* k : {"spiral_styled_render", "spiral_original_render", "spiral_stylized_2d", "stylized_frames_2d", "content_frames"})
     CHECK(j.at("warp_error").at(k).get<double>() >= 0);
+  for (const char* k : {"original_render", "styled_render", "stylized_2d"})
+    CHECK(j.at("warp_error").at("spiral_exact_flow").at(k).get<double>() >= 0);
   const nlohmann::json& fixed = j.at("warp_error").at("test_camera");  // cam00 over its 3 frames
   CHECK(fixed.at("frames") == 3);
   for (const char* k : {"content", "stylized_frames_2d", "styled_render"}) CHECK(fixed.at(k).get<double>() >= 0);

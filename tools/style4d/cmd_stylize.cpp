@@ -115,12 +115,15 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   const StylizeOutcome out = stylize_run(ctx, req, g_stop);
   if (!out.complete) return 130;
   const nlohmann::json& s = out.summary;
+  const nlohmann::json& exact = s.at("warp_error").at("spiral_exact_flow");
   std::cout << "style " << s.at("style").get<std::string>() << " (" << s.at("method").get<std::string>() << ") in "
             << out.dir.string() << "\n"
             << "  test PSNR against the stylized frames  " << s.at("stage4").at("test_psnr_vs_stylized").get<double>() << " dB\n"
-            << "  warp error, spiral render of the style " << s.at("warp_error").at("spiral_styled_render").get<double>() << "\n"
-            << "  warp error, 2D stylizer on the spiral   " << s.at("warp_error").at("spiral_stylized_2d").get<double>() << "\n"
-            << "  warp error, 2D stylized frames          " << s.at("warp_error").at("stylized_frames_2d").get<double>() << "\n"
+            << "  spiral warp error, exact flow: the style's render " << exact.at("styled_render").get<double>()
+            << ", the 2D stylizer on the spiral " << exact.at("stylized_2d").get<double>() << "\n"
+            << "  spiral warp error, DIS flow:   the style's render " << s.at("warp_error").at("spiral_styled_render").get<double>()
+            << ", the 2D stylizer on the spiral " << s.at("warp_error").at("spiral_stylized_2d").get<double>() << "\n"
+            << "  warp error, 2D stylized frames (training cameras) " << s.at("warp_error").at("stylized_frames_2d").get<double>() << "\n"
             << "  seconds                                 " << s.at("seconds").get<double>() << "\n";
   return 0;
 }

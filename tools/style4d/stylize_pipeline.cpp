@@ -10,6 +10,8 @@
 #include "s4d/bench/contact_sheet.h"
 #include "s4d/data/frame_cache.h"
 #include "s4d/data/npy.h"
+#include "s4d/metrics/flow.h"
+#include "s4d/metrics/warp_loss.h"
 #include "s4d/protocols/protocol.h"
 #include "s4d/protocols/protocol_render.h"
 #include "s4d/scene/style_file.h"
@@ -79,10 +81,26 @@ std::vector<io::ImageF> read_sequence(const fs::path& dir, const protocols::Sequ
   return out;
 }
 
+// Mean over consecutive pairs of the warp loss (metrics/warp_loss.h) under the renderer's exact flow
+// of the original scene, read from FLOW_DIR/fw_NNNN.exr and bw_NNNN.exr.
+double exact_flow_warp_error(const std::vector<io::ImageF>& frames, const fs::path& flow_dir) {
+  auto flow = [&](const char* prefix, size_t pair) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%s_%04zu.exr", prefix, pair);
+    return metrics::read_flow_exr(flow_dir / name);
+  };
+  double sum = 0;
+  for (size_t k = 0; k + 1 < frames.size(); ++k)
+    sum += metrics::warp_error(frames[k], frames[k + 1], flow("fw", k), flow("bw", k)).error;
+  return sum / static_cast<double>(std::max<size_t>(1, frames.size() - 1));
+}
+
 // Renders the spiral path from the run's original scene and from the style, and measures the
-// temporal warp error of each (DIS flow of the original render, occlusions left out). The 2D
-// baseline on the same path: the stage-3 stylizer run on the original spiral render as a video, which
-// is what restyling the spiral's frames in 2D gives; its frames go to DIR/spiral/stylized_2d.
+// temporal warp error of each. The 2D baseline on the same path: the stage-3 stylizer run on the
+// original spiral render as a video, which is what restyling the spiral's frames in 2D gives (frames
+// in DIR/spiral/stylized_2d). Two motions: DIS flow of the original render (occlusions left out), the
+// one stage 3's temporal warm start also follows, and the renderer's exact flow (Style4D-Bench's
+// warp loss), which no 2D stylizer sees; the style keeps the geometry, so one flow serves all three.
 nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun& run, const std::string& name,
                                   const fs::path& dir, int frames, const stylize::Stylizer& stylizer,
                                   const io::ImageF& style_image, const stylize::StylizeSettings& settings) {
@@ -95,10 +113,12 @@ nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun&
     const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source);
     protocols::RenderOptions options;
     options.background = run.dataset.background;
+    options.flow = source == "original";
     const protocols::ProtocolResult r =
         protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), seqs, out, options);
     rendered.push_back(read_sequence(out, r.record.sequences.front()));
   }
+  std::cerr << "[consistency] the 2D stylizer on the " << rendered[0].size() << " spiral frames\n";
   const std::vector<io::ImageF> stylized_2d = stylizer.stylize(rendered[0], style_image, settings);
   const fs::path out_2d = dir / "spiral" / "stylized_2d";
   fs::remove_all(out_2d);
@@ -108,10 +128,15 @@ nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun&
     std::snprintf(file, sizeof file, "%04zu.png", i);
     io::write_png(out_2d / file, stylized_2d[i]);
   }
+  const fs::path flow = dir / "spiral" / "original" / "flow";
   return {{"frames", frames},
           {"original_render", stylize::warp_error(rendered[0], rendered[0])},
           {"styled_render", stylize::warp_error(rendered[0], rendered[1])},
-          {"stylized_2d", stylize::warp_error(rendered[0], stylized_2d)}};
+          {"stylized_2d", stylize::warp_error(rendered[0], stylized_2d)},
+          {"exact_flow",
+           {{"original_render", exact_flow_warp_error(rendered[0], flow)},
+            {"styled_render", exact_flow_warp_error(rendered[1], flow)},
+            {"stylized_2d", exact_flow_warp_error(stylized_2d, flow)}}}};
 }
 
 // The test camera's views in time order (DyNeRF: cam00 over its frames); empty when the test views
@@ -259,6 +284,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                  {"warp_error", {{"spiral_styled_render", consistency.at("styled_render")},
                                  {"spiral_original_render", consistency.at("original_render")},
                                  {"spiral_stylized_2d", consistency.at("stylized_2d")},
+                                 {"spiral_exact_flow", consistency.at("exact_flow")},
                                  {"stylized_frames_2d", stylized_2d},
                                  {"content_frames", content_2d},
                                  {"spiral_frames", spiral},
