@@ -58,7 +58,7 @@ std::string table(const std::vector<json>& points, const json& fronts) {
   // Stylized sweeps also carry the spiral render's warp error and the 2D stylizer's on the same path.
   const bool warp = std::any_of(points.begin(), points.end(), [](const json& p) { return p.contains("warp_error"); });
   std::ostringstream md;
-  md << "| setting | seconds | device MiB | test PSNR (dB) | test SSIM |" << (warp ? " warp error (spiral) | 2D stylizer's warp error (spiral) |" : "")
+  md << "| setting | seconds | device MiB | test PSNR (dB) | test SSIM |" << (warp ? " warp error (spiral, exact flow) | 2D stylizer's (same spiral) |" : "")
      << " front (time) | front (memory) |\n|---|---|---|---|---|" << (warp ? "---|---|" : "") << "---|---|\n";
   auto optional = [](const json& p, const char* key) { return p.contains(key) ? p[key].dump() : std::string(); };
   auto on = [&](const char* cost, const std::string& label) {
