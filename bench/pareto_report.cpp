@@ -51,6 +51,14 @@ std::vector<s4d::bench::TradePoint> trade(const std::vector<json>& points, const
   return t;
 }
 
+std::string fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
 std::string table(const std::vector<json>& points, const json& fronts) {
   std::vector<size_t> order(points.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -60,7 +68,9 @@ std::string table(const std::vector<json>& points, const json& fronts) {
   std::ostringstream md;
   md << "| setting | seconds | device MiB | test PSNR (dB) | test SSIM |" << (warp ? " warp error (spiral, exact flow) | 2D stylizer's (same spiral) |" : "")
      << " front (time) | front (memory) |\n|---|---|---|---|---|" << (warp ? "---|---|" : "") << "---|---|\n";
-  auto optional = [](const json& p, const char* key) { return p.contains(key) ? p[key].dump() : std::string(); };
+  auto optional = [](const json& p, const char* key, int digits) {
+    return p.contains(key) ? fixed(p[key].get<double>(), digits) : std::string();
+  };
   auto on = [&](const char* cost, const std::string& label) {
     const json& f = fronts.at(cost);
     return std::find(f.begin(), f.end(), label) != f.end() ? "yes" : "";
@@ -68,9 +78,9 @@ std::string table(const std::vector<json>& points, const json& fronts) {
   for (size_t i : order) {
     const json& p = points[i];
     const std::string label = p.at("label");
-    md << "| " << label << " | " << p.at("seconds").get<double>() << " | " << p.at("device_peak_mib").get<double>() << " | "
-       << p.at(kQuality).get<double>() << " | " << optional(p, "test_ssim") << " | ";
-    if (warp) md << optional(p, "warp_error") << " | " << optional(p, "warp_error_2d") << " | ";
+    md << "| " << label << " | " << optional(p, "seconds", 0) << " | " << optional(p, "device_peak_mib", 1) << " | "
+       << optional(p, kQuality, 2) << " | " << optional(p, "test_ssim", 3) << " | ";
+    if (warp) md << optional(p, "warp_error", 4) << " | " << optional(p, "warp_error_2d", 4) << " | ";
     md << on("seconds", label) << " | " << on("device_peak_mib", label) << " |\n";
   }
   return md.str();
