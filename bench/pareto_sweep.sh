@@ -19,6 +19,28 @@ fine="${FINE_ITERS:-1500}"
 mkdir -p "$out"
 [ -f "$out/data/poses_bounds.npy" ] || "$exe" synth --out "$out/data" > "$out/synth.log" 2>&1
 
+# A run trained below the data's resolution is scored like the others: its test camera rendered at
+# the full resolution (a copy of the run with downscale 1) against the captured frames, through
+# Style4D-Bench (psnr; content_ssim of the captured frames against the render is the test SSIM).
+# Prints {"test_psnr": ..., "test_ssim": ...}.
+full_resolution_scores() {
+  local run=$1 work="$out/full_resolution/$(basename "$1")"
+  rm -rf "$work"
+  mkdir -p "$work"
+  cp -r "$run" "$work/run"
+  python3 - "$work/run/run.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+j["settings"]["downscale"] = 1
+json.dump(j, open(sys.argv[1], "w"), indent=2)
+PY
+  "$exe" render --run "$work/run" --path test --out "$work/test" > "$work/render.log" 2>&1
+  "$exe" bench --frames "$out/data/cam00" --original "$work/test/cam00" --ground-truth "$out/data/cam00" \
+    --style-image "${STYLE:-assets/styles/builtin.png}" --out "$work/bench" > "$work/bench.log" 2>&1
+  python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))["results"][0]
+print(json.dumps({"test_psnr": r["psnr"], "test_ssim": r["content_ssim"]}))' "$work/bench/report.json"
+}
+
 # point LABEL [train options...]
 point() {
   local label=$1
@@ -30,14 +52,22 @@ point() {
     echo "[sweep] $label: style4d train $*" >&2
     "$exe" train --data "$out/data" --out "$run" --preset fast --iters "$iters" --fine-iters "$fine" "$@" > "$out/runs/$label.log" 2>&1
   fi
-  python3 - "$run/train.json" "$label" "$*" <<'PY'
+  local full="{}"
+  if python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["settings"]["downscale"] == 1)' "$run/run.json"; then
+    full=$(full_resolution_scores "$run")
+  fi
+  python3 - "$run/train.json" "$label" "$*" "$full" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1]))
 s = j["settings"]
-print(json.dumps({"label": sys.argv[2], "options": sys.argv[3], "seconds": j["seconds"],
-                  "device_peak_mib": j["device_peak_mib"], "test_psnr": j["test_psnr"], "test_ssim": j["test_ssim"],
-                  "num_gaussians": j["num_gaussians"], "static_test_psnr": j["static"]["test_psnr"],
-                  "iterations": s["iterations"], "fine_iterations": s["fine_iterations"], "device": j["device"]}))
+point = {"label": sys.argv[2], "options": sys.argv[3], "seconds": j["seconds"],
+         "device_peak_mib": j["device_peak_mib"], "test_psnr": j["test_psnr"], "test_ssim": j["test_ssim"],
+         "num_gaussians": j["num_gaussians"], "static_test_psnr": j["static"]["test_psnr"],
+         "iterations": s["iterations"], "fine_iterations": s["fine_iterations"], "device": j["device"]}
+full = json.loads(sys.argv[4])
+if full:  # trained below full resolution: keep its own-resolution scores aside
+    point.update({"test_psnr_own_resolution": point["test_psnr"], "test_ssim_own_resolution": point["test_ssim"], **full})
+print(json.dumps(point))
 PY
 }
 
