@@ -8,7 +8,8 @@
 #
 # Usage: bench/pareto_sweep.sh [OUT_DIR]
 #   ITERS / FINE_ITERS (default 900 / 1500, the fast preset's) set the base point's run length;
-#   smaller values give a quick sweep of the same shape. Wall-clock times: run it on a quiet machine
+#   smaller values give a quick sweep of the same shape. REPORT_ONLY=1 writes the reports from the
+#   points finished so far and trains nothing. Wall-clock times: run it on a quiet machine
 #   (on two lavapipe cores each full-length point takes about 20 minutes).
 set -euo pipefail
 out="${1:-out/pareto_sweep}"
@@ -47,6 +48,7 @@ point() {
   shift
   local run="$out/runs/$label"
   if [ ! -f "$run/train.json" ] || ! grep -q '"complete": true' "$run/train.json"; then
+    [ -z "${REPORT_ONLY:-}" ] || return 0
     rm -rf "$run"
     mkdir -p "$out/runs"
     echo "[sweep] $label: style4d train $*" >&2
@@ -77,6 +79,7 @@ style_point() {
   shift
   local dir="$out/runs/base/style/$label"
   if [ ! -f "$dir/stylize.json" ]; then
+    [ -z "${REPORT_ONLY:-}" ] || return 0
     echo "[sweep] $label: style4d stylize $*" >&2
     "$exe" stylize --run "$out/runs/base" --style "$style" --name "$label" "$@" > "$out/runs/style_$label.log" 2>&1
   fi
