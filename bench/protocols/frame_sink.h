@@ -24,7 +24,4 @@ class FrameSink {
 std::unique_ptr<FrameSink> make_frame_sink(Format format, const std::filesystem::path& dir, int width, int height,
                                            int frames, double fps);
 
-// "fw_0012.exr": the flow file names bench/metrics reads (frames_eval.cpp, "%s_%04d.exr").
-std::string flow_file_name(const char* prefix, int pair);
-
 }  // namespace s4d::protocols

@@ -85,9 +85,7 @@ std::vector<io::ImageF> read_sequence(const fs::path& dir, const protocols::Sequ
 // of the original scene, read from FLOW_DIR/fw_NNNN.exr and bw_NNNN.exr.
 double exact_flow_warp_error(const std::vector<io::ImageF>& frames, const fs::path& flow_dir) {
   auto flow = [&](const char* prefix, size_t pair) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%s_%04zu.exr", prefix, pair);
-    return metrics::read_flow_exr(flow_dir / name);
+    return metrics::read_flow_exr(flow_dir / protocols::flow_file_name(prefix, static_cast<int>(pair)));
   };
   double sum = 0;
   for (size_t k = 0; k + 1 < frames.size(); ++k)

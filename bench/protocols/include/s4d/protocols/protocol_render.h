@@ -51,6 +51,10 @@ struct ProtocolResult {
   std::vector<SequenceStats> stats;
 };
 
+// "fw_0012.exr": the name of a pair's flow file in a sequence's flow/ (the names bench/metrics reads,
+// frames_eval.cpp).
+std::string flow_file_name(const char* prefix, int pair);
+
 // Throws std::invalid_argument before writing anything when `out` exists and is not an empty folder,
 // a sequence is empty, or mp4 is asked for an odd frame size; rendering and file errors propagate.
 ProtocolResult render_protocol(engine::Context& ctx, scene::SceneSource& scene, const PathSpec& path,
