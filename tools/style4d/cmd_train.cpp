@@ -75,7 +75,9 @@ train::TrainConfig config_from_args(const Args& args) {
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = std::max(1u, parse_number<uint32_t>("checkpoint-every", *v));
   // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
   nlohmann::json j = train::to_json(c);
+  bool background_given = args.get("background").has_value();
   for (const std::string& kv : args.get_all("set")) {
+    background_given = background_given || kv.starts_with("background=");
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
       throw std::invalid_argument("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
@@ -85,7 +87,9 @@ train::TrainConfig config_from_args(const Args& args) {
       j[kv.substr(0, eq)] = kv.substr(eq + 1);  // a bare word: a string setting such as the preset name
     }
   }
-  return train::config_from_json(j);
+  train::TrainConfig out = train::config_from_json(j);
+  out.background_given = background_given;
+  return out;
 }
 
 }  // namespace

@@ -74,16 +74,18 @@ double camera_extent(const Dataset& dataset) {
 
 }  // namespace
 
-void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background) {
+void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background,
+                    const std::vector<std::filesystem::path>& point_files) {
   dataset.downscale = options.downscale;
-  dataset.background = options.background.value_or(default_background);
-  for (size_t k = 0; k < 3; ++k) {
-    const float b = dataset.background[k];
-    if (!(b >= 0.0f && b <= 1.0f)) fail(dataset.root, "background components must be in [0, 1]");
-  }
   dataset.extent = camera_extent(dataset);
-  const auto ply = dataset.root / "points3D.ply";
-  if (std::filesystem::exists(ply)) read_point_cloud(ply, dataset.points, dataset.colors);
+  choose_background(dataset, options, default_background);
+  for (const std::filesystem::path& name : point_files) {
+    const std::filesystem::path file = dataset.root / name;
+    if (!std::filesystem::exists(file)) continue;
+    read_points(file, dataset.points, dataset.colors);
+    dataset.points_file = file;
+    break;
+  }
 }
 
 }  // namespace s4d::data::detail

@@ -2,8 +2,10 @@
 // probing, intrinsics downscaling and the scene-level fields every layout fills the same way.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "s4d/data/dataset.h"
 
@@ -25,12 +27,35 @@ void downscale_camera(io::CameraView& camera, int factor);
 // options.downscale, checked to be >= 1 (the error names the dataset root).
 int checked_downscale(const std::filesystem::path& root, const LoadOptions& options);
 
-// Fills downscale, background (the layout default when unset), extent and the optional points3D.ply
-// point cloud. Views must already be loaded.
-void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background);
+// Fills downscale, background (the layout default when unset), extent and the point cloud: the first of
+// `point_files` (paths relative to the root, in order of preference) that exists is read with
+// read_points. Views must already be loaded.
+void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background,
+                    const std::vector<std::filesystem::path>& point_files = {"points3D.ply"});
 
-// Reads x, y, z (float) and red, green, blue (uchar) of every vertex of a PLY file (binary little
-// endian or ASCII) into [P * 3] positions and [P * 3] colours in [0, 1].
+// What a few training frames say about the background: alpha present, or the uniform colour of the
+// opaque frames' borders (background.cpp).
+struct BackgroundProbe {
+  bool alpha = false;
+  std::optional<std::array<float, 3>> border;
+  size_t frames = 0;
+};
+BackgroundProbe probe_background(const Dataset& dataset);
+
+// Sets dataset.background and its source: --background when given (with a conflict noted when the
+// frames' borders say otherwise), else the layout default for frames with alpha, else the borders'
+// uniform colour, else the layout default.
+void choose_background(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& layout_default);
+
+// Reads an initial point cloud by its file name: *.ply (read_point_cloud), *.npy ([P, 3] positions,
+// no colours), points3D.bin / points3D.txt (read_colmap_points). Colours default to mid grey.
+void read_points(const std::filesystem::path& path, std::vector<float>& points, std::vector<float>& colors);
+
+// Reads x, y, z (float or double) and, when present, red, green, blue (uchar) of every vertex of a
+// PLY file (binary little endian or ASCII) into [P * 3] positions and [P * 3] colours in [0, 1].
 void read_point_cloud(const std::filesystem::path& path, std::vector<float>& points, std::vector<float>& colors);
+
+// COLMAP's points3D.bin or points3D.txt (colmap_model.cpp): positions and colours of every point.
+void read_colmap_points(const std::filesystem::path& path, std::vector<float>& points, std::vector<float>& colors);
 
 }  // namespace s4d::data::detail

@@ -2,6 +2,8 @@
 //   poses_bounds.npy   N x 17: per camera, LLFF's 3x5 [c2w rotation | centre | (H, W, focal)] row-major,
 //                      then near and far (unused: we do not use NDC rays)
 //   camNN/NNNN.png     frames of camera NN; cameras sorted by name match rows in order
+//   camNN/images/NNNN.png  the same, as 4DGaussians' preprocessing writes them (used when camNN/ has no
+//                      .png of its own); its point cloud points3D_downsample2.ply
 //   camNN.mp4          or camera NN as one video, used when there is no camNN/ folder (a folder wins:
 //                      its PNGs are lossless); the frame count is the one the container declares
 // The rotation columns are in LLFF axes order (down, right, backwards). OpenGL columns (right, up,
@@ -38,13 +40,20 @@ struct CameraSource {
   int width = 0, height = 0;     // full-resolution frame size
 };
 
-CameraSource folder_camera(const fs::path& root, const std::string& name) {
-  CameraSource camera{name, {}, {}, 0, {}, 0, 0};
-  for (const auto& entry : fs::directory_iterator(root / name)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".png") camera.frames.push_back(entry.path());
+std::vector<fs::path> png_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  if (!fs::is_directory(dir)) return files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".png") files.push_back(entry.path());
   }
-  std::sort(camera.frames.begin(), camera.frames.end());
-  if (camera.frames.empty()) fail(root / name, "no .png frames");
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+CameraSource folder_camera(const fs::path& root, const std::string& name) {
+  CameraSource camera{name, png_files(root / name), {}, 0, {}, 0, 0};
+  if (camera.frames.empty()) camera.frames = png_files(root / name / "images");
+  if (camera.frames.empty()) fail(root / name, "no .png frames (looked in " + name + "/ and " + name + "/images/)");
   camera.frame_count = camera.frames.size();
   camera.first = camera.frames[0];
   std::tie(camera.width, camera.height) = detail::png_size(camera.first);
@@ -149,6 +158,12 @@ std::string frame_stem(size_t frame) {
   return buf;
 }
 
+// "dynerf-frames", "dynerf-4dgaussians" (frames in camNN/images/) or "dynerf-video", after the first camera.
+std::string layout_name(const CameraSource& camera) {
+  if (camera.frames.empty()) return "dynerf-video";
+  return camera.frames[0].parent_path().filename() == "images" ? "dynerf-4dgaussians" : "dynerf-frames";
+}
+
 }  // namespace
 
 Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
@@ -165,6 +180,7 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
 
   Dataset dataset;
   dataset.kind = "dynerf";
+  dataset.layout = layout_name(cameras[0]);
   dataset.root = root;
   const size_t frame_count = cameras[0].frame_count;
   for (size_t c = 0; c < cameras.size(); ++c) {
@@ -198,7 +214,7 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
       dataset.views.push_back(std::move(view));
     }
   }
-  detail::finish_dataset(dataset, options, {0.0f, 0.0f, 0.0f});
+  detail::finish_dataset(dataset, options, {0.0f, 0.0f, 0.0f}, {"points3D.ply", "points3D_downsample2.ply"});
   return dataset;
 }
 

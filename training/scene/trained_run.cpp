@@ -94,7 +94,8 @@ TrainedRun read_trained_run(const fs::path& root) {
     incomplete(root, missing,
                no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
                                               : "finish it with `style4d train --resume " + root.string() + "`");
-  out.dataset = data::load_dataset(data_path, {.downscale = out.config.downscale, .background = out.config.background});
+  out.dataset = data::load_dataset(data_path, {.downscale = out.config.downscale, .background = out.config.background,
+                                                .probe_background = false});
   if (out.dataset.views.empty()) throw std::runtime_error(data_path.string() + ": the dataset has no views");
   for (const std::string& name : list_styles(root)) out.styles.push_back(name);
   return out;

@@ -1,5 +1,6 @@
 #include "s4d/train/init_cloud.h"
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -101,10 +102,41 @@ io::GaussianCloud cloud_from_points(const std::vector<float>& points, const std:
   return c;
 }
 
-io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uint32_t random_points, uint32_t seed) {
-  if (!dataset.points.empty()) return cloud_from_points(dataset.points, dataset.colors, sh_degree);
-  if (random_points == 0) throw std::invalid_argument(dataset.root.string() + ": no points3D.ply and no random points asked for");
-  // The cameras look at the scene: centre the cube on the point nearest to all optical axes.
+void voxel_downsample(std::vector<float>& points, std::vector<float>& colors, double voxel) {
+  struct Sum {
+    double p[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+    size_t n = 0;
+  };
+  std::unordered_map<uint64_t, size_t> slot;
+  std::vector<Sum> sums;
+  for (size_t i = 0; i < points.size() / 3; ++i) {
+    uint64_t key = 0;
+    for (size_t a = 0; a < 3; ++a) key = key << 21 | (uint64_t(int64_t(std::floor(points[i * 3 + a] / voxel))) & 0x1FFFFF);
+    const auto [it, added] = slot.try_emplace(key, sums.size());
+    if (added) sums.emplace_back();
+    Sum& sum = sums[it->second];
+    for (size_t a = 0; a < 3; ++a) sum.p[a] += points[i * 3 + a], sum.c[a] += colors[i * 3 + a];
+    ++sum.n;
+  }
+  points.resize(sums.size() * 3);
+  colors.resize(sums.size() * 3);
+  for (size_t v = 0; v < sums.size(); ++v) {
+    for (size_t a = 0; a < 3; ++a) {
+      points[v * 3 + a] = float(sums[v].p[a] / double(sums[v].n));
+      colors[v * 3 + a] = float(sums[v].c[a] / double(sums[v].n));
+    }
+  }
+}
+
+namespace {
+
+constexpr size_t kFrustumCameras = 64;    // training cameras a random candidate is tested against (spread)
+constexpr double kFrustumShare = 0.8;     // share of them that must see it
+constexpr uint32_t kCandidatesPerPoint = 200;  // gives up past this many candidates per wanted point
+
+// The point nearest to all training cameras' optical axes (least squares; Cramer's rule), or the
+// origin when the axes are parallel or there are fewer than two cameras.
+std::array<double, 3> look_at_point(const data::Dataset& dataset) {
   double a[3][3] = {}, b[3] = {};
   size_t train = 0;
   for (const data::View& v : dataset.views) {
@@ -121,26 +153,91 @@ io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uin
       }
     ++train;
   }
-  double centre[3] = {0, 0, 0};
+  std::array<double, 3> centre{0, 0, 0};
   const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
                      a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-  if (train >= 2 && std::abs(det) > 1e-9) {  // Cramer's rule; parallel axes leave the origin
-    for (int c = 0; c < 3; ++c) {
-      double m[3][3];
-      for (int r = 0; r < 3; ++r)
-        for (int s = 0; s < 3; ++s) m[r][s] = s == c ? b[r] : a[r][s];
-      centre[c] = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                   m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) / det;
-    }
+  if (train < 2 || std::abs(det) <= 1e-9) return centre;
+  for (int c = 0; c < 3; ++c) {
+    double m[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s) m[r][s] = s == c ? b[r] : a[r][s];
+    centre[size_t(c)] = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) / det;
   }
+  return centre;
+}
+
+// Whether camera c sees world point p: in front of it and inside its image.
+bool sees(const io::CameraView& c, const float* p) {
+  const auto& m = c.world_to_cam;
+  double x[3];
+  for (size_t i = 0; i < 3; ++i) x[i] = m[i * 4] * p[0] + m[i * 4 + 1] * p[1] + m[i * 4 + 2] * p[2] + m[i * 4 + 3];
+  if (x[2] <= 1e-6) return false;
+  const double u = c.fx * x[0] / x[2] + c.cx, v = c.fy * x[1] / x[2] + c.cy;
+  return u >= 0 && u < c.width && v >= 0 && v < c.height;
+}
+
+}  // namespace
+
+io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uint32_t random_points, uint32_t max_points,
+                                uint32_t seed, InitReport* report) {
+  InitReport r;
+  if (!dataset.points.empty()) {
+    std::vector<float> points = dataset.points, colors = dataset.colors;
+    r.method = "points";
+    r.file = dataset.points_file.string();
+    r.file_points = points.size() / 3;
+    if (max_points > 0 && points.size() / 3 > max_points) {
+      float lo[3], hi[3];
+      for (size_t a = 0; a < 3; ++a) {
+        lo[a] = hi[a] = points[a];
+        for (size_t i = 0; i < points.size() / 3; ++i) lo[a] = std::min(lo[a], points[i * 3 + a]), hi[a] = std::max(hi[a], points[i * 3 + a]);
+      }
+      // Start where a surface cloud of the box's size would fit, then grow by 25 % until it does.
+      double voxel = std::max(1e-6, std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 4096.0);
+      std::vector<float> p = points, c = colors;
+      while (p.size() / 3 > max_points) {
+        p = points, c = colors;
+        voxel_downsample(p, c, voxel);
+        r.voxel = voxel;
+        voxel *= 1.25;
+      }
+      points.swap(p), colors.swap(c);
+    }
+    r.points = points.size() / 3;
+    if (report) *report = r;
+    return cloud_from_points(points, colors, sh_degree);
+  }
+  if (random_points == 0) throw std::invalid_argument(dataset.root.string() + ": no point cloud and no random points asked for");
+  std::vector<const io::CameraView*> cameras;
+  std::vector<const data::View*> train;
+  for (const data::View& v : dataset.views)
+    if (!v.test) train.push_back(&v);
+  const size_t used = std::min(kFrustumCameras, train.size());
+  for (size_t i = 0; i < used; ++i) cameras.push_back(&train[i * train.size() / used]->camera);
+  const std::array<double, 3> centre = look_at_point(dataset);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   const float half = static_cast<float>(dataset.extent);
-  std::vector<float> pts(size_t{random_points} * 3), cols(size_t{random_points} * 3);
-  for (size_t i = 0; i < pts.size(); ++i) {
-    pts[i] = float(centre[i % 3]) + (2 * unit(rng) - 1) * half;
-    cols[i] = unit(rng);
+  std::vector<float> pts, cols;
+  uint64_t tried = 0;
+  const uint64_t max_tries = uint64_t{random_points} * kCandidatesPerPoint;
+  while (pts.size() / 3 < random_points && tried < max_tries) {
+    ++tried;
+    float p[3];
+    for (size_t a = 0; a < 3; ++a) p[a] = float(centre[a]) + (2 * unit(rng) - 1) * half;
+    size_t seen = 0;
+    for (const io::CameraView* c : cameras) seen += sees(*c, p) ? 1 : 0;
+    if (double(seen) < kFrustumShare * double(cameras.size())) continue;
+    for (size_t a = 0; a < 3; ++a) pts.push_back(p[a]), cols.push_back(unit(rng));
   }
+  if (pts.empty())
+    throw std::runtime_error(dataset.root.string() + ": no point of the cameras' look-at region is seen by " +
+                             std::to_string(int(kFrustumShare * 100)) + " % of the training cameras; give a point cloud");
+  r.method = "random-frustum";
+  r.points = pts.size() / 3;
+  r.acceptance = double(r.points) / double(tried);
+  if (report) *report = r;
   return cloud_from_points(pts, cols, sh_degree);
 }
 

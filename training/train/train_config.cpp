@@ -39,7 +39,9 @@ TrainConfig preset_config(const std::string& name) {
     // time curriculum whose newest frames get every other view, and 3x the field's learning rates
     // let the field follow the built-in scene's sliding box to the last frame (README, stage 2:
     // 28.4 dB over cam00's 30 frames, against 23.8 dB with 4DGaussians' schedule).
-    c.static_max_time = 0.0;
+    // The first frame is canonical on a multi-view capture; a monocular one gets every frame
+    // (static_max_time < 0 leaves it to the data: data_recipe.h).
+    c.static_max_time = -1.0;
     c.fine_time_ramp = 0.6;
     c.fine_time_front = 0.1;
     c.grid_lr *= 3, c.grid_lr_final *= 3, c.deform_lr *= 3, c.deform_lr_final *= 3;

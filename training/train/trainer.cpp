@@ -21,6 +21,7 @@
 #include "s4d/splat/rasterizer.h"
 #include "s4d/splat/scene_upload.h"
 #include "s4d/train/checkpoint.h"
+#include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/split_state.h"
 #include "s4d/train/view_sampler.h"
@@ -41,7 +42,28 @@ constexpr size_t kPeriodicTestViews = 8;  // periodic tests use this many test v
 // deformation field's planes and MLP.
 enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlanes, gMlp, gCount };
 
-data::LoadOptions load_options(const TrainConfig& c) { return {.downscale = c.downscale, .background = c.background}; }
+// A new run takes the dataset's background unless one was asked for; a resumed run keeps its own.
+data::LoadOptions load_options(const TrainConfig& c, bool resumed) {
+  data::LoadOptions o{.downscale = c.downscale};
+  if (resumed || c.background_given) o.background = c.background;
+  return o;
+}
+
+// Cap on the points a run starts from: 4DGaussians downsamples its clouds to 40k, and starting at
+// the Gaussian budget would leave densification no room.
+uint32_t max_initial_points(const TrainConfig& c) { return std::min<uint32_t>(40000, std::max<uint32_t>(1, c.budget / 2)); }
+
+// What train.json and run.json say about the data and the choices made from it.
+nlohmann::json dataset_facts(const data::Dataset& d, const InitReport& init, const nlohmann::json& recipe) {
+  nlohmann::json background = {{"value", d.background}, {"source", d.background_source}};
+  if (!d.background_conflict.empty()) background["conflict"] = d.background_conflict;
+  return {{"layout", d.layout},
+          {"kind", d.kind},
+          {"background", background},
+          {"init", {{"method", init.method}, {"file", init.file}, {"file_points", init.file_points}, {"points", init.points},
+                    {"voxel", init.voxel}, {"acceptance", init.acceptance}}},
+          {"recipe", recipe}};
+}
 
 std::vector<const data::View*> select_views(const data::Dataset& d, const TrainConfig& c, bool test) {
   std::vector<const data::View*> out;
@@ -116,6 +138,7 @@ struct Trainer::Impl {
   double seconds_before = 0;
   uint32_t rollbacks = 0;
   nlohmann::json static_scores;  // the static stage's final test, once done
+  nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
   Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
 
   Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d)
@@ -559,6 +582,7 @@ struct Trainer::Impl {
                         {"device", ctx.info().name},
                         {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                         {"data", fs::absolute(dataset.root).string()},
+                        {"dataset", facts},
                         {"settings", to_json(config)}};
     util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
   }
@@ -573,10 +597,16 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && fs::is_empty(run_dir)))
     throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with --resume or choose "
                                 "another --out");
-  dataset_ = data::load_dataset(data_dir, load_options(config_));
+  dataset_ = data::load_dataset(data_dir, load_options(config_, false));
   config_.background = dataset_.background;
-  const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points, config_.seed);
+  if (!dataset_.background_conflict.empty())
+    std::cerr << "warning: " << dataset_.root.string() << ": background: " << dataset_.background_conflict << "\n";
+  const nlohmann::json recipe = adapt_to_data(config_, dataset_);
+  InitReport init;
+  const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
+                                                  max_initial_points(config_), config_.seed, &init);
   impl_ = std::make_unique<Impl>(ctx, RunDir{run_dir}, config_, dataset_);
+  impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here
   fs::create_directories(run_dir / "checkpoint");
@@ -585,6 +615,7 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   util::write_file_atomic(impl_->run.run_json(),
                           nlohmann::json{{"data", fs::absolute(data_dir).string()},
                                          {"stage", config_.fine_iterations > 0 ? "4dgs" : "static"},
+                                         {"dataset", impl_->facts},
                                          {"settings", to_json(config_)}}.dump(2) + "\n");
   impl_->gaussians = std::make_unique<model::TrainableGaussians>(ctx, initial, "gaussians");
   impl_->last_good = impl_->snapshot(0);
@@ -593,15 +624,19 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
 Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& run_json) {
   try {
     config_ = config_from_json(run_json.at("settings"));
-    dataset_ = data::load_dataset(run_json.at("data").get<std::string>(), load_options(config_));
+    dataset_ = data::load_dataset(run_json.at("data").get<std::string>(), load_options(config_, true));
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(run.run_json().string() + ": " + e.what());
   }
+  // Runs from before the recipe stored no resolved value; nothing is left to the data on resume.
+  const nlohmann::json recipe = adapt_to_data(config_, dataset_);
   impl_ = std::make_unique<Impl>(ctx, run, config_, dataset_);
+  impl_->facts = run_json.contains("dataset") ? run_json["dataset"] : dataset_facts(dataset_, {}, recipe);
   if (fs::exists(run.checkpoint())) {
     impl_->restore(read_checkpoint(run.checkpoint()));
   } else {
-    const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points, config_.seed);
+    const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
+                                                    max_initial_points(config_), config_.seed);
     std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
     impl_->make_field(config_.seed);
     impl_->gaussians = std::make_unique<model::TrainableGaussians>(ctx, initial, "gaussians");

@@ -21,9 +21,14 @@ struct TrainConfig {
   int downscale = 1;
   double max_time = 1.0;  // train and test on views with time <= max_time (0: the first frame only)
   // The static stage trains on the views with time <= static_max_time, the fine stage on all: 0 makes
-  // the first frame the canonical scene (large motions survive; see README "Training, stage 2").
+  // the first frame the canonical scene (large motions survive; see docs/training.md). Negative:
+  // chosen from the data when training starts (adapt_to_data: 0 multi-view, 1 monocular); a run's
+  // run.json always holds the chosen value.
   double static_max_time = 1.0;
   std::array<float, 3> background{0, 0, 0};
+  // Whether `background` was asked for (--background, --set background=...); otherwise a new run takes
+  // the dataset's (found from its frames) and stores it here. Not stored: a run's background is settled.
+  bool background_given = false;
   // Model.
   int sh_degree = 3;              // stored degree; the active degree grows by one every sh_up_every
   uint32_t sh_up_every = 1000;
