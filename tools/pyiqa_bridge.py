@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Style4D-Bench's pyiqa bridge (protocol s4d-pyiqa-bridge/1, README "The pyiqa bridge protocol").
+"""Style4D-Bench's pyiqa bridge (protocol s4d-pyiqa-bridge/1, docs/bench.md "The pyiqa bridge protocol").
 
 Run by `style4d bench --python PY` as `PY pyiqa_bridge.py REQUEST.json`. Reads the request (metric
 keys and PNG frame files per sequence), computes each metric with pyiqa (DINO through torch.hub),

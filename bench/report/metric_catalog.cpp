@@ -7,13 +7,13 @@ namespace s4d::bench {
 namespace {
 
 // The learned metrics when this call computes them neither natively nor through the pyiqa bridge:
-// what to supply. `native_files` names the --metric-weights files (README, "Learned metrics"); empty
+// what to supply. `native_files` names the --metric-weights files (docs/bench.md, "Learned metrics"); empty
 // for metrics only the bridge computes.
 std::string needs(const std::string& native_files, const std::string& published) {
   const std::string bridge = "pass --python PY, a Python with pyiqa, to compute it through the pyiqa bridge";
   if (native_files.empty()) return "needs " + published + ": " + bridge + " (no native implementation)";
   return "needs weights: pass --metric-weights DIR holding " + native_files + " (converted from " + published +
-         " with their state-dict names; README, \"Learned metrics\"), or " + bridge;
+         " with their state-dict names; docs/bench.md, \"Learned metrics\"), or " + bridge;
 }
 
 std::vector<MetricEntry> build() {

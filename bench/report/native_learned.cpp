@@ -30,7 +30,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
   const std::string where = o.weights_dir ? "add " + list + " to " + o.weights_dir->string() + " (--metric-weights)"
                                           : "pass --metric-weights DIR holding " + list;
   return "needs weights: " + where + ", converted from " + published +
-         " with their state-dict names (README, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
+         " with their state-dict names (docs/bench.md, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
 }
 
 bool all_present(const NativeLearnedOptions& o, const std::vector<std::string>& files) {

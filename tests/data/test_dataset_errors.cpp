@@ -18,7 +18,8 @@ void check_load_fails(const fs::path& root, const std::string& expected) {
 TEST_CASE("dataset layout and option errors") {
   test::TempDir dir("errors_layout");
   fs::create_directories(dir / "empty");
-  check_load_fails(dir / "empty", "found neither poses_bounds.npy (DyNeRF / Neu3D) nor transforms_train.json (D-NeRF)");
+  check_load_fails(dir / "empty", "unknown dataset layout: found none of poses_bounds.npy (DyNeRF / Neu3D), "
+                                  "transforms_train.json (D-NeRF), dataset.json (HyperNeRF / Nerfies), sparse/0/ (COLMAP)");
   check_load_fails(dir / "nowhere", "nowhere: not a directory");
   CHECK_THROWS_WITH_AS(data::load_dynerf(dir / "empty"), test::error_at(dir / "empty" / "poses_bounds.npy", "missing"),
                        std::runtime_error);
@@ -99,11 +100,27 @@ TEST_CASE("dynerf bad inputs") {
                                         "image is 10x12 after downscale 1, but view 'cam02/0001' expects 16x12"),
                          std::runtime_error);
   }
-  SUBCASE("point cloud without colours") {
+  SUBCASE("point cloud without colours: grey; with only some of them: refused") {
     test::write_raw(root / "points3D.ply",
                     "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                     "end_header\n1 2 3\n");
-    check_load_fails(root, (root / "points3D.ply").string() + ": vertex has no property 'red'");
+    const data::Dataset d = data::load_dataset(root);
+    CHECK(d.points == std::vector<float>{1, 2, 3});
+    CHECK(d.colors == std::vector<float>{0.5f, 0.5f, 0.5f});
+    test::write_raw(root / "points3D.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                    "property uchar red\nend_header\n1 2 3 4\n");
+    check_load_fails(root, (root / "points3D.ply").string() + ": vertex has some of red, green, blue but not all");
+  }
+  SUBCASE("point cloud in double precision, 4DGaussians' points3D_downsample2.ply name") {
+    fs::remove(root / "points3D.ply");
+    test::write_raw(root / "points3D_downsample2.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty double x\nproperty double y\nproperty double z\n"
+                    "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n1.5 2 3 255 0 51\n");
+    const data::Dataset d = data::load_dataset(root);
+    CHECK(d.points_file == root / "points3D_downsample2.ply");
+    CHECK(d.points == std::vector<float>{1.5f, 2, 3});
+    CHECK(d.colors == std::vector<float>{1.0f, 0.0f, 0.2f});
   }
   SUBCASE("point cloud with a malformed value") {
     test::write_raw(root / "points3D.ply",
@@ -213,16 +230,25 @@ TEST_CASE("dnerf bad inputs") {
     check_load_fails(root, (root / "transforms_train.json").string() + ": frames[0].file_path: image " +
                                (root / "train" / "r_009.png").string() + " does not exist");
   }
-  SUBCASE("image of a later frame missing or of the wrong size: named when it is loaded") {
+  SUBCASE("a file_path outside the dataset folder: refused, never followed") {
+    for (const std::string path : {"../../etc/passwd", "/etc/passwd", "./train/../../outside"}) {
+      test::write_raw(root / "transforms_train.json",
+                      R"({"camera_angle_x": 1.0, "frames": [{"file_path": ")" + path + R"(", "time": 0, "transform_matrix": )" +
+                          identity + "}]}");
+      check_load_fails(root, (root / "transforms_train.json").string() + ": frames[0].file_path: '" + path +
+                                 "' is not inside the dataset folder");
+    }
+  }
+  SUBCASE("image of a later frame missing: refused at load; of the wrong size: named when it is read") {
     test::write_raw(root / "transforms_train.json",
                     R"({"camera_angle_x": 1.0, "frames": [{"file_path": "./train/r_000", "time": 0, "transform_matrix": )" +
                         identity + R"(}, {"file_path": "./train/r_001", "time": 1, "transform_matrix": )" + identity +
                         "}]}");
+    check_load_fails(root, (root / "transforms_train.json").string() + ": frames[1].file_path: image " +
+                               (root / "train" / "r_001.png").string() + " does not exist");
+    io::write_png(root / "train" / "r_001.png", test::pattern(6, 4, 4, 1));
     const data::Dataset d = data::load_dnerf(root);
     data::FrameCache cache(d, 1 << 20);
-    CHECK_THROWS_WITH_AS(cache.get(d.views[1]), test::error_at(root / "train" / "r_001.png", "cannot open"),
-                         std::runtime_error);
-    io::write_png(root / "train" / "r_001.png", test::pattern(6, 4, 4, 1));
     CHECK_THROWS_WITH_AS(cache.get(d.views[1]),
                          test::error_at(root / "train" / "r_001.png",
                                         "image is 6x4 after downscale 1, but view 'train/r_001' expects 4x4"),

@@ -86,7 +86,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   train::TrainConfig config = train::preset_config("fast");
   if (auto v = args.get("iters")) train::set_iterations(config, parse_number<uint32_t>("iters", *v));
   // The fine stage and stage 4 are shortened from fast's 1500 and stylize's 1500/300 so that the
-  // build and the demo fit 30 minutes on two lavapipe cores (README, "The demo": with fast's full
+  // build and the demo fit 30 minutes on two lavapipe cores (docs/demo.md: with fast's full
   // fine stage and 100 MLP steps the demo alone took 29.5 minutes).
   train::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
   StylizeRequest request;

@@ -24,7 +24,7 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
       {"style", "the style image (PNG, JPEG, ...), e.g. assets/styles/builtin.png", true, "IMG"},
       {"out", "a folder (one PNG per frame, the input's names) or a .mp4 video (mp4v, lossy)", true, "DIR|VIDEO"},
       {"stylizer", "which stylizer: " + names + " (default patch)", true, "NAME"},
-      {"weights", "network stylizers: the folder of their .safetensors weights (README, \"Network stylizers\")", true,
+      {"weights", "network stylizers: the folder of their .safetensors weights (docs/stylization.md, \"Network stylizers\")", true,
        "DIR"},
       {"style-size", "network stylizers: the style's shorter side in pixels (default 512; 0 keeps it)", true, "N"},
       {"strength", "0 keeps the content, 1 the full stylization (default 1)", true, "S"},

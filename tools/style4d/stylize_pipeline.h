@@ -8,7 +8,7 @@
 //   eval/               test-view renders in the style
 //   spiral/original, spiral/styled   spiral-path renders (frames.json) of the run and of the style
 //   contact_sheet.png   content, stage-3 frames and style renders of the test camera over time
-//   stylize.json        results (keys in the README)
+//   stylize.json        results (keys in docs/stylization.md)
 #pragma once
 #include <atomic>
 #include <filesystem>

@@ -31,7 +31,7 @@ uint64_t loop_bound(const gpu::DeformShape& s, bool backward, bool cas) {
 }
 
 // llvmpipe ends a shader invocation after 65535 loop iterations in total and says nothing (Mesa
-// 22.3, see README "lavapipe caveat"): refuse fields whose kernels could get there.
+// 22.3, see docs/rasterizer.md "lavapipe caveat"): refuse fields whose kernels could get there.
 void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, bool backward, bool cas,
                     const std::string& name) {
   if (info.driver_name != "llvmpipe") return;

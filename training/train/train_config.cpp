@@ -28,7 +28,7 @@ TrainConfig preset_config(const std::string& name) {
     c.test_every = 300;
     c.checkpoint_every = 300;
     // Fine stage sized for lavapipe: llvmpipe ends any shader invocation after 65535 loop
-    // iterations, which caps the MLP width near 32 (README, deformation field).
+    // iterations, which caps the MLP width near 32 (docs/training.md, "The deformation field").
     c.fine_iterations = 1500;
     c.fine_batch = 1;  // 4DGaussians uses 1 for D-NeRF; a 4DGS step costs ~2.5x a static one on lavapipe
     c.field_resolution = {32, 32, 32, 16};
@@ -37,7 +37,7 @@ TrainConfig preset_config(const std::string& name) {
     c.field_heads = 7;
     // 1500 fine steps are a tenth of 4DGaussians' 14000: the first frame as the canonical scene, a
     // time curriculum whose newest frames get every other view, and 3x the field's learning rates
-    // let the field follow the built-in scene's sliding box to the last frame (README, stage 2:
+    // let the field follow the built-in scene's sliding box to the last frame (docs/training.md, stage 2:
     // 28.4 dB over cam00's 30 frames, against 23.8 dB with 4DGaussians' schedule).
     // The first frame is canonical on a multi-view capture; a monocular one gets every frame
     // (static_max_time < 0 leaves it to the data: data_recipe.h).

@@ -58,7 +58,7 @@ class NetworkStylizer final : public Stylizer {
       : name_(std::move(name)), ctx_(options.context), style_size_(options.style_size), widest_(widths.level[0]) {
     if (options.weights.empty())
       throw std::invalid_argument(name_ + " needs weights: --weights DIR holding " + files_text() +
-                                  " (the published .pth files converted, see README \"Network stylizers\")");
+                                  " (the published .pth files converted, see docs/stylization.md \"Network stylizers\")");
     if (!std::filesystem::is_directory(options.weights))
       throw std::invalid_argument("--weights " + options.weights.string() + " is not a folder (" + name_ + " reads " +
                                   files_text() + " from it)");

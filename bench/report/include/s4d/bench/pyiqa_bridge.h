@@ -1,5 +1,5 @@
 // The pyiqa bridge: the learned metrics without a native network, computed by a user-installed
-// Python (pyiqa, torch) in a separate process over a file protocol (README, "Learned metrics",
+// Python (pyiqa, torch) in a separate process over a file protocol (docs/bench.md, "Learned metrics",
 // "The pyiqa bridge protocol"). `style4d bench --python PY` writes DIR/bridge/request.json (the
 // metric keys and the PNG frame files of each sequence), runs `PY SCRIPT DIR/bridge/request.json`
 // (SCRIPT: tools/pyiqa_bridge.py, embedded in the program, or --bridge-script FILE) with its output

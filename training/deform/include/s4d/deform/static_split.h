@@ -1,4 +1,4 @@
-// "Deform only what moves" (README, Training stage 2): the field runs over a prefix of the Gaussians
+// "Deform only what moves" (docs/training.md, stage 2): the field runs over a prefix of the Gaussians
 // (CanonicalGaussians::static_count), so the Gaussians a static mask marks are put last in memory. On
 // devices that run a SIMD group's lanes together (llvmpipe, GPUs) a per-Gaussian early-out saves no
 // time unless the whole group takes it, which Gaussians in arbitrary order never do.

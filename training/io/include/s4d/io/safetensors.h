@@ -1,7 +1,7 @@
 // safetensors files (huggingface/safetensors): an 8-byte little-endian header length, a JSON header
 // {"name": {"dtype": "F32", "shape": [..], "data_offsets": [begin, end]}, "__metadata__": {..}},
 // then the tensors' bytes, little-endian, row-major. Network weights keep their PyTorch state-dict
-// names, so a published .pth converts with one line of Python (README, "Network stylizers").
+// names, so a published .pth converts with one line of Python (docs/stylization.md, "Network stylizers").
 #pragma once
 #include <cstdint>
 #include <filesystem>

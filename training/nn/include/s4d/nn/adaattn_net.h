@@ -1,7 +1,7 @@
 // AdaAttN (Liu et al. 2021, Huage001/AdaAttN, the released --shallow_layer --skip_connection_3
 // model): attention-weighted per-point mean and std at relu3_1, relu4_1 and relu5_1 with keys from
 // the normalised shallower levels, the transformer's merge of relu4_1 and relu5_1, and the decoder
-// with the relu3_1 skip connection. Weights (README, "Network stylizers"): vgg_normalised, and
+// with the relu3_1 skip connection. Weights (docs/stylization.md, "Network stylizers"): vgg_normalised, and
 // net_adaattn_3, net_transformer and net_decoder keeping AdaAttN's state-dict names.
 #pragma once
 #include <cstdint>

@@ -1,7 +1,7 @@
 // Network stylizers on the GPU (s4d_nn, ALGORITHMS.md 4.2 and 5): AdaIN, AdaAttN, MCCNet and HGST. Each frame
 // is stylized on its own; the style is encoded once per call. Weights come from a folder of
 // safetensors files named after the published checkpoints and keeping their PyTorch state-dict
-// names (README, "Network stylizers"); there is no weight-free fallback.
+// names (docs/stylization.md, "Network stylizers"); there is no weight-free fallback.
 #pragma once
 #include <filesystem>
 #include <memory>
