@@ -12,6 +12,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "s4d/data/dataset_check.h"
 #include "s4d/engine/context.h"
 #include "s4d/train/trainer.h"
 
@@ -92,6 +93,21 @@ train::TrainConfig config_from_args(const Args& args) {
   return out;
 }
 
+// A new run checks its dataset first, loaded as the trainer loads it (style4d check-data): warnings
+// are printed, errors are printed and refuse the run.
+void check_dataset_first(const std::string& dir, const train::TrainConfig& config) {
+  data::LoadOptions options;  // as Trainer loads a new run's dataset
+  options.downscale = config.downscale;
+  if (config.background_given) options.background = config.background;
+  const data::DatasetReport report = data::load_and_check(dir, options).report;
+  for (const data::Problem& p : report.problems) std::cerr << data::format_problem(p) << "\n";
+  if (report.errors() > 0) {
+    throw std::runtime_error("the dataset check found " + std::to_string(report.errors()) +
+                             " error(s), listed above (style4d check-data " + dir +
+                             " shows them all); fix them, or pass --skip-check to train anyway");
+  }
+}
+
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& argv) {
@@ -116,6 +132,7 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"sh-degree", "highest spherical-harmonic degree, 0..3", true, "D"},
       {"checkpoint-every", "iterations between checkpoints", true, "N"},
       {"lr-scale", "multiply every learning rate (default 1)", true, "X"},
+      {"skip-check", "start a new run without checking the dataset first (style4d check-data)", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
@@ -124,11 +141,14 @@ int cmd_train(const std::vector<std::string>& argv) {
                        "(canonical Gaussians, standard 3DGS PLY; the field is in the checkpoint),\n"
                        "RUN/train.json (test_psnr, test_ssim, seconds, num_gaussians, settings, per test view),\n"
                        "RUN/checkpoint/state.s4dckpt, RUN/loss.csv and RUN/eval/*.png (test-view renders).\n"
-                       "Ctrl-C writes a checkpoint and exits; --resume RUN continues where it stopped.",
+                       "Ctrl-C writes a checkpoint and exits; --resume RUN continues where it stopped.\n"
+                       "A new run first checks the dataset as `style4d check-data` does: warnings are printed,\n"
+                       "errors are printed and refuse the run (--skip-check skips the check).",
                        specs);
     return 0;
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.get("resume") && !args.flag("skip-check")) check_dataset_first(args.require("data"), config_from_args(args));
 
   engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;

@@ -7,6 +7,7 @@
 namespace s4d::cli {
 
 int cmd_bench(const std::vector<std::string>& args);
+int cmd_check_data(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_export_ply(const std::vector<std::string>& args);
 int cmd_demo(const std::vector<std::string>& args);

@@ -19,6 +19,8 @@ struct Command {
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
       {"synth", "render the built-in synthetic dynamic scene into a DyNeRF/Neu3D dataset (CPU)", s4d::cli::cmd_synth},
+      {"check-data", "check a dataset: layout, cameras, frames, times, bounds, and every problem by file and field",
+       s4d::cli::cmd_check_data},
       {"devices", "list Vulkan devices and the features the engine uses", s4d::cli::cmd_devices},
       {"train", "train Gaussians on a dataset (static Gaussians, then 4DGS), with checkpoints and --resume",
        s4d::cli::cmd_train},
