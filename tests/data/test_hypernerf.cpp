@@ -161,6 +161,35 @@ TEST_CASE("hypernerf: downscale box-filters rgb/1x and scales the intrinsics") {
   CHECK(cache.get(d.views[0]).width == 16);
 }
 
+TEST_CASE("hypernerf: downscale N reads HyperNeRF's own rgb/Nx/ when it is there, unfiltered") {
+  test::TempDir dir("hypernerf_prescaled");
+  const data::Dataset reference = synth_reference(dir / "synth", false);
+  const std::vector<test::HyperItem> items = test::hyper_items(reference, 3);
+  test::write_hypernerf(dir / "hyper", items, kScene);
+  // rgb/2x/ holds frames unlike anything a box filter of rgb/1x/ gives, so reading them filtered
+  // again (8x6) or filtering 1x instead would both fail below.
+  std::filesystem::create_directories(dir / "hyper" / "rgb" / "2x");
+  for (size_t i = 0; i < items.size(); ++i)
+    io::write_png(dir / "hyper" / "rgb" / "2x" / (items[i].id + ".png"), test::pattern(16, 12, 3, static_cast<int>(i)));
+  const data::Dataset d = data::load_hypernerf(dir / "hyper", {.downscale = 2, .background = {}});
+  for (size_t i = 0; i < d.views.size(); ++i) {
+    const data::View& v = d.views[i];
+    CHECK(v.image.parent_path().filename() == "2x");
+    CHECK(v.file_downscale == 1);
+    CHECK(v.camera.width == 16);
+    CHECK(v.camera.fx == reference.views[0].camera.fx / 2);
+  }
+  data::FrameCache cache(d, 1 << 20);
+  const io::ImageF& got = cache.get(d.views[0]);
+  const io::ImageF want = io::read_png(d.views[0].image);
+  CHECK(got.width == 16);
+  CHECK(got.data == want.data);
+  // A 2x frame of the wrong size is refused naming the camera file and both sizes.
+  io::write_png(dir / "hyper" / "rgb" / "2x" / (items[0].id + ".png"), test::pattern(15, 12, 3, 0));
+  CHECK_THROWS_WITH_AS(data::load_hypernerf(dir / "hyper", {.downscale = 2, .background = {}}),
+                       doctest::Contains("(16x12 at 2x) but"), std::runtime_error);
+}
+
 TEST_CASE("hypernerf: without val_ids, every 4th id trains and the middles test (interp captures)") {
   test::TempDir dir("hypernerf_interp");
   const data::Dataset reference = synth_reference(dir / "synth", false);

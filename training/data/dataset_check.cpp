@@ -234,7 +234,6 @@ std::vector<size_t> camera_representatives(const Dataset& dataset) {
 
 void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources, Problems& problems,
                   DatasetSummary& summary) {
-  const int ds = std::max(1, dataset.downscale);
   struct VideoProbe {
     bool probed = false, size_checked = false;
     std::optional<detail::VideoInfo> info;  // unset when the video cannot be opened
@@ -245,6 +244,7 @@ void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources
     const View& v = dataset.views[k];
     const ViewSource& s = sources[k];
     const bool video = v.frame_in_file >= 0;
+    const int ds = v.file_downscale > 0 ? v.file_downscale : std::max(1, dataset.downscale);
     if (!fs::exists(v.image)) {
       if (!s.image.empty()) problems.error(s.file, s.image, "image " + v.image.string() + " does not exist");
       else problems.error(v.image, "file", std::string(video ? "video" : "image") + " does not exist (view " + v.name + ")");

@@ -68,11 +68,12 @@ const io::ImageF& FrameCache::get(const View& view) {
   // Composite before filtering: the mean of composited pixels is the right colour, the composite of
   // mean colour and mean alpha is not.
   const io::ImageF decoded = video ? videos_->read(view.image, view.frame_in_file) : io::read_png(view.image);
-  io::ImageF image = box_downscale(to_rgb(decoded, background_), downscale_);
+  const int factor = view.file_downscale > 0 ? view.file_downscale : downscale_;
+  io::ImageF image = box_downscale(to_rgb(decoded, background_), factor);
   if (image.width != view.camera.width || image.height != view.camera.height) {
     const std::string what = video ? "frame " + std::to_string(view.frame_in_file) : "image";
     detail::fail(view.image, what + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                                 " after downscale " + std::to_string(downscale_) + ", but view '" + view.name +
+                                 " after downscale " + std::to_string(factor) + ", but view '" + view.name +
                                  "' expects " + std::to_string(view.camera.width) + "x" +
                                  std::to_string(view.camera.height));
   }

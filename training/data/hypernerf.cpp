@@ -18,8 +18,9 @@
 // Splits: train_ids and val_ids (the test views). The "interp" captures have no val_ids; there both
 // 4DGaussians and HyperNeRF's InterpDataSource (interval 4) train on every 4th id and test on the
 // middle one between consecutive training ids, so ids at odd positions are not loaded at all.
-// Resolution: only rgb/1x is read and --downscale box-filters it (FrameCache filters every view by
-// one factor, so the pre-scaled rgb/Nx folders would be filtered twice).
+// Resolution: --downscale N reads HyperNeRF's own rgb/Nx/ when it holds the frame (its size is the 1x
+// size divided by N and rounded, as HyperNeRF's camera.scale; intrinsics divide by N), else box-filters
+// rgb/1x/ like the other layouts.
 // Distortion: 4DGaussians ignores it, and published captures carry a little (the Nerfies README's
 // example camera moves the corner by ~0.6 % of the diagonal), so small distortion is ignored too; more than
 // kMaxIgnoredDistortion is refused rather than silently mis-modelled. Skew must be 0.
@@ -280,20 +281,31 @@ Dataset load_hypernerf(const fs::path& root, const LoadOptions& options) {
   for (const auto& [index, test] : chosen) {
     const std::string& id = ids[index];
     const std::string field = "ids[" + std::to_string(index) + "]";
-    const fs::path camera_json = root / "camera" / (id + ".json"), image = root / "rgb" / "1x" / (id + ".png");
+    const fs::path camera_json = root / "camera" / (id + ".json"), full = root / "rgb" / "1x" / (id + ".png");
+    const fs::path scaled = root / "rgb" / (std::to_string(factor) + "x") / (id + ".png");
+    const bool prescaled = factor > 1 && fs::is_regular_file(scaled);
+    const fs::path image = prescaled ? scaled : full;
     if (!fs::is_regular_file(camera_json)) fail(dataset_json, field + ": '" + id + "' has no camera file " + camera_json.string());
     if (!fs::is_regular_file(image)) {
       fail(dataset_json, field + ": '" + id + "' has no image " + image.string() +
-                             " (only the full-resolution rgb/1x/ is read; --downscale box-filters it)");
+                             (factor > 1 ? " (nor " + scaled.string() + ")" : std::string()));
     }
     View view;
     view.camera = read_camera(camera_json, scene);
     const auto [w, h] = detail::png_size(image);
-    if (w != view.camera.width || h != view.camera.height) {
+    const int want_w = prescaled ? static_cast<int>(std::lround(double(view.camera.width) / factor)) : view.camera.width;
+    const int want_h = prescaled ? static_cast<int>(std::lround(double(view.camera.height) / factor)) : view.camera.height;
+    if (w != want_w || h != want_h) {
       fail(camera_json, "image_size: says " + std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height) +
+                            (prescaled ? " (" + std::to_string(want_w) + "x" + std::to_string(want_h) + " at " +
+                                             std::to_string(factor) + "x)" : std::string()) +
                             " but " + image.string() + " is " + std::to_string(w) + "x" + std::to_string(h));
     }
     detail::downscale_camera(view.camera, factor);
+    if (prescaled) {
+      view.camera.width = w, view.camera.height = h;
+      view.file_downscale = 1;
+    }
     view.name = id;
     view.image = image;
     view.time = max_warp > 0 ? static_cast<double>(warp[index]) / static_cast<double>(max_warp) : 0.0;

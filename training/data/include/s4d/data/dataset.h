@@ -19,6 +19,9 @@ struct View {  // one training or test image
   int camera_index = -1;  // physical camera (DyNeRF), -1 when every view has its own (D-NeRF)
   std::filesystem::path image;  // file to load (full resolution; FrameCache downscales)
   int frame_in_file = -1;       // -1: `image` is an image file; >= 0: `image` is a video and this its frame
+  // Box-filter factor FrameCache applies to this view's file; 0: the dataset's downscale. 1 for a
+  // file the layout ships already downscaled (HyperNeRF's rgb/Nx/).
+  int file_downscale = 0;
   bool test = false;            // held out for evaluation
 };
 
