@@ -28,10 +28,12 @@ int cmd_synth(const std::vector<std::string>& argv) {
       {"dnerf", "write the D-NeRF layout, monocular: DIR/train/r_NNN.png one view per time, each\n"
                 "                        from another camera of the arc (not camera 0), DIR/test/r_NNN.png\n"
                 "                        camera 0 at every time, DIR/transforms_{train,test}.json", false, ""},
+      {"object", "the moving objects alone on black (no wall or floor), cameras on a full ring\n"
+                 "                        above them: with --dnerf, a D-NeRF-like object capture", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf]",
+    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf] [--object]",
                        "Renders the built-in dynamic scene (static textured wall and floor, a spinning sphere,\n"
                        "a box sliding along an arc, a waving sheet) with an analytic CPU ray caster into a\n"
                        "DyNeRF/Neu3D dataset: DIR/camNN/NNNN.png (frame k has t = k/(T-1); DIR/camNN.mp4 with\n"
@@ -51,6 +53,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   options.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   options.video = args.flag("video");
   options.dnerf = args.flag("dnerf");
+  options.object = args.flag("object");
   synth::check_options(options);
 
   util::Progress progress("synth", static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames));

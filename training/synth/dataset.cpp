@@ -102,8 +102,14 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   fs::create_directories(partial);
   util::write_file_atomic(partial / kPartialMarker, "an unfinished style4d synth dataset; safe to delete\n");
 
-  const Scene scene;
-  const ArcRig rig;
+  Scene scene;
+  ArcRig rig;
+  if (options.object) {
+    scene.room = false;
+    scene.sky = {0, 0, 0};
+    rig.span_deg = 360.0 * (options.cams - 1) / options.cams;
+    rig.height = 2.0;  // about 27 degrees above the objects
+  }
   // Neu3D holds out its centre camera as cam00: the middle camera of the arc comes first, the
   // others follow from left to right, so the test view is interpolated, not extrapolated.
   std::vector<PinholeCamera> cameras = arc_cameras(rig, scene.centre, options.cams, options.width, options.height);

@@ -34,7 +34,7 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
         range.min_depth = std::min(range.min_depth, depth);
         range.max_depth = std::max(range.max_depth, depth);
       } else {
-        sum = sum + sky_colour();
+        sum = sum + sky_colour(scene);
       }
     }
     out[3 * x + 0] = static_cast<float>(sum.x * inv);

@@ -17,6 +17,7 @@ Vec3 axis_vector(int axis, double sign) {
 
 // Each candidate narrows s_max, so later primitives only need to beat the current nearest.
 void consider_background(const Scene& sc, const Ray& ray, double s_min, double& s_max, std::optional<Hit>& best) {
+  if (!sc.room) return;
   if (auto s = intersect_plane(ray, {0, 0, sc.wall_z}, {0, 0, 1}, s_min, s_max)) {
     const Vec3 p = ray.at(*s);
     if (std::abs(p.x) <= sc.half_width && p.y >= sc.floor_y && p.y <= sc.wall_top) {
@@ -95,6 +96,6 @@ Vec3 shade(const Scene& scene, const Hit& hit) {
   return {std::clamp(c.x, 0.0, 1.0), std::clamp(c.y, 0.0, 1.0), std::clamp(c.z, 0.0, 1.0)};
 }
 
-Vec3 sky_colour() { return {0.55, 0.70, 0.90}; }
+Vec3 sky_colour(const Scene& scene) { return scene.sky; }
 
 }  // namespace s4d::synth

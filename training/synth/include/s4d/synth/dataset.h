@@ -24,6 +24,9 @@ struct SynthOptions {
   int points = 4000;
   bool video = false;  // camNN.mp4 videos instead of camNN/ frame folders; needs even width and height
   bool dnerf = false;  // the D-NeRF layout, monocular: one training camera per time (dnerf_layout.h)
+  // The moving objects alone on black, cameras on a full ring above them looking down: an object
+  // capture like D-NeRF's (with `dnerf`) rather than a room seen from one side.
+  bool object = false;
 };
 
 // Throws std::invalid_argument naming the bad value.

@@ -28,6 +28,10 @@ struct Scene {
 
   WaveSheet sheet;
 
+  // false: the moving objects alone, on `sky`: a D-NeRF-like object capture (synth --object).
+  bool room = true;
+  Vec3 sky{0.55, 0.70, 0.90};  // what rays that hit nothing see
+
   Vec3 light_dir = normalize(Vec3{0.35, 0.9, 0.55});  // towards the light
   double ambient = 0.3;
 
@@ -54,6 +58,6 @@ std::optional<Hit> trace(const Scene& scene, const Ray& ray, double t, double s_
 Vec3 shade(const Scene& scene, const Hit& hit);
 
 // What a ray that hits nothing sees (not reached from the default cameras).
-Vec3 sky_colour();
+Vec3 sky_colour(const Scene& scene);
 
 }  // namespace s4d::synth
