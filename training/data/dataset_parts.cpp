@@ -74,8 +74,30 @@ double camera_extent(const Dataset& dataset) {
 
 }  // namespace
 
+void select_frames(Dataset& dataset, std::pair<int, int> range) {
+  std::vector<double> times;
+  for (const View& v : dataset.views) times.push_back(v.time);
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  const int count = static_cast<int>(times.size());
+  if (range.second > count) {
+    fail(dataset.root, "--frames " + std::to_string(range.first) + ":" + std::to_string(range.second) + ": the dataset has " +
+                           std::to_string(count) + " frames (distinct times)");
+  }
+  const double t0 = times[static_cast<size_t>(range.first)], t1 = times[static_cast<size_t>(range.second - 1)];
+  std::vector<View> kept;
+  for (View& v : dataset.views) {
+    if (v.time < t0 || v.time > t1) continue;
+    v.time = t1 > t0 ? (v.time - t0) / (t1 - t0) : 0.0;
+    v.camera.time = v.time;
+    kept.push_back(std::move(v));
+  }
+  dataset.views = std::move(kept);
+}
+
 void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::array<float, 3>& default_background,
                     const std::vector<std::filesystem::path>& point_files) {
+  if (options.frames) select_frames(dataset, *options.frames);
   dataset.downscale = options.downscale;
   dataset.extent = camera_extent(dataset);
   choose_background(dataset, options, default_background);
@@ -89,3 +111,21 @@ void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::arr
 }
 
 }  // namespace s4d::data::detail
+
+namespace s4d::data {
+
+std::pair<int, int> parse_frame_range(const std::string& text, const std::string& option) {
+  auto number = [&](const std::string& s) {
+    if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos)
+      throw std::invalid_argument(option + ": expected N or A:B (frame indices), got '" + text + "'");
+    return std::stoi(s);
+  };
+  const size_t colon = text.find(':');
+  const std::pair<int, int> range =
+      colon == std::string::npos ? std::pair{0, number(text)} : std::pair{number(text.substr(0, colon)), number(text.substr(colon + 1))};
+  if (range.second <= range.first)
+    throw std::invalid_argument(option + ": '" + text + "' selects no frame (A:B needs A < B, N needs N >= 1)");
+  return range;
+}
+
+}  // namespace s4d::data

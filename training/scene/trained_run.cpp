@@ -94,8 +94,9 @@ TrainedRun read_trained_run(const fs::path& root) {
     incomplete(root, missing,
                no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
                                               : "finish it with `style4d train --resume " + root.string() + "`");
-  out.dataset = data::load_dataset(data_path, {.downscale = out.config.downscale, .background = out.config.background,
-                                                .probe_background = false});
+  data::LoadOptions load{.downscale = out.config.downscale, .background = out.config.background, .probe_background = false};
+  if (!out.config.frames.empty()) load.frames = data::parse_frame_range(out.config.frames, run.run_json().string() + ": frames");
+  out.dataset = data::load_dataset(data_path, load);
   if (out.dataset.views.empty()) throw std::runtime_error(data_path.string() + ": the dataset has no views");
   for (const std::string& name : list_styles(root)) out.styles.push_back(name);
   return out;

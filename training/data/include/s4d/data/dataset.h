@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "s4d/io/nerf_cameras.h"
@@ -53,7 +54,13 @@ struct LoadOptions {
   // Decode a few training frames to find the background (alpha, or a uniform border colour) and to
   // check an explicit one against them. Off when reopening a run, whose background is settled.
   bool probe_background = true;
+  // Only the frames (distinct times, in order) with index in [first, end), their times mapped back
+  // onto [0, 1]: a cap for long captures (--frames). Unset: every frame.
+  std::optional<std::pair<int, int>> frames;
 };
+
+// "N" -> [0, N), "A:B" -> [A, B). Throws std::invalid_argument naming `option` for anything else.
+std::pair<int, int> parse_frame_range(const std::string& text, const std::string& option = "--frames");
 
 // Layouts (Dataset::layout), each with its loader:
 //   "dynerf-frames"      poses_bounds.npy + camNN/NNNN.png                       load_dynerf
