@@ -1,6 +1,7 @@
 #include "s4d/metrics/warp_loss.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "s4d/metrics/image_checks.h"
@@ -82,8 +83,10 @@ PairWarpError warp_error(const io::ImageF& frame_t, const io::ImageF& frame_t1, 
       sum += norm == WarpNorm::abs ? std::abs(d) : d * d;
     }
   }
-  const size_t counted = valid == 0 ? occluded.size() : valid;
-  return {sum / (3.0 * double(counted)), double(valid) / double(occluded.size())};
+  // No pixel to compare is no evidence of consistency: NaN, never the perfect 0 that dividing the empty
+  // sum by all pixels (Lai's fallback) would give.
+  if (valid == 0) return {std::numeric_limits<double>::quiet_NaN(), 0.0};
+  return {sum / (3.0 * double(valid)), double(valid) / double(occluded.size())};
 }
 
 }  // namespace s4d::metrics

@@ -48,6 +48,22 @@ double mean_of(const std::vector<double>& v) {
   return s / double(v.size());
 }
 
+// Whether `frames` is the original render itself (the same folder or video file), the one row whose
+// psnr is the reconstruction's.
+bool is_original(const std::filesystem::path& frames, const std::filesystem::path& original) {
+  std::error_code ec;
+  return std::filesystem::equivalent(frames, original, ec) && !ec;
+}
+
+std::string flow_name(const FramesOptions& o) {
+  switch (o.flow) {
+    case FlowSource::dis: return "DIS";
+    case FlowSource::raft: return "RAFT";
+    case FlowSource::exact: break;
+  }
+  return "exact (--flow-dir " + o.flow_dir.string() + ")";
+}
+
 }  // namespace
 
 std::vector<int> sample_indices(int frames, int count) {
@@ -70,6 +86,8 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
                                " frames but the original has " + std::to_string(orig.size()));
   }
   MethodResult r{name, frames, styl.size(), {}, {}, {}, sample_indices(styl.size(), o.sample_frames), {}, {}};
+  const bool scores_psnr = truth && is_original(frames, o.original);
+  int occluded_pairs = 0;  // pairs with no unoccluded pixel: left out of the warp loss
   PairFlow flow(o);
   io::ImageF prev_s, prev_o;
   for (int i = 0; i < styl.size(); ++i) {
@@ -80,12 +98,19 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
                                std::to_string(g.height));
     r.per_frame["content_ssim"].push_back(metrics::ssim(s, g));
     r.per_frame["uiqm"].push_back(metrics::uiqm(s, o.uiqm));
-    if (truth) r.per_frame["psnr"].push_back(metrics::psnr(g, truth->next()));
+    if (truth) {
+      const io::ImageF captured = truth->next();
+      if (scores_psnr) r.per_frame["psnr"].push_back(metrics::psnr(g, captured));
+    }
     if (o.learned) o.learned->score_frame(s, g, o.style_image, i > 0, o.learned_keys, r.per_frame);
     if (i > 0) {
       const bool on_orig = o.flow_on == FlowFrames::original;
       const auto [fw, bw] = flow(on_orig ? prev_o : prev_s, on_orig ? g : s, i - 1);
-      r.per_frame["warp_loss"].push_back(metrics::warp_error(prev_s, s, fw, bw, o.warp_norm).error);
+      const metrics::PairWarpError pair = metrics::warp_error(prev_s, s, fw, bw, o.warp_norm);
+      if (pair.scored())
+        r.per_frame["warp_loss"].push_back(pair.error);
+      else
+        ++occluded_pairs;
     }
     if (std::find(r.sample_index.begin(), r.sample_index.end(), i) != r.sample_index.end()) {
       r.samples.push_back(s);
@@ -94,11 +119,20 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     prev_s = std::move(s);
     prev_o = std::move(g);
   }
-  for (const auto& [key, values] : r.per_frame) r.means[key] = mean_of(values);
-  if (!truth)
+  for (const auto& [key, values] : r.per_frame)
+    if (!values.empty()) r.means[key] = mean_of(values);
+  if (!is_original(frames, o.original))
+    r.unavailable["psnr"] = kPsnrPerRun;
+  else if (!truth)
     r.unavailable["psnr"] = "needs the captured frames: pass --ground-truth DIR (frames of the same cameras and times as --original) "
                             "to score the original-scene render";
-  if (styl.size() < 2) r.unavailable["warp_loss"] = "needs at least 2 frames";
+  if (styl.size() < 2)
+    r.unavailable["warp_loss"] = "needs at least 2 frames";
+  else if (r.means.count("warp_loss") == 0)
+    r.unavailable["warp_loss"] = "every one of the " + std::to_string(occluded_pairs) +
+                                 " frame pairs is occluded at every pixel under the " + flow_name(o) +
+                                 " flow (forward-backward or motion-boundary check), so no pixel could be compared: check "
+                                 "the flow (--flow, --flow-dir) and that consecutive frames show the same scene";
   if (o.learned) {
     const auto scored_here = [&](const std::string& key) {
       return o.learned_keys.empty() || std::find(o.learned_keys.begin(), o.learned_keys.end(), key) != o.learned_keys.end();

@@ -32,7 +32,8 @@ std::string native_convention(const std::string& key, const FramesOptions& o) {
          " frames; stylised t+1 warped to t (Resample2d, clamped bilinear); Lai 2018 forward-backward and "
          "motion-boundary occlusion mask; " +
          (o.warp_norm == metrics::WarpNorm::abs ? "mean |difference| (Style4D L1)" : "mean squared difference (Lai)") +
-         " over unoccluded pixels and channels; mean over pairs";
+         " over unoccluded pixels and channels; mean over pairs, leaving out a pair occluded at every pixel (none "
+         "left: unavailable)";
 }
 
 }  // namespace

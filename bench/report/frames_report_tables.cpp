@@ -28,7 +28,10 @@ std::string report_table_markdown(const nlohmann::json& report) {
   for (size_t i = 0; i < styles.size(); ++i)
     md << (i == 0 ? "Style: `" : ", `") << styles[i] << (i + 1 == styles.size() ? "`.\n\n" : "`");
   md << "| method | scene |";
-  for (const auto& e : metric_catalog()) md << " " << e.label << (e.higher_is_better ? " ↑" : " ↓") << " |";
+  // psnr is one value per run (the original scene's reconstruction): its header says so, and only
+  // the original render's row shows it; the other rows' cells are "-" (kPsnrPerRun), never a copy.
+  for (const auto& e : metric_catalog())
+    md << " " << e.label << (e.key == "psnr" ? " (original scene, per run)" : "") << (e.higher_is_better ? " ↑" : " ↓") << " |";
   md << "\n|---|---|";
   for (size_t i = 0; i < metric_catalog().size(); ++i) md << "---|";
   md << "\n";
@@ -41,8 +44,8 @@ std::string report_table_markdown(const nlohmann::json& report) {
         md << " " << number(v.get<double>()) << " |";
         continue;
       }
-      md << " n/a |";
       const std::string why = v.at("unavailable").get<std::string>();
+      md << (why == kPsnrPerRun ? " - |" : " n/a |");
       bool seen = false;
       for (const auto& n : notes) seen = seen || (n.first == e.key && n.second == why);
       if (!seen) notes.emplace_back(e.key, why);
@@ -50,8 +53,13 @@ std::string report_table_markdown(const nlohmann::json& report) {
     md << "\n";
   }
   if (!notes.empty()) {
-    md << "\nn/a: not computed, never estimated.\n\n";
-    for (const auto& [key, why] : notes) md << "- `" << key << "`: " << why << "\n";
+    const auto per_run = [](const auto& n) { return n.second == kPsnrPerRun; };
+    const bool any_na = !std::all_of(notes.begin(), notes.end(), per_run), any_dash = std::any_of(notes.begin(), notes.end(), per_run);
+    md << "\n";
+    if (any_na) md << "n/a: not computed, never estimated.";
+    if (any_dash) md << (any_na ? " " : "") << "-: a per-run value, shown on the original render's row only.";
+    md << "\n\n";
+    for (const auto& [key, why] : notes) md << "- `" << key << "`" << (why == kPsnrPerRun ? " (-)" : "") << ": " << why << "\n";
   }
   return md.str();
 }

@@ -31,7 +31,10 @@ MethodResult pool_sequences(const std::string& name, const std::vector<MethodRes
     for (double v : values) sum += v;
     if (!values.empty()) out.means[key] = sum / double(values.size());
   }
-  // A key with values from some sequence only (warp_loss of a 1-frame camera) is scored on those.
+  // A key with values from some sequence only (warp_loss of a 1-frame camera) is scored on those; a
+  // key no sequence scored keeps the first reason any sequence gave.
+  for (size_t s = 1; s < sequences.size(); ++s)
+    for (const auto& [key, why] : sequences[s].unavailable) out.unavailable.emplace(key, why);
   for (const auto& [key, mean] : out.means) out.unavailable.erase(key);
   return out;
 }

@@ -1,6 +1,7 @@
 // Warp loss on cases with known answers: a pure translation with its exact flow warps back exactly
 // and has no occluded pixel; DIS recovers that translation; a constant brightness change with zero
-// flow gives its size (L1) or square (Lai's MSE); inconsistent flows and motion boundaries are masked.
+// flow gives its size (L1) or square (Lai's MSE); inconsistent flows and motion boundaries are masked,
+// masked pixels leave the mean, and a pair masked everywhere has no score (NaN), never a perfect 0.
 // RAFT: no weights can ship with the tests, so only its error path is tested.
 #include <doctest/doctest.h>
 
@@ -122,6 +123,34 @@ TEST_CASE("inconsistent flows and motion boundaries are occluded") {
   // grad u = 1 at x = 9 only (forward difference): 1 > 0.01 * 1 + 0.002. FB check: x + u lands where
   // the backward flow cancels it everywhere (x = 9 lands on 10, whose backward flow is -1).
   for (int x = 0; x < w; ++x) CHECK_MESSAGE(mask[size_t(4) * w + x] == (x == 9), "x = " << x);
+}
+
+TEST_CASE("occluded pixels are left out of the mean, and a pair occluded everywhere has no score, not 0") {
+  const int w = 20, h = 6;
+  const auto a = s4d::test::constant_image(w, h, 0.2f, 0.2f, 0.2f);
+  auto b = a;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) b.data[(size_t(y) * w + x) * 3 + c] = x < 5 ? 0.7f : 0.3f;
+  // Zero forward flow; the backward flow disagrees (u = 1) at x < 5: |0 + 1|^2 = 1 > 0.01 * 1 + 0.5,
+  // so those 5 columns are occluded and their difference 0.5 never counts. Hand value: the other 15
+  // columns differ by 0.1 in every channel, so L1 = 0.1 and Lai's squared = 0.01 (float rounding of
+  // 0.3 - 0.2: below 1e-7 relative).
+  const auto zero = constant_flow(w, h, 0, 0);
+  auto partial = constant_flow(w, h, 0, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < 5; ++x) partial.uv[(size_t(y) * w + x) * 2] = 1;
+  const auto some = m::warp_error(a, b, zero, partial);
+  CHECK(some.scored());
+  CHECK(some.valid_fraction == doctest::Approx(0.75).epsilon(1e-12));
+  CHECK(some.error == doctest::Approx(0.1).epsilon(1e-6));
+  CHECK(m::warp_error(a, b, zero, partial, m::WarpNorm::squared).error == doctest::Approx(0.01).epsilon(1e-6));
+  // Every pixel inconsistent (backward u = 1 everywhere): nothing to compare. Lai's fallback divided the
+  // empty sum by all pixels and scored this pair a perfect 0.
+  const auto none = m::warp_error(a, b, zero, constant_flow(w, h, 1, 0));
+  CHECK_FALSE(none.scored());
+  CHECK(none.valid_fraction == 0.0);
+  CHECK(std::isnan(none.error));
 }
 
 TEST_CASE("raft flow names the missing or unreadable model file") {

@@ -11,8 +11,10 @@
 //   p(x) - p(x+1) along x and y of w_f, zero in the last column / row).
 //
 // Per pair: sum over the non-occluded pixels and 3 channels of |difference| (Style4D's L1, default) or
-// its square (Lai's), divided by 3 x (non-occluded pixels), all pixels when none is. The metric is the
-// mean over pairs.
+// its square (Lai's), divided by 3 x (non-occluded pixels). A pair with every pixel occluded has
+// nothing to compare: its error is NaN (Lai's script divides by all pixels instead and scores it a
+// perfect 0), and the metric, the mean over pairs, leaves it out (bench/report/frames_eval.cpp; no
+// pair left: unavailable).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -31,8 +33,9 @@ std::vector<uint8_t> occlusion_mask(const Flow& forward, const Flow& backward);
 io::ImageF warp_back(const io::ImageF& image, const Flow& flow);
 
 struct PairWarpError {
-  double error = 0;
+  double error = 0;           // NaN when no pixel is valid (valid_fraction == 0)
   double valid_fraction = 0;  // non-occluded pixels / all pixels
+  bool scored() const { return valid_fraction > 0; }  // false: leave the pair out of any mean
 };
 
 // Throws std::invalid_argument when the frames are not RGB or the frames and flows differ in size.

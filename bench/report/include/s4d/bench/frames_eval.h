@@ -37,12 +37,21 @@ struct FramesOptions {
   std::map<std::string, std::string> bridged;              // keys the pyiqa bridge computed -> its impl text
 };
 
+// The psnr "unavailable" text of every row but the original render's: psnr scores the
+// reconstruction of the original scene against the captured frames, one value per run (METRICS.md:
+// "reconstruction (original scene)"), and a stylised render has no captured frames of its own.
+// report.md shows these cells as "-" (frames_report_tables.cpp).
+inline constexpr const char* kPsnrPerRun =
+    "per run, not per style: psnr scores the original-scene render against the captured frames (the reconstruction) "
+    "and is reported on the original render's row only; a stylised render has no captured frames to compare with "
+    "(frames mode: add --frames set to the --original frames for that row)";
+
 struct MethodResult {
   std::string name;
   std::filesystem::path frames;
   int frame_count = 0;
   std::map<std::string, double> means;                       // metric key -> value over the video
-  std::map<std::string, std::vector<double>> per_frame;      // warp_loss: per pair (frame t, t+1)
+  std::map<std::string, std::vector<double>> per_frame;      // warp_loss: per scored pair (frame t, t+1)
   std::map<std::string, std::string> unavailable;            // keys this evaluation could not score, and why
   std::vector<int> sample_index;
   std::vector<io::ImageF> samples, original_samples;
@@ -52,6 +61,10 @@ struct MethodResult {
 // included).
 std::vector<int> sample_indices(int frames, int count);
 
+// psnr is scored only when `frames` is options.original itself (the same folder or file) and
+// options.ground_truth is given; any other method's psnr is unavailable with kPsnrPerRun. A warp pair
+// with every pixel occluded is left out of warp_loss's mean and its per_frame values; with none left,
+// warp_loss is unavailable, saying why.
 // Throws std::runtime_error naming the file when frames cannot be read, the videos differ in length
 // or frame size, or a flow file is missing.
 MethodResult evaluate_frames(const std::string& name, const std::filesystem::path& frames, const FramesOptions& options);
