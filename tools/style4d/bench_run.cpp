@@ -11,6 +11,7 @@
 
 #include "bench_ground_truth.h"
 #include "bench_modes.h"
+#include "s4d/bench/frames_eval.h"
 #include "s4d/bench/pyiqa_bridge.h"
 #include "s4d/bench/run_report.h"
 #include "s4d/engine/context.h"
@@ -153,7 +154,11 @@ int bench_run(const Args& args, bench::FramesOptions options) {
       cameras[i].push_back(bench::evaluate_frames(m.name, renders / m.name / "test" / seq.name,
                                                   sequence_options(options, renders / "original" / "test" / seq.name, truth,
                                                                    m.style_image)));
-      if (no_truth) cameras[i].back().unavailable["psnr"] = *no_truth;
+      // Only the original's row has a psnr to miss; a style's row keeps "per run, not per style".
+      if (no_truth) {
+        std::string& reason = cameras[i].back().unavailable["psnr"];
+        if (reason != bench::kPsnrPerRun) reason = *no_truth;
+      }
     }
     spirals.push_back(bench::evaluate_frames(m.name, renders / m.name / "spiral", spiral_options(m.style_image)));
     spirals.back().unavailable["psnr"] = "the spiral path has no captured frames; psnr is scored on the test protocol";

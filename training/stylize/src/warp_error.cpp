@@ -1,5 +1,6 @@
 #include "s4d/stylize/warp_error.h"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -33,7 +34,7 @@ double warp_error(const std::vector<io::ImageF>& content, const std::vector<io::
       }
     }
   }
-  return count > 0 ? sum / count : 0.0;
+  return count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace s4d::stylize

@@ -10,7 +10,8 @@
 namespace s4d::stylize {
 
 // Mean over t >= 1, non-occluded pixels and the 3 channels of |frames[t] - warp(frames[t - 1])|, in
-// the frames' units. Throws std::invalid_argument for fewer than 2 frames or mismatched sizes.
+// the frames' units; NaN when no pixel of any pair is consistent (nothing was measured, which is not
+// a perfect 0). Throws std::invalid_argument for fewer than 2 frames or mismatched sizes.
 double warp_error(const std::vector<io::ImageF>& content, const std::vector<io::ImageF>& frames);
 
 }  // namespace s4d::stylize
