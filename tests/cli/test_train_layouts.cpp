@@ -31,11 +31,6 @@ nlohmann::json train(const fs::path& data, const fs::path& run, const std::strin
   return nlohmann::json::parse(s4d::test::read_text(run / "train.json"));
 }
 
-void move_tree(const fs::path& from, const fs::path& to) {
-  fs::create_directories(to.parent_path());
-  fs::rename(from, to);
-}
-
 }  // namespace
 
 TEST_CASE("every layout trains from a fixture, names itself and its initialisation in train.json") {

@@ -6,7 +6,9 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,6 +16,8 @@
 #include "commands.h"
 #include "s4d/data/dataset_check.h"
 #include "s4d/engine/context.h"
+#include "s4d/train/data_recipe.h"
+#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 
 namespace s4d::cli {
@@ -36,6 +40,17 @@ std::array<float, 3> parse_colour(const std::string& option, const std::string& 
   return c;
 }
 
+// A real number; its range is validate()'s (train_config.h).
+template <class T>
+T parse_real(const std::string& option, const std::string& text) {
+  std::istringstream in(text);
+  T value{};
+  if (!(in >> value) || !in.eof()) throw std::invalid_argument("--" + option + ": expected a number, got '" + text + "'");
+  return value;
+}
+
+// The settings from the options: each option's value is checked once, by train::validate, with
+// SOURCE "command line" (the preset and the options) or "--set" (after the --set values).
 train::TrainConfig config_from_args(const Args& args) {
   train::TrainConfig c = train::preset_config(args.get_or("preset", "default"));
   if (auto v = args.get("iters")) train::set_iterations(c, parse_number<uint32_t>("iters", *v));
@@ -43,37 +58,27 @@ train::TrainConfig config_from_args(const Args& args) {
   const std::string stage = args.get_or("stage", "all");
   if (stage == "static") c.fine_iterations = 0;
   else if (stage != "all") throw std::invalid_argument("--stage: expected static or all, got '" + stage + "'");
-  if (auto v = args.get("static-motion")) {
-    std::istringstream in(*v);
-    if (!(in >> c.static_motion) || !in.eof() || !(c.static_motion >= 0) || !std::isfinite(c.static_motion))
-      throw std::invalid_argument("--static-motion: expected a non-negative number, got '" + *v + "'");
-  }
-  if (auto v = args.get("batch")) c.fine_batch = std::max(1u, parse_number<uint32_t>("batch", *v));
+  if (auto v = args.get("static-motion")) c.static_motion = parse_real<float>("static-motion", *v);
+  if (auto v = args.get("batch")) c.fine_batch = parse_number<uint32_t>("batch", *v);
   if (auto v = args.get("downscale")) c.downscale = parse_number<int>("downscale", *v);
-  if (c.downscale < 1) throw std::invalid_argument("--downscale: must be at least 1");
-  if (auto v = args.get("max-time")) {
-    std::istringstream in(*v);
-    if (!(in >> c.max_time) || !in.eof() || c.max_time < 0 || c.max_time > 1)
-      throw std::invalid_argument("--max-time: expected a time in [0, 1], got '" + *v + "'");
-  }
+  if (auto v = args.get("max-time")) c.max_time = parse_real<double>("max-time", *v);
   if (auto v = args.get("static-max-time")) {
-    std::istringstream in(*v);
-    if (!(in >> c.static_max_time) || !in.eof() || c.static_max_time < 0 || c.static_max_time > 1)
+    c.static_max_time = parse_real<double>("static-max-time", *v);
+    // Negative is the presets' "chosen from the data", not something to ask for by hand.
+    if (!(c.static_max_time >= 0 && c.static_max_time <= 1))
       throw std::invalid_argument("--static-max-time: expected a time in [0, 1], got '" + *v + "'");
   }
   if (auto v = args.get("background")) c.background = parse_colour("background", *v);
+  if (auto v = args.get("frames")) {
+    data::parse_frame_range(*v);  // refused here, before anything loads
+    c.frames = *v;
+  }
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
   if (auto v = args.get("budget")) c.budget = parse_number<uint32_t>("budget", *v);
-  if (auto v = args.get("sh-degree")) {
-    c.sh_degree = parse_number<int>("sh-degree", *v);
-    if (c.sh_degree < 0 || c.sh_degree > 3) throw std::invalid_argument("--sh-degree: must be 0..3");
-  }
-  if (auto v = args.get("lr-scale")) {
-    std::istringstream in(*v);
-    if (!(in >> c.lr_scale) || !in.eof() || !(c.lr_scale > 0) || !std::isfinite(c.lr_scale))
-      throw std::invalid_argument("--lr-scale: expected a positive number, got '" + *v + "'");
-  }
-  if (auto v = args.get("checkpoint-every")) c.checkpoint_every = std::max(1u, parse_number<uint32_t>("checkpoint-every", *v));
+  if (auto v = args.get("sh-degree")) c.sh_degree = parse_number<int>("sh-degree", *v);
+  if (auto v = args.get("lr-scale")) c.lr_scale = parse_real<double>("lr-scale", *v);
+  if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
+  train::validate(c, "command line");
   // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
   nlohmann::json j = train::to_json(c);
   bool background_given = args.get("background").has_value();
@@ -82,13 +87,16 @@ train::TrainConfig config_from_args(const Args& args) {
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
       throw std::invalid_argument("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
+    const std::string key = kv.substr(0, eq), text = kv.substr(eq + 1);
     try {
-      j[kv.substr(0, eq)] = nlohmann::json::parse(kv.substr(eq + 1));
-    } catch (const nlohmann::json::exception&) {
-      j[kv.substr(0, eq)] = kv.substr(eq + 1);  // a bare word: a string setting such as the preset name
+      j[key] = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+      if (!j[key].is_string())  // 1e999, nan: no number JSON holds
+        throw std::invalid_argument(train::setting_error("--set", key, text, std::string("expected a JSON value (") + e.what() + ")"));
+      j[key] = text;  // a bare word: a string setting such as the preset name
     }
   }
-  train::TrainConfig out = train::config_from_json(j);
+  train::TrainConfig out = train::config_from_json(j, "--set");  // validated again with the --set values
   out.background_given = background_given;
   return out;
 }
@@ -96,10 +104,7 @@ train::TrainConfig config_from_args(const Args& args) {
 // A new run checks its dataset first, loaded as the trainer loads it (style4d check-data): warnings
 // are printed, errors are printed and refuse the run.
 void check_dataset_first(const std::string& dir, const train::TrainConfig& config) {
-  data::LoadOptions options;  // as Trainer loads a new run's dataset
-  options.downscale = config.downscale;
-  if (config.background_given) options.background = config.background;
-  const data::DatasetReport report = data::load_and_check(dir, options).report;
+  const data::DatasetReport report = data::load_and_check(dir, train::load_options(config, false)).report;
   for (const data::Problem& p : report.problems) std::cerr << data::format_problem(p) << "\n";
   if (report.errors() > 0) {
     throw std::runtime_error("the dataset check found " + std::to_string(report.errors()) +
@@ -126,7 +131,10 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"set", "KEY=VALUE: any setting of train.json's 'settings' (repeatable), e.g. grid_lr=0.005", true, "KEY=VALUE"},
       {"static-max-time", "the static stage uses only views with time <= T; 0 makes the first frame the "
                           "canonical scene (preset's default: fast 0, others 1)", true, "T"},
-      {"background", "render and compositing background r,g,b in [0, 1] (default: the dataset's)", true, "R,G,B"},
+      {"background", "render and compositing background r,g,b in [0, 1] (default: found from the frames: alpha, a\n"
+                     "                        uniform border colour, else the layout's)", true, "R,G,B"},
+      {"frames", "only frames (times) N first, or A to B-1, their times mapped onto [0, 1]: a cap for long captures", true,
+       "N|A:B"},
       {"seed", "seed of view order, initial points and split samples (default 0)", true, "S"},
       {"budget", "most Gaussians densification may create", true, "N"},
       {"sh-degree", "highest spherical-harmonic degree, 0..3", true, "D"},
@@ -150,14 +158,38 @@ int cmd_train(const std::vector<std::string>& argv) {
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
   if (!args.get("resume") && !args.flag("skip-check")) check_dataset_first(args.require("data"), config_from_args(args));
 
+  // One writer per run: the lock is held until this process ends (released by the kernel however it
+  // ends), and a second `train` on the run refuses at once (run_lock.h).
+  namespace fs = std::filesystem;
+  std::optional<train::RunLock> lock;
+  std::optional<fs::path> created;  // a new run's folder this command made, removed again if the run cannot start
+  if (auto run = args.get("resume")) {
+    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "set", "background", "frames", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
+      if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
+    if (fs::exists(fs::path(*run) / "run.json")) lock.emplace(*run);  // otherwise resume says what is missing
+  } else {
+    const fs::path out = args.require("out");
+    if (!fs::exists(out)) created = out;
+    if (created || (fs::is_directory(out) && train::empty_but_for_lock(out))) {  // else the trainer refuses it
+      fs::create_directories(out);
+      lock.emplace(out);
+    }
+  }
   engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
-    for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "set", "background", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
-      if (args.get(other)) throw std::invalid_argument(std::string("--") + other + " cannot change a run being resumed");
     trainer = train::Trainer::resume(ctx, *run);
   } else {
-    trainer = std::make_unique<train::Trainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
+    try {
+      trainer = std::make_unique<train::Trainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
+    } catch (...) {
+      if (created && lock) {  // leave no empty run folder behind
+        lock->release(true);
+        std::error_code ec;
+        fs::remove(*created, ec);
+      }
+      throw;
+    }
   }
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);

@@ -1,11 +1,13 @@
 #include "stylize_pipeline.h"
 
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "s4d/bench/contact_sheet.h"
 #include "s4d/data/frame_cache.h"
@@ -21,6 +23,7 @@
 #include "s4d/stylize/image_file.h"
 #include "s4d/stylize/registry.h"
 #include "s4d/stylize/warp_error.h"
+#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/atomic_file.h"
 
@@ -82,15 +85,21 @@ std::vector<io::ImageF> read_sequence(const fs::path& dir, const protocols::Sequ
 }
 
 // Mean over consecutive pairs of the warp loss (metrics/warp_loss.h) under the renderer's exact flow
-// of the original scene, read from FLOW_DIR/fw_NNNN.exr and bw_NNNN.exr.
+// of the original scene, read from FLOW_DIR/fw_NNNN.exr and bw_NNNN.exr. Pairs occluded everywhere
+// are left out, as Style4D-Bench does; NaN (null in stylize.json) when every pair is.
 double exact_flow_warp_error(const std::vector<io::ImageF>& frames, const fs::path& flow_dir) {
   auto flow = [&](const char* prefix, size_t pair) {
     return metrics::read_flow_exr(flow_dir / protocols::flow_file_name(prefix, static_cast<int>(pair)));
   };
   double sum = 0;
-  for (size_t k = 0; k + 1 < frames.size(); ++k)
-    sum += metrics::warp_error(frames[k], frames[k + 1], flow("fw", k), flow("bw", k)).error;
-  return sum / static_cast<double>(std::max<size_t>(1, frames.size() - 1));
+  size_t scored = 0;
+  for (size_t k = 0; k + 1 < frames.size(); ++k) {
+    const metrics::PairWarpError pair = metrics::warp_error(frames[k], frames[k + 1], flow("fw", k), flow("bw", k));
+    if (!pair.scored()) continue;
+    sum += pair.error;
+    ++scored;
+  }
+  return scored > 0 ? sum / static_cast<double>(scored) : std::numeric_limits<double>::quiet_NaN();
 }
 
 // Renders the spiral path from the run's original scene and from the style, and measures the
@@ -201,6 +210,11 @@ void write_contact_sheet(const scene::TrainedRun& run, const data::Dataset& styl
 StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, const std::atomic<bool>& stop) {
   const auto start = std::chrono::steady_clock::now();
   style::validate(req.config);
+  // The run is held shared while its style trains: `train --resume` (exclusive) cannot change the
+  // geometry under it, and other styles of the run may train at once (run_lock.h). A folder that is
+  // not a run gets read_trained_run's message.
+  std::optional<train::RunLock> run_lock;
+  if (fs::exists(req.run / "run.json")) run_lock.emplace(req.run, train::RunLock::Mode::shared);
   const scene::TrainedRun run = scene::read_trained_run(req.run);
   const std::string name = req.name.empty() ? req.style_image.stem().string() : req.name;
   if (name.empty() || name == "original" || name.find('/') != std::string::npos)
@@ -210,6 +224,8 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
       req.config.stylizer, {.weights = req.weights, .style_size = req.style_size, .context = &ctx});
   StylizeOutcome out;
   out.dir = scene::style_dir(run.root, name);
+  fs::create_directories(out.dir);
+  const train::RunLock style_lock(out.dir);  // one writer per style
 
   const nlohmann::json network = req.weights.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json{{"weights", fs::absolute(req.weights).string()},

@@ -75,11 +75,7 @@ TrainedRun read_trained_run(const fs::path& root) {
   if (out.stage != "static" && out.stage != "4dgs")
     throw std::runtime_error(run.run_json().string() + ": stage '" + out.stage +
                              "' is not one this build renders (static, 4dgs)");
-  try {
-    out.config = train::config_from_json(settings);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(run.run_json().string() + ": field 'settings': " + e.what());
-  }
+  out.config = train::config_from_json(settings, run.run_json().string());  // names the file and the field
 
   std::vector<std::string> missing;
   if (out.stage == "static" && !fs::exists(run.gaussians_ply()))

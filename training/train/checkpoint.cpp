@@ -1,6 +1,11 @@
 #include "s4d/train/checkpoint.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -12,9 +17,13 @@
 
 namespace s4d::train {
 
+namespace fs = std::filesystem;
+
 namespace {
 
-constexpr char kMagic[8] = {'S', '4', 'D', 'C', 'K', 'P', 'T', '1'};
+constexpr size_t kMagicSize = 8;
+constexpr char kMagic1[kMagicSize + 1] = "S4DCKPT1";  // no checksums: read unverified
+constexpr char kMagic2[kMagicSize + 1] = "S4DCKPT2";  // header and per-array checksums
 
 template <class Vec>
 struct NamedArray {
@@ -40,60 +49,117 @@ auto arrays_of(State& s) {
   return out;
 }
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
+[[noreturn]] void fail(const fs::path& path, const std::string& what) {
   throw std::runtime_error(path.string() + ": " + what);
 }
 
-}  // namespace
+std::string hex64(uint64_t v) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(v));
+  return text;
+}
 
-void write_checkpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
+// The whole file: magic, header length, header checksum, header, arrays.
+std::string encode(const fs::path& path, const Checkpoint& checkpoint) {
   const model::HostState& state = checkpoint.state;
   nlohmann::json header;
   header["meta"] = checkpoint.meta;
   header["sh_degree"] = state.cloud.sh_degree;
   header["count"] = state.cloud.size();
+  header["arrays"] = nlohmann::json::array();
   std::string body;
-  for (const auto& a : arrays_of(state)) {
-    for (size_t i = 0; i < a.values->size(); ++i)
-      if (!std::isfinite((*a.values)[i]))
-        throw std::invalid_argument("checkpoint " + path.string() + ": array '" + a.name + "' holds a non-finite value at " +
-                                    std::to_string(i) + "; refusing to write it");
-    header["arrays"].push_back({{"name", a.name}, {"floats", a.values->size()}});
-    body.append(reinterpret_cast<const char*>(a.values->data()), a.values->size() * sizeof(float));
-  }
-  for (const auto& [name, values] : checkpoint.extra) {
+  auto add = [&](const std::string& name, const std::vector<float>& values) {
     for (size_t i = 0; i < values.size(); ++i)
       if (!std::isfinite(values[i]))
         throw std::invalid_argument("checkpoint " + path.string() + ": array '" + name + "' holds a non-finite value at " +
                                     std::to_string(i) + "; refusing to write it");
-    header["arrays"].push_back({{"name", name}, {"floats", values.size()}});
-    body.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(float));
-  }
+    const size_t bytes = values.size() * sizeof(float);
+    header["arrays"].push_back({{"name", name}, {"floats", values.size()}, {"fnv1a64", hex64(fnv1a64(values.data(), bytes))}});
+    body.append(reinterpret_cast<const char*>(values.data()), bytes);
+  };
+  for (const auto& a : arrays_of(state)) add(a.name, *a.values);
+  for (const auto& [name, values] : checkpoint.extra) add(name, values);
   const std::string json = header.dump();
-  const uint64_t len = json.size();
-  std::string file(kMagic, sizeof kMagic);
+  const uint64_t len = json.size(), sum = fnv1a64(json.data(), json.size());
+  std::string file(kMagic2, kMagicSize);
   file.append(reinterpret_cast<const char*>(&len), sizeof len);
+  file.append(reinterpret_cast<const char*>(&sum), sizeof sum);
   file += json;
   file += body;
-  util::write_file_atomic(path, file);
+  return file;
 }
 
-Checkpoint read_checkpoint(const std::filesystem::path& path) {
+// Best effort: makes the renames in `dir` durable. Filesystems without directory fsync (EINVAL)
+// still have the files themselves fsynced.
+void fsync_dir(const fs::path& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+[[noreturn]] void fail_errno(const fs::path& path, const std::string& what) {
+  throw std::runtime_error("cannot write " + path.string() + ": " + what + ": " + std::strerror(errno));
+}
+
+}  // namespace
+
+uint64_t fnv1a64(const void* bytes, size_t size) {
+  const unsigned char* p = static_cast<const unsigned char*>(bytes);
+  uint64_t h = 14695981039346656037ull;
+  for (size_t i = 0; i < size; ++i) {
+    h ^= p[i];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+void write_checkpoint(const fs::path& path, const Checkpoint& checkpoint) {
+  util::write_file_atomic(path, encode(path, checkpoint));
+}
+
+void write_checkpoint_rotating(const fs::path& path, const fs::path& previous, const Checkpoint& checkpoint, bool rotate) {
+  const std::string file = encode(path, checkpoint);  // a non-finite state throws here, before any file changes
+  const fs::path fresh = path.string() + ".new";
+  util::write_file_atomic(fresh, file);  // complete and fsynced under its own name
+  if (rotate && fs::exists(path)) {
+    // `path` stays in place until the new file replaces it: `previous` becomes a second name of it.
+    const fs::path link = previous.string() + ".new";
+    ::unlink(link.c_str());
+    if (::link(path.c_str(), link.c_str()) == 0) {
+      if (::rename(link.c_str(), previous.c_str()) != 0) fail_errno(previous, "rename");
+    } else if (::rename(path.c_str(), previous.c_str()) != 0) {  // no hard links here: `previous` covers the gap
+      fail_errno(previous, "rename");
+    }
+  }
+  if (::rename(fresh.c_str(), path.c_str()) != 0) fail_errno(path, "rename");
+  fsync_dir(path.parent_path());
+}
+
+Checkpoint read_checkpoint(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the checkpoint (missing or unreadable)");
   const std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (file.size() < 16 || std::memcmp(file.data(), kMagic, sizeof kMagic) != 0) fail(path, "not a style4d checkpoint");
-  uint64_t len = 0;
+  const bool v1 = file.size() >= kMagicSize && std::memcmp(file.data(), kMagic1, kMagicSize) == 0;
+  const bool v2 = file.size() >= kMagicSize && std::memcmp(file.data(), kMagic2, kMagicSize) == 0;
+  if (!v1 && !v2) fail(path, "not a style4d checkpoint");
+  // S4DCKPT1 files, written before checksums, load unverified (their arrays are still checked for
+  // size and finiteness below).
+  const size_t prefix = v1 ? 16 : 24;
+  if (file.size() < prefix) fail(path, "truncated header");
+  uint64_t len = 0, header_sum = 0;
   std::memcpy(&len, file.data() + 8, sizeof len);
-  if (len > file.size() - 16) fail(path, "truncated header");
+  if (v2) std::memcpy(&header_sum, file.data() + 16, sizeof header_sum);
+  if (len > file.size() - prefix) fail(path, "truncated header");
+  if (v2 && fnv1a64(file.data() + prefix, len) != header_sum) fail(path, "header: checksum mismatch");
   nlohmann::json header;
   try {
-    header = nlohmann::json::parse(file.substr(16, len));
+    header = nlohmann::json::parse(file.substr(prefix, len));
   } catch (const nlohmann::json::exception& e) {
     fail(path, std::string("corrupt header: ") + e.what());
   }
   Checkpoint cp;
-  size_t offset = 16 + len, count = 0;
+  size_t offset = prefix + len, count = 0;
   try {
     cp.meta = header.at("meta");
     cp.state.cloud.sh_degree = header.at("sh_degree").get<int>();
@@ -108,10 +174,13 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
       if (k < arrays.size() && name != arrays[k].name)
         fail(path, "array " + std::to_string(k) + " is '" + name + "', expected '" + arrays[k].name + "'");
       if (floats > (file.size() - offset) / sizeof(float)) fail(path, "truncated in array '" + name + "'");
+      const size_t bytes = floats * sizeof(float);
+      if (v2 && listed[k].at("fnv1a64").get<std::string>() != hex64(fnv1a64(file.data() + offset, bytes)))
+        fail(path, "array '" + name + "': checksum mismatch");
       std::vector<float>* values = k < arrays.size() ? arrays[k].values : &cp.extra.emplace_back(name, std::vector<float>{}).second;
       values->resize(floats);
-      std::memcpy(values->data(), file.data() + offset, floats * sizeof(float));
-      offset += floats * sizeof(float);
+      std::memcpy(values->data(), file.data() + offset, bytes);
+      offset += bytes;
       for (size_t i = 0; i < floats; ++i)
         if (!std::isfinite((*values)[i])) fail(path, "array '" + name + "' holds a non-finite value at " + std::to_string(i));
     }
@@ -131,6 +200,21 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
                      std::to_string(expected) + " for " + std::to_string(count) + " Gaussians");
   }
   return cp;
+}
+
+LoadedCheckpoint read_checkpoint_or_previous(const fs::path& path, const fs::path& previous) {
+  std::string problem;
+  try {
+    return {read_checkpoint(path), path, ""};
+  } catch (const std::runtime_error& e) {
+    problem = e.what();
+  }
+  if (!fs::exists(previous)) throw std::runtime_error(problem + " (and there is no previous checkpoint " + previous.string() + ")");
+  try {
+    return {read_checkpoint(previous), previous, problem};
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(problem + "; the previous checkpoint is unusable too: " + e.what());
+  }
 }
 
 }  // namespace s4d::train

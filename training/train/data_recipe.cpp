@@ -8,6 +8,13 @@ namespace {
 constexpr double kMonocularViewsPerTime = 1.5;  // a monocular capture has 1; the smallest rig 2
 }
 
+data::LoadOptions load_options(const TrainConfig& c, bool resumed) {
+  data::LoadOptions o{.downscale = c.downscale};
+  if (!c.frames.empty()) o.frames = data::parse_frame_range(c.frames, "frames");
+  if (resumed || c.background_given) o.background = c.background;
+  return o;
+}
+
 double train_views_per_time(const data::Dataset& dataset) {
   std::map<double, size_t> per_time;
   for (const data::View& v : dataset.views) {

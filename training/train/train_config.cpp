@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -100,7 +103,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
 
 
 #define S4D_CONFIG_FIELDS(X)                                                                                     \
-  X(preset) X(iterations) X(seed) X(downscale) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every)              \
+  X(preset) X(iterations) X(seed) X(downscale) X(frames) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
   X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(test_every)               \
@@ -117,19 +120,79 @@ nlohmann::json to_json(const TrainConfig& c) {
   return j;
 }
 
-TrainConfig config_from_json(const nlohmann::json& j) {
-  if (!j.is_object()) throw std::runtime_error("training settings: expected a JSON object");
-  TrainConfig c;
-#define S4D_GET(field)                                                                                  \
-  if (j.contains(#field)) {                                                                             \
-    try {                                                                                               \
-      j.at(#field).get_to(c.field);                                                                     \
-    } catch (const nlohmann::json::exception& e) {                                                      \
-      throw std::runtime_error(std::string("training settings: field '" #field "': ") + e.what());     \
-    }                                                                                                   \
+namespace {
+
+// Reads one setting's JSON value into its field's type; `whole` is the key's value as written (an
+// array for an element), shown in the message. Counts are whole numbers in their type's range (the
+// JSON library would wrap -1 to 4294967295 and truncate 2.5); floats within the float range.
+struct SettingReader {
+  const std::string& source;
+  const char* key;
+  const nlohmann::json& whole;
+
+  [[noreturn]] void bad(const std::string& why) const { throw std::runtime_error(setting_error(source, key, whole.dump(), why)); }
+
+  void read(const nlohmann::json& v, std::string& out) const {
+    if (!v.is_string()) bad("expected a string");
+    out = v.get<std::string>();
   }
+  template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>
+  void read(const nlohmann::json& v, T& out) const {
+    constexpr auto lo = std::numeric_limits<T>::min();
+    constexpr auto hi = std::numeric_limits<T>::max();
+    const std::string range = std::to_string(lo) + ".." + std::to_string(hi);
+    if (!v.is_number()) bad("expected a whole number");
+    if (v.is_number_float()) {
+      const double d = v.get<double>();
+      if (!std::isfinite(d) || d != std::floor(d)) bad("expected a whole number");
+      if (d < static_cast<double>(lo) || d > static_cast<double>(hi)) bad("must be in " + range);
+      out = static_cast<T>(d);
+    } else if (v.is_number_unsigned()) {
+      const uint64_t u = v.get<uint64_t>();
+      if (u > static_cast<uint64_t>(hi)) bad("must be in " + range);
+      out = static_cast<T>(u);
+    } else {
+      const int64_t i = v.get<int64_t>();
+      if (i < static_cast<int64_t>(lo)) bad(std::is_unsigned_v<T> ? "must not be negative" : "must be in " + range);
+      if (i > static_cast<int64_t>(hi)) bad("must be in " + range);
+      out = static_cast<T>(i);
+    }
+  }
+  void read(const nlohmann::json& v, double& out) const {
+    if (!v.is_number()) bad("expected a number");
+    out = v.get<double>();
+  }
+  void read(const nlohmann::json& v, float& out) const {
+    double d = 0;
+    read(v, d);
+    if (std::isfinite(d) && std::fabs(d) > std::numeric_limits<float>::max()) bad("outside the float range");
+    out = static_cast<float>(d);
+  }
+  template <class T, size_t N>
+  void read(const nlohmann::json& v, std::array<T, N>& out) const {
+    if (!v.is_array() || v.size() != N) bad("expected an array of " + std::to_string(N) + " numbers");
+    for (size_t k = 0; k < N; ++k) read(v[k], out[k]);
+  }
+  template <class T>
+  void read(const nlohmann::json& v, std::vector<T>& out) const {
+    if (!v.is_array()) bad("expected an array of numbers");
+    out.resize(v.size());
+    for (size_t k = 0; k < v.size(); ++k) read(v[k], out[k]);
+  }
+};
+
+}  // namespace
+
+TrainConfig config_from_json(const nlohmann::json& j, const std::string& source) {
+  if (!j.is_object())
+    throw std::runtime_error(source + ": the training settings are " + (j.is_null() ? std::string("null") : "a JSON " + std::string(j.type_name())) +
+                             ", expected a JSON object");
+  TrainConfig c;
+#define S4D_GET(field) \
+  if (j.contains(#field)) SettingReader{source, #field, j.at(#field)}.read(j.at(#field), c.field);
   S4D_CONFIG_FIELDS(S4D_GET)
 #undef S4D_GET
+  validate(c, source);
   return c;
 }
 

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
 #include "s4d/deform/static_split.h"
 #include "s4d/densify/densifier.h"
+#include "s4d/densify/growth_floor.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
@@ -23,7 +25,9 @@
 #include "s4d/train/checkpoint.h"
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
+#include "s4d/train/run_lock.h"
 #include "s4d/train/split_state.h"
+#include "s4d/train/time_estimate.h"
 #include "s4d/train/view_sampler.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
@@ -37,17 +41,11 @@ namespace {
 constexpr size_t kFrameCacheBytes = size_t{1} << 30;
 constexpr uint32_t kMaxRollbacks = 8;     // each halves the learning rates
 constexpr size_t kPeriodicTestViews = 8;  // periodic tests use this many test views; the final one all
+constexpr uint32_t kProbeSteps = 10;      // static steps timed for the run's time estimate
 
 // Adam groups: one per Gaussian attribute with the SH rows split into DC and the rest, then the
 // deformation field's planes and MLP.
 enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlanes, gMlp, gCount };
-
-// A new run takes the dataset's background unless one was asked for; a resumed run keeps its own.
-data::LoadOptions load_options(const TrainConfig& c, bool resumed) {
-  data::LoadOptions o{.downscale = c.downscale};
-  if (resumed || c.background_given) o.background = c.background;
-  return o;
-}
 
 // Cap on the points a run starts from: 4DGaussians downsamples its clouds to 40k, and starting at
 // the Gaussian budget would leave densification no room.
@@ -91,6 +89,33 @@ std::pair<std::array<float, 3>, std::array<float, 3>> bounds(const std::vector<f
   std::array<float, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (size_t i = 0; i < means.size(); ++i) lo[i % 3] = std::min(lo[i % 3], means[i]), hi[i % 3] = std::max(hi[i % 3], means[i]);
   return {lo, hi};
+}
+
+// What a resumed run continues from: its newest checkpoint, or the previous one when the newest is
+// missing or damaged (read_checkpoint_or_previous). A run with neither continues from the start
+// only when it holds no results either: it was killed before its first checkpoint, so nothing is
+// lost (its loss.csv rows up to then are logged again). One with results (a deleted checkpoint) is
+// refused before anything is loaded or written: training it again would overwrite them.
+std::optional<LoadedCheckpoint> checkpoint_to_resume(const RunDir& run) {
+  if (fs::exists(run.checkpoint()) || fs::exists(run.previous_checkpoint()))
+    return read_checkpoint_or_previous(run.checkpoint(), run.previous_checkpoint());
+  std::string results;
+  auto found = [&](const fs::path& p, const char* name) {
+    std::error_code ec;
+    if (fs::exists(p) && !(fs::is_directory(p) && fs::is_empty(p, ec))) results += (results.empty() ? "" : ", ") + std::string(name);
+  };
+  found(run.train_json(), "train.json");
+  found(run.gaussians_ply(), "geometry/gaussians.ply");
+  found(run.eval_dir(), "eval/");
+  found(run.style_dir(), "style/");
+  if (!results.empty())
+    throw std::runtime_error(run.checkpoint().string() + ": missing, and so is " + run.previous_checkpoint().string() +
+                             "; " + run.root.string() + " holds results (" + results +
+                             ") that training it again from the start would overwrite, so it is not resumed (train a "
+                             "new run with --out, or delete " + run.root.string() + " to train this one again)");
+  std::cerr << run.root.string() << ": no checkpoint yet (the run stopped before its first) and no results to lose; "
+            << "training it from the start\n";
+  return std::nullopt;
 }
 
 engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
@@ -140,6 +165,9 @@ struct Trainer::Impl {
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
   Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
+  // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
+  // the newest without rotating it over the good previous one.
+  bool newest_damaged = false;
 
   Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d)
       : ctx(c), run(std::move(r)), config(cfg), dataset(d), lr_scale(cfg.lr_scale), train_views(select_views(d, cfg, false)),
@@ -483,6 +511,9 @@ struct Trainer::Impl {
         rules.max_world_scale = static_cast<float>(0.1 * dataset.extent);
       }
       rules.budget = config.budget;
+      // A cloud far below its budget grows toward it in the densifications left (growth_floor.h).
+      const uint32_t events_left = (until - 1) / config.densify_every - it / config.densify_every + 1;
+      rules.grad_threshold = densify::growth_threshold(ctx, *gaussians, rules.grad_threshold, config.budget, events_left);
       rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
       densifier.densify(*gaussians, rules);
       static_count = 0;  // the Gaussians moved in memory: the split is measured again when due
@@ -516,11 +547,12 @@ struct Trainer::Impl {
   bool checkpoint(double seconds) {
     Checkpoint cp = snapshot(seconds);
     try {
-      write_checkpoint(run.checkpoint(), cp);
+      write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
     } catch (const std::invalid_argument& e) {  // non-finite parameters: never written
       rollback(e.what());
       return false;
     }
+    newest_damaged = false;
     io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);
     last_good = std::move(cp);
     return true;
@@ -594,7 +626,9 @@ struct Trainer::Impl {
 
 Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConfig& config, const fs::path& run_dir)
     : config_(config) {
-  if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && fs::is_empty(run_dir)))
+  validate(config_, "training settings");
+  // The folder's .lock is the caller's run lock (run_lock.h), taken before the run is created.
+  if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && empty_but_for_lock(run_dir)))
     throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with --resume or choose "
                                 "another --out");
   dataset_ = data::load_dataset(data_dir, load_options(config_, false));
@@ -622,19 +656,34 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
 }
 
 Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& run_json) {
-  try {
-    config_ = config_from_json(run_json.at("settings"));
-    dataset_ = data::load_dataset(run_json.at("data").get<std::string>(), load_options(config_, true));
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(run.run_json().string() + ": " + e.what());
-  }
+  const std::string where = run.run_json().string();
+  if (!run_json.is_object())
+    throw std::runtime_error(where + ": expected a JSON object with 'data' and 'settings', got a JSON " +
+                             std::string(run_json.type_name()));
+  if (!run_json.contains("data") || !run_json["data"].is_string())
+    throw std::runtime_error(where + ": field 'data' (the dataset path) is missing or not a string");
+  if (!run_json.contains("settings")) throw std::runtime_error(where + ": field 'settings' (the training settings) is missing");
+  config_ = config_from_json(run_json["settings"], where);  // validated: a hand-edited value is refused by name
+  std::optional<LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
+  dataset_ = data::load_dataset(run_json["data"].get<std::string>(), load_options(config_, true));
   // Runs from before the recipe stored no resolved value; nothing is left to the data on resume.
   const nlohmann::json recipe = adapt_to_data(config_, dataset_);
   impl_ = std::make_unique<Impl>(ctx, run, config_, dataset_);
   impl_->facts = run_json.contains("dataset") ? run_json["dataset"] : dataset_facts(dataset_, {}, recipe);
-  if (fs::exists(run.checkpoint())) {
-    impl_->restore(read_checkpoint(run.checkpoint()));
+  if (from) {
+    try {
+      impl_->restore(from->checkpoint);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(from->path.string() + ": " + e.what());
+    }
+    if (!from->newest_problem.empty()) {
+      impl_->newest_damaged = true;
+      std::cerr << "warning: " << from->newest_problem << "; resuming from the previous checkpoint " << from->path.string()
+                << " (" << impl_->stage << " stage, iteration " << impl_->iteration << ")\n";
+    }
   } else {
+    fs::create_directories(run.root / "checkpoint");  // as a new run has them
+    fs::create_directories(run.root / "geometry");
     const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
                                                     max_initial_points(config_), config_.seed);
     std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
@@ -664,6 +713,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
   const auto start = std::chrono::steady_clock::now();
   m.trim_loss_log();
   std::ofstream log(m.run.loss_csv(), std::ios::app);
+  double probe_start = 0;
   while (true) {
     util::Progress progress(m.stage, m.stage_iterations());
     double test_psnr = NAN;
@@ -692,6 +742,16 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       if (m.iteration % config_.checkpoint_every == 0 && m.iteration < m.stage_iterations()) m.checkpoint(m.elapsed(start));
       std::vector<std::pair<std::string, double>> shown = {{"loss", value.loss}, {"gaussians", m.gaussians->size()}};
       if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
+      // A fresh run tells its expected length once its first steps are timed (after the first two,
+      // which carry the pipelines' set-up).
+      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == 2) probe_start = m.elapsed(start);
+      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == 2 + kProbeSteps) {
+        const TimeEstimate e =
+            estimate_time(config_, (m.elapsed(start) - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
+        std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";
+        m.facts["estimate"] = {{"static_seconds", e.static_seconds}, {"fine_seconds", e.fine_seconds},
+                               {"probe_seconds_per_step", e.probe_seconds_per_step}, {"probe_gaussians", e.probe_gaussians}};
+      }
       progress.update(m.iteration, shown);
     }
     const bool last = m.fine() || config_.fine_iterations == 0;

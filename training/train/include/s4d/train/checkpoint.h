@@ -2,9 +2,13 @@
 // stopped (Gaussians, Adam moments, densification statistics, iteration, random state, learning-rate
 // scale), written atomically so that a crash or kill -9 leaves the previous checkpoint intact.
 //
-// Format: "S4DCKPT1", u64 header length, a JSON header (meta, and per array its name and float
-// count, in file order), then the arrays as little-endian float32.
+// Format S4DCKPT2: "S4DCKPT2", u64 header length, u64 FNV-1a 64 of the header bytes, a JSON header
+// (meta, and per array its name, float count and "fnv1a64", the FNV-1a 64 of its bytes as 16 hex
+// digits, in file order), then the arrays as little-endian float32. S4DCKPT1 (no header checksum,
+// no array checksums) is still read, unverified. The style files of stage 4 (scene/style_file.h)
+// use the same container.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -24,12 +28,37 @@ struct Checkpoint {
   std::vector<std::pair<std::string, std::vector<float>>> extra;
 };
 
+// FNV-1a 64 of `bytes` (offset basis 14695981039346656037, prime 1099511628211): the checksum of
+// checkpoint sections. Any one changed byte changes it (each step is a bijection of the state).
+uint64_t fnv1a64(const void* bytes, size_t size);
+
 // Throws std::invalid_argument naming the array and index of the first non-finite value (a
 // checkpoint never holds NaN), std::runtime_error when writing fails; the old file stays then.
 void write_checkpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
 
 // Throws std::runtime_error naming the file and what is wrong: missing, not a checkpoint,
-// truncated, inconsistent array sizes, non-finite values.
+// truncated, a checksum mismatch ("header: checksum mismatch", "array 'means': checksum
+// mismatch"), inconsistent array sizes, non-finite values.
 Checkpoint read_checkpoint(const std::filesystem::path& path);
+
+// Writes `checkpoint` as `path` and keeps the file it replaces as `previous`, so that one damaged
+// file never loses a run. The new file is written to a temporary beside `path` and fsynced; then the
+// old `path` becomes `previous` (a hard link renamed over it, or a rename where links fail) and the
+// temporary is renamed to `path`; then the directory is fsynced. A crash at any step leaves `path`
+// or `previous` complete. rotate = false replaces `path` and leaves `previous` alone (the trainer
+// does that once after resuming from `previous` because `path` was damaged: the damaged file must
+// not replace the good one).
+void write_checkpoint_rotating(const std::filesystem::path& path, const std::filesystem::path& previous,
+                               const Checkpoint& checkpoint, bool rotate = true);
+
+struct LoadedCheckpoint {
+  Checkpoint checkpoint;
+  std::filesystem::path path;  // the file it came from
+  std::string newest_problem;  // empty when `path` is the newest; otherwise why the newest was passed over
+};
+
+// Reads `path`, or `previous` when `path` is missing or damaged (newest_problem says why then).
+// Throws std::runtime_error when neither loads, with what is wrong with each.
+LoadedCheckpoint read_checkpoint_or_previous(const std::filesystem::path& path, const std::filesystem::path& previous);
 
 }  // namespace s4d::train

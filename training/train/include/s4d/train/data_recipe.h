@@ -9,6 +9,10 @@
 
 namespace s4d::train {
 
+// How a run loads its dataset: downscale and frames from the settings; a new run takes the dataset's
+// background unless one was asked for, a resumed run keeps its own.
+data::LoadOptions load_options(const TrainConfig& config, bool resumed);
+
 // Training views per distinct time: 1 for a monocular capture (D-NeRF, HyperNeRF: one camera per
 // moment), the camera count for a synchronized rig (DyNeRF).
 double train_views_per_time(const data::Dataset& dataset);

@@ -20,6 +20,9 @@ struct TrainConfig {
   // Data.
   int downscale = 1;
   double max_time = 1.0;  // train and test on views with time <= max_time (0: the first frame only)
+  // Only these frames of the capture, "N" or "A:B" (data::parse_frame_range), their times mapped back
+  // onto [0, 1]; empty: every frame.
+  std::string frames;
   // The static stage trains on the views with time <= static_max_time, the fine stage on all: 0 makes
   // the first frame the canonical scene (large motions survive; see docs/training.md). Negative:
   // chosen from the data when training starts (adapt_to_data: 0 multi-view, 1 monocular); a run's
@@ -92,8 +95,21 @@ int active_sh_degree(const TrainConfig& config, uint32_t iterations_done);
 deform::FieldConfig field_config(const TrainConfig& config, const std::array<float, 3>& aabb_min,
                                  const std::array<float, 3>& aabb_max);
 
+// The one check of settings, wherever they come from (command line, --set, RUN/run.json, presets):
+// throws std::runtime_error "SOURCE: field 'KEY' = VALUE: why" for the first setting outside its
+// range (ranges per key in train_config_check.cpp; the deformation field's are the kernels' limits,
+// s4d_deform.h). SOURCE says where the settings came from: a file (RUN/run.json), "--set",
+// "command line", "preset fast".
+void validate(const TrainConfig& config, const std::string& source);
+
+// The message format of settings errors: "SOURCE: field 'KEY' = VALUE: why".
+std::string setting_error(const std::string& source, const std::string& key, const std::string& value,
+                          const std::string& why);
+
 nlohmann::json to_json(const TrainConfig& config);
-// Missing keys keep their defaults; a key of the wrong type is an error naming it.
-TrainConfig config_from_json(const nlohmann::json& j);
+// Missing keys keep their defaults. Not an object, a key of the wrong type (a string for a number,
+// 2.5 or -1 for a count) or a value validate() refuses is a std::runtime_error in validate's format,
+// naming `source` (the file the settings came from).
+TrainConfig config_from_json(const nlohmann::json& j, const std::string& source = "training settings");
 
 }  // namespace s4d::train

@@ -1,0 +1,27 @@
+// The time a run will take, told up front: from the measured seconds of its first static steps,
+// extrapolated over both stages with the stage-scaling measurements (docs/benchmarks.md, "Stage
+// scaling": a static step's cost grows as Gaussians^0.5, a 4DGS step's as Gaussians^0.65, and a
+// 4DGS step costs about 2.5 static steps per view on lavapipe). A CPU user learns in seconds that
+// full-resolution Neu3D takes days; the stages' own ETAs refine it as they run.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "s4d/train/train_config.h"
+
+namespace s4d::train {
+
+struct TimeEstimate {
+  double static_seconds = 0, fine_seconds = 0;
+  double probe_seconds_per_step = 0;  // measured
+  uint32_t probe_gaussians = 0;       // Gaussians during the probe
+};
+
+// Assumes densification fills the budget linearly over its window (the built-in scene fills it by
+// the window's end); a scene that grows less trains faster than estimated.
+TimeEstimate estimate_time(const TrainConfig& config, double seconds_per_static_step, uint32_t gaussians);
+
+// One line: "estimate: static ~4 min, 4DGS ~17 min (from 10 steps at 0.21 s, 4000 Gaussians)".
+std::string describe(const TimeEstimate& estimate, uint32_t probe_steps);
+
+}  // namespace s4d::train
