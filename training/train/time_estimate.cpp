@@ -52,7 +52,7 @@ std::string describe(const TimeEstimate& e, uint32_t probe_steps) {
                 e.probe_gaussians);
   std::string line = "estimate: static stage ~" + duration(e.static_seconds);
   if (e.fine_seconds > 0) line += ", 4DGS stage ~" + duration(e.fine_seconds);
-  return line + " (" + probe + ", growing to the budget)";
+  return line + " (" + probe + "; at most this if the Gaussians fill the budget, less if they do not)";
 }
 
 }  // namespace s4d::train

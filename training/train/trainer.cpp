@@ -41,7 +41,9 @@ namespace {
 constexpr size_t kFrameCacheBytes = size_t{1} << 30;
 constexpr uint32_t kMaxRollbacks = 8;     // each halves the learning rates
 constexpr size_t kPeriodicTestViews = 8;  // periodic tests use this many test views; the final one all
-constexpr uint32_t kProbeSteps = 10;      // static steps timed for the run's time estimate
+// Static steps timed for the run's time estimate, after the first ones, which compile pipelines and
+// fill the frame cache (on a 2-core lavapipe the first 10 ran 3x slower than the rest).
+constexpr uint32_t kProbeFrom = 20, kProbeSteps = 30;
 
 // Adam groups: one per Gaussian attribute with the SH rows split into DC and the rest, then the
 // deformation field's planes and MLP.
@@ -742,10 +744,9 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       if (m.iteration % config_.checkpoint_every == 0 && m.iteration < m.stage_iterations()) m.checkpoint(m.elapsed(start));
       std::vector<std::pair<std::string, double>> shown = {{"loss", value.loss}, {"gaussians", m.gaussians->size()}};
       if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
-      // A fresh run tells its expected length once its first steps are timed (after the first two,
-      // which carry the pipelines' set-up).
-      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == 2) probe_start = m.elapsed(start);
-      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == 2 + kProbeSteps) {
+      // A fresh run tells its expected length once its first steps are timed.
+      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == kProbeFrom) probe_start = m.elapsed(start);
+      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == kProbeFrom + kProbeSteps) {
         const TimeEstimate e =
             estimate_time(config_, (m.elapsed(start) - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
         std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";

@@ -21,7 +21,7 @@ struct TimeEstimate {
 // the window's end); a scene that grows less trains faster than estimated.
 TimeEstimate estimate_time(const TrainConfig& config, double seconds_per_static_step, uint32_t gaussians);
 
-// One line: "estimate: static ~4 min, 4DGS ~17 min (from 10 steps at 0.21 s, 4000 Gaussians)".
+// One line: "estimate: static stage ~4 min, 4DGS stage ~17 min (from 30 steps at 0.210 s with 4000 Gaussians; ...)".
 std::string describe(const TimeEstimate& estimate, uint32_t probe_steps);
 
 }  // namespace s4d::train
