@@ -4,6 +4,20 @@
 # Set S4D_TEST_DEVICE=any to run on the machine's default device instead of lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Test-only packages: a single-node Slurm for the sweep's Slurm back end (tests/sweep/slurm_cluster.sh).
+test_packages=(slurm-wlm munge)
+missing=()
+for p in "${test_packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "[run-tests] installing: ${missing[*]}" >&2
+  sudo_cmd=()
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
 tools/setup.sh
 build_dir="${S4D_BUILD_DIR:-build}"
 if [ "${S4D_TEST_DEVICE:-lavapipe}" = "lavapipe" ]; then

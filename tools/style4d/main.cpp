@@ -34,6 +34,8 @@ const std::vector<Command>& commands() {
       {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
       {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",
        s4d::cli::cmd_bench},
+      {"sweep", "a benchmark sweep (scenes x styles x methods) as cells: plan, run on Slurm or locally, status, merged table",
+       s4d::cli::cmd_sweep},
       {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
   };
   return list;
