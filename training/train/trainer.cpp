@@ -13,7 +13,6 @@
 #include "s4d/deform/deformation_field.h"
 #include "s4d/deform/static_split.h"
 #include "s4d/densify/densifier.h"
-#include "s4d/densify/growth_floor.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
@@ -513,9 +512,6 @@ struct Trainer::Impl {
         rules.max_world_scale = static_cast<float>(0.1 * dataset.extent);
       }
       rules.budget = config.budget;
-      // A cloud far below its budget grows toward it in the densifications left (growth_floor.h).
-      const uint32_t events_left = (until - 1) / config.densify_every - it / config.densify_every + 1;
-      rules.grad_threshold = densify::growth_threshold(ctx, *gaussians, rules.grad_threshold, config.budget, events_left);
       rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
       densifier.densify(*gaussians, rules);
       static_count = 0;  // the Gaussians moved in memory: the split is measured again when due
