@@ -14,6 +14,8 @@ TEST_CASE("time estimate: a cloud already at its budget costs the measured step 
   const train::TimeEstimate e = train::estimate_time(c, 0.2, 5000);
   CHECK(e.static_seconds == doctest::Approx(0.2 * c.iterations));
   CHECK(e.fine_seconds == doctest::Approx(0.2 * 2.5 * 2 * c.fine_iterations));  // 2.5 static steps per 4DGS view
+  CHECK(e.static_seconds_low == doctest::Approx(e.static_seconds));
+  CHECK(e.fine_seconds_low == doctest::Approx(0.2 * 2 * c.fine_iterations));
 }
 
 TEST_CASE("time estimate: growth to the budget over the densification window, Gaussians^0.5 and ^0.65") {
@@ -25,7 +27,9 @@ TEST_CASE("time estimate: growth to the budget over the densification window, Ga
   const double expected = s * (300 + 400 * 14.0 / 9.0 + 200 * 2.0);
   CHECK(e.static_seconds == doctest::Approx(expected).epsilon(1e-4));
   CHECK(e.fine_seconds == doctest::Approx(s * 2.5 * 1 * c.fine_iterations * std::pow(4.0, 0.65)));
-  CHECK(train::describe(e, 30).starts_with("estimate: static stage ~"));
+  CHECK(e.static_seconds_low == doctest::Approx(s * 900));
+  // 90 s to 132 s, and 150 s to 923 s, in whole minutes.
+  CHECK(train::describe(e, 30).starts_with("estimate: static stage 2 min to 2 min, 4DGS stage 2 min to 15 min ("));
   train::TrainConfig static_only = c;
   static_only.fine_iterations = 0;
   CHECK(train::describe(train::estimate_time(static_only, s, 3750), 30).find("4DGS") == std::string::npos);

@@ -43,6 +43,8 @@ TimeEstimate estimate_time(const TrainConfig& c, double seconds_per_step, uint32
                                          after * std::pow(n1 / n0, kStaticExponent));
   e.fine_seconds = seconds_per_step * kFinePerView * std::max<uint32_t>(1, c.fine_batch) * c.fine_iterations *
                    std::pow(n1 / n0, kFineExponent);
+  e.static_seconds_low = seconds_per_step * c.iterations;
+  e.fine_seconds_low = seconds_per_step * std::max<uint32_t>(1, c.fine_batch) * c.fine_iterations;
   return e;
 }
 
@@ -50,9 +52,9 @@ std::string describe(const TimeEstimate& e, uint32_t probe_steps) {
   char probe[96];
   std::snprintf(probe, sizeof probe, "from %u steps at %.3f s with %u Gaussians", probe_steps, e.probe_seconds_per_step,
                 e.probe_gaussians);
-  std::string line = "estimate: static stage ~" + duration(e.static_seconds);
-  if (e.fine_seconds > 0) line += ", 4DGS stage ~" + duration(e.fine_seconds);
-  return line + " (" + probe + "; at most this if the Gaussians fill the budget, less if they do not)";
+  std::string line = "estimate: static stage " + duration(e.static_seconds_low) + " to " + duration(e.static_seconds);
+  if (e.fine_seconds > 0) line += ", 4DGS stage " + duration(e.fine_seconds_low) + " to " + duration(e.fine_seconds);
+  return line + " (" + probe + "; the high end if the Gaussians fill the budget)";
 }
 
 }  // namespace s4d::train

@@ -747,6 +747,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
             estimate_time(config_, (m.elapsed(start) - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
         std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";
         m.facts["estimate"] = {{"static_seconds", e.static_seconds}, {"fine_seconds", e.fine_seconds},
+                               {"static_seconds_low", e.static_seconds_low}, {"fine_seconds_low", e.fine_seconds_low},
                                {"probe_seconds_per_step", e.probe_seconds_per_step}, {"probe_gaussians", e.probe_gaussians}};
       }
       progress.update(m.iteration, shown);
