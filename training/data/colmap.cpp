@@ -201,17 +201,8 @@ Dataset load_colmap(const fs::path& root, const LoadOptions& options) {
     set_intrinsics(camera, cameras_file, *camera_by_id.at(source.image->camera_id), source.frames[0], width, height);
     detail::downscale_camera(camera, factor);
     for (size_t f = 0; f < frame_count; ++f) {
-      View view;
-      view.name = source.name + "/" + source.frames[f].stem().string();
-      view.camera = camera;
-      view.camera.name = view.name;
-      view.image = source.frames[f];
-      view.camera.file_path = fs::relative(view.image, root).string();
-      view.time = frame_count > 1 ? static_cast<double>(f) / static_cast<double>(frame_count - 1) : 0.0;
-      view.camera.time = view.time;
-      view.camera_index = static_cast<int>(c);
-      view.test = c == 0;
-      dataset.views.push_back(std::move(view));
+      detail::add_rig_view(dataset, camera, static_cast<int>(c), source.name, source.frames[f].stem().string(),
+                           source.frames[f], -1, f, frame_count);
     }
   }
   detail::finish_dataset(dataset, options, {0.0f, 0.0f, 0.0f}, {"sparse/0/points3D.bin", "sparse/0/points3D.txt"});

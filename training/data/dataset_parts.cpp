@@ -39,6 +39,23 @@ void downscale_camera(io::CameraView& camera, int factor) {
   camera.height = downscaled(camera.height, factor);
 }
 
+void add_rig_view(Dataset& dataset, const io::CameraView& camera, int camera_index, const std::string& camera_name,
+                  const std::string& frame_name, const std::filesystem::path& image, int frame_in_file, size_t frame,
+                  size_t frame_count) {
+  View view;
+  view.name = camera_name + "/" + frame_name;
+  view.camera = camera;
+  view.camera.name = view.name;
+  view.image = image;
+  view.frame_in_file = frame_in_file;
+  view.camera.file_path = std::filesystem::relative(image, dataset.root).string();
+  view.time = frame_count > 1 ? static_cast<double>(frame) / static_cast<double>(frame_count - 1) : 0.0;
+  view.camera.time = view.time;
+  view.camera_index = camera_index;
+  view.test = camera_index == 0;
+  dataset.views.push_back(std::move(view));
+}
+
 int checked_downscale(const std::filesystem::path& root, const LoadOptions& options) {
   if (options.downscale < 1) fail(root, "downscale must be >= 1, got " + std::to_string(options.downscale));
   return options.downscale;

@@ -24,6 +24,13 @@ inline int downscaled(int size, int factor) { return size / factor; }
 // whose centre f (I + 0.5) is input coordinate u, so u_out = u_in / f: every intrinsic divides by f.
 void downscale_camera(io::CameraView& camera, int factor);
 
+// Adds frame `frame` of `frame_count` of a synchronized rig's camera `camera_index` (camera 0 is held
+// out, the Neu3D protocol): view name "<camera_name>/<frame_name>", time frame / (count - 1), the
+// camera's file_path relative to the root. frame_in_file >= 0: `image` is a video.
+void add_rig_view(Dataset& dataset, const io::CameraView& camera, int camera_index, const std::string& camera_name,
+                  const std::string& frame_name, const std::filesystem::path& image, int frame_in_file, size_t frame,
+                  size_t frame_count);
+
 // options.downscale, checked to be >= 1 (the error names the dataset root).
 int checked_downscale(const std::filesystem::path& root, const LoadOptions& options);
 

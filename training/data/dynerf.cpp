@@ -200,18 +200,9 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
     detail::downscale_camera(camera, factor);
     for (size_t f = 0; f < frame_count; ++f) {
       const bool video = source.frames.empty();
-      View view;
-      view.name = source.name + "/" + (video ? frame_stem(f) : source.frames[f].stem().string());
-      view.camera = camera;
-      view.camera.name = view.name;
-      view.image = video ? source.video : source.frames[f];
-      view.frame_in_file = video ? static_cast<int>(f) : -1;
-      view.camera.file_path = fs::relative(view.image, root).string();
-      view.time = frame_count > 1 ? static_cast<double>(f) / static_cast<double>(frame_count - 1) : 0.0;
-      view.camera.time = view.time;
-      view.camera_index = static_cast<int>(c);
-      view.test = c == 0;
-      dataset.views.push_back(std::move(view));
+      detail::add_rig_view(dataset, camera, static_cast<int>(c), source.name,
+                           video ? frame_stem(f) : source.frames[f].stem().string(), video ? source.video : source.frames[f],
+                           video ? static_cast<int>(f) : -1, f, frame_count);
     }
   }
   detail::finish_dataset(dataset, options, {0.0f, 0.0f, 0.0f}, {"points3D.ply", "points3D_downsample2.ply"});
