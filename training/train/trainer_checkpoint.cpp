@@ -1,0 +1,154 @@
+// Trainer::Impl's field, snapshots, checkpoints and rollbacks, and the loss log a resumed run trims
+// to its checkpoint.
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <span>
+#include <stdexcept>
+
+#include "s4d/deform/static_split.h"
+#include "s4d/io/ply_gaussians.h"
+#include "s4d/util/atomic_file.h"
+#include "trainer_impl.h"
+
+namespace s4d::train {
+
+namespace {
+
+constexpr uint32_t kMaxRollbacks = 8;  // each halves the learning rates
+
+engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
+  engine::Buffer b(ctx, name, floats * 4);
+  engine::Recorder rec(ctx, "zero " + name);
+  rec.fill(b, 0);
+  ctx.run(std::move(rec));
+  return b;
+}
+
+}  // namespace
+
+void Trainer::Impl::make_field(uint32_t seed) {
+  if (config.fine_iterations == 0) return;
+  try {
+    field = std::make_unique<deform::DeformationField>(ctx, field_config(config, aabb_min, aabb_max), seed, "deformation field");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + " (the 4DGS stage of preset '" + config.preset +
+                             "'; --preset fast fits lavapipe, --stage static trains without it)");
+  }
+  planes_m = zeros(ctx, "field planes adam m", field->plane_floats());
+  planes_v = zeros(ctx, "field planes adam v", field->plane_floats());
+  mlp_m = zeros(ctx, "field mlp adam m", field->mlp_floats());
+  mlp_v = zeros(ctx, "field mlp adam v", field->mlp_floats());
+}
+
+nlohmann::json Trainer::Impl::meta(double seconds) const {
+  return {{"stage", stage},         {"iteration", iteration},   {"lr_scale", lr_scale},   {"seconds", seconds},
+          {"rollbacks", rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
+          {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
+          {"deform_evaluations_unmasked", deform_evaluations_unmasked}};
+}
+
+Checkpoint Trainer::Impl::snapshot(double seconds) const {
+  Checkpoint cp{meta(seconds), gaussians->download(), {}};
+  if (field) {
+    cp.extra = {{"field.planes", field->download_planes()},
+                {"field.mlp", field->download_mlp()},
+                {"field.planes.adam_m", ctx.download<float>(planes_m, field->plane_floats())},
+                {"field.planes.adam_v", ctx.download<float>(planes_v, field->plane_floats())},
+                {"field.mlp.adam_m", ctx.download<float>(mlp_m, field->mlp_floats())},
+                {"field.mlp.adam_v", ctx.download<float>(mlp_v, field->mlp_floats())}};
+    if (static_count > 0) {
+      const std::vector<uint32_t> mask = deform::tail_mask(gaussians->size(), static_count);
+      cp.extra.emplace_back("field.static_mask", std::vector<float>(mask.begin(), mask.end()));
+    }
+  }
+  return cp;
+}
+
+void Trainer::Impl::restore(const Checkpoint& cp) {
+  gaussians = std::make_unique<model::TrainableGaussians>(ctx, cp.state, "gaussians");
+  sized_for = UINT32_MAX;
+  stage = cp.meta.at("stage").get<std::string>();
+  iteration = cp.meta.at("iteration").get<uint32_t>();
+  lr_scale = cp.meta.at("lr_scale").get<double>();
+  seconds_before = cp.meta.at("seconds").get<double>();
+  rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
+  sampler = stage_sampler();
+  sampler.load(cp.meta.at("sampler").get<std::string>());
+  static_scores = cp.meta.at("static_test");
+  deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
+  deform_evaluations_unmasked = cp.meta.at("deform_evaluations_unmasked").get<double>();
+  static_count = 0;
+  if (!field) {
+    aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
+    aabb_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
+    make_field(config.seed);
+  }
+  if (!field) return;
+  auto extra = [&](const std::string& name) -> const std::vector<float>& {
+    for (const auto& [n, v] : cp.extra)
+      if (n == name) return v;
+    throw std::runtime_error("checkpoint: the run trains a deformation field but the array '" + name + "' is missing");
+  };
+  field->upload_planes(extra("field.planes"));
+  field->upload_mlp(extra("field.mlp"));
+  for (auto [buffer, name] : {std::pair{&planes_m, "field.planes.adam_m"}, {&planes_v, "field.planes.adam_v"},
+                              {&mlp_m, "field.mlp.adam_m"}, {&mlp_v, "field.mlp.adam_v"}}) {
+    const std::vector<float>& v = extra(name);
+    if (v.size() * 4 != buffer->size()) throw std::runtime_error(std::string("checkpoint: array '") + name + "' has the wrong size");
+    ctx.upload(*buffer, std::span<const float>(v));
+  }
+  for (const auto& [name, values] : cp.extra) {
+    if (name != "field.static_mask") continue;
+    if (values.size() != gaussians->size())
+      throw std::runtime_error("checkpoint: field.static_mask holds " + std::to_string(values.size()) + " entries for " +
+                               std::to_string(gaussians->size()) + " Gaussians");
+    apply_mask(std::vector<uint32_t>(values.begin(), values.end()));  // checkpoints since the split: already in order
+  }
+}
+
+void Trainer::Impl::trim_loss_log() const {
+  std::string kept = "stage,iteration,loss,l1,ssim,gaussians,seconds\n", line;
+  std::ifstream in(run.loss_csv());
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    const size_t comma = line.find(',');
+    if (comma == std::string::npos) break;  // a row cut short by a kill
+    const std::string row_stage = line.substr(0, comma);
+    const uint32_t row_iteration = static_cast<uint32_t>(std::strtoul(line.c_str() + comma + 1, nullptr, 10));
+    const bool before = row_stage == stage ? row_iteration <= iteration : row_stage == "static";
+    if (before && std::count(line.begin(), line.end(), ',') == 6) kept += line + "\n";
+  }
+  util::write_file_atomic(run.loss_csv(), kept);
+}
+
+bool Trainer::Impl::checkpoint(double seconds) {
+  Checkpoint cp = snapshot(seconds);
+  try {
+    write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
+  } catch (const std::invalid_argument& e) {  // non-finite parameters: never written
+    rollback(e.what());
+    return false;
+  }
+  newest_damaged = false;
+  io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);
+  last_good = std::move(cp);
+  return true;
+}
+
+void Trainer::Impl::rollback(const std::string& why) {
+  if (++rollbacks > kMaxRollbacks)
+    throw std::runtime_error("training diverged " + std::to_string(rollbacks) + " times (" + why +
+                             "); the last good state is in " + run.checkpoint().string());
+  const double seconds = last_good.meta.at("seconds").get<double>();
+  const uint32_t rollbacks_now = rollbacks;
+  const double scale = lr_scale * 0.5;
+  restore(last_good);
+  rollbacks = rollbacks_now;
+  seconds_before = seconds;
+  lr_scale = scale;
+  std::cerr << stage << ": " << why << "; rolled back to iteration " << iteration
+            << " and halved the learning rates (scale " << lr_scale << ")\n";
+}
+}  // namespace s4d::train

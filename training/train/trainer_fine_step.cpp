@@ -1,0 +1,120 @@
+// Trainer::Impl's stage-2 step: the canonical Gaussians deformed by the field to each view's time,
+// gradients summed over a batch of views.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "s4d/optim/grad_add.h"
+#include "trainer_impl.h"
+
+namespace s4d::train {
+
+void Trainer::Impl::size_stage2_buffers() {
+  const uint32_t n = gaussians->size();
+  if (sized_for == n) return;
+  for (uint32_t a = 0; a < model::kAttrCount; ++a) {
+    const size_t bytes = size_t{n} * gaussians->width(model::Attr(a)) * 4;
+    deformed[a] = engine::Buffer(ctx, std::string("deformed ") + model::attr_name(model::Attr(a)), bytes);
+    scratch_grad[a] = engine::Buffer(ctx, std::string("batch gradient ") + model::attr_name(model::Attr(a)), bytes);
+  }
+  batch_stats = densifier.make_batch_scratch(n);
+  sized_for = n;
+}
+
+deform::CanonicalGaussians Trainer::Impl::canonical() const {
+  const model::TrainableGaussians& g = *gaussians;
+  return {.means = &g.param(model::kMeans),
+          .log_scales = &g.param(model::kLogScales),
+          .quats = &g.param(model::kQuats),
+          .opacity_logits = &g.param(model::kOpacity),
+          .sh = &g.param(model::kSh),
+          .count = g.size(),
+          .static_count = static_count,
+          .sh_coeffs = g.sh_coeffs()};
+}
+
+splat::GaussianParams Trainer::Impl::deform_to(double time) {
+  size_stage2_buffers();
+  const uint32_t n = gaussians->size();
+  deform_evaluations += n - static_count;
+  deform_evaluations_unmasked += n;
+  const uint32_t bits[model::kAttrCount] = {S4D_DEFORM_HEAD_POS, S4D_DEFORM_HEAD_SCALES, S4D_DEFORM_HEAD_ROTATIONS,
+                                            S4D_DEFORM_HEAD_OPACITY, S4D_DEFORM_HEAD_SH};
+  auto out = [&](model::Attr a) { return head(bits[a]) ? &deformed[a] : nullptr; };
+  engine::Recorder rec(ctx, "deform");
+  field->record_forward(rec, canonical(), static_cast<float>(time),
+                        {out(model::kMeans), out(model::kLogScales), out(model::kQuats), out(model::kOpacity), out(model::kSh)});
+  ctx.run(std::move(rec));
+  splat::GaussianParams p = gaussians->params(active_degree());
+  auto use = [&](model::Attr a, const engine::Buffer*& slot) { if (head(bits[a])) slot = &deformed[a]; };
+  use(model::kMeans, p.means);
+  use(model::kLogScales, p.log_scales);
+  use(model::kQuats, p.quats);
+  use(model::kOpacity, p.opacity_logits);
+  use(model::kSh, p.sh);
+  return p;
+}
+
+const data::View& Trainer::Impl::next_fine_view(bool front) {
+  const double ramp = config.fine_time_ramp * config.fine_iterations;
+  const double window = ramp > 0 ? std::min(1.0, double(iteration) / ramp) : 1.0;
+  const double from = front && window < 1.0 ? window - config.fine_time_front : -1.0;
+  // A band holding no view (times sparser than the band) falls back to the whole window.
+  for (size_t draws = 0;; ++draws) {
+    const data::View& v = *train_views[sampler.next()];
+    const bool open = v.time <= window + 1e-9 || v.time <= static_window();
+    if (open && (v.time >= from - 1e-9 || draws > 4 * train_views.size())) return v;
+  }
+}
+
+optim::LossValue Trainer::Impl::fine_step() {
+  const uint32_t batch = std::max<uint32_t>(1, config.fine_batch);
+  {
+    engine::Recorder rec(ctx, "zero field gradients");
+    field->record_zero_grads(rec);
+    ctx.run(std::move(rec));
+  }
+  optim::LossValue mean{};
+  const bool stats = iteration < config.fine_densify_until;
+  for (uint32_t b = 0; b < batch; ++b) {
+    const data::View& view = next_fine_view(config.fine_time_front > 0 && (iteration * batch + b) % 2 == 0);
+    const splat::Camera cam = load_target(view);
+    const splat::GaussianParams params = deform_to(view.time);
+    rast.forward(params, cam, dataset.background);
+    const optim::LossValue value = record_loss(cam, config.fine_ssim_weight);
+    if (!std::isfinite(value.loss)) return value;
+    mean.loss += value.loss / batch, mean.l1 += value.l1 / batch, mean.ssim += value.ssim / batch;
+    // The first view's gradients land in the cloud's gradient buffers, later ones are added to them.
+    splat::GaussianGrads grads = gaussians->grads();
+    if (b > 0)
+      grads = {&scratch_grad[model::kMeans], &scratch_grad[model::kLogScales], &scratch_grad[model::kQuats],
+               &scratch_grad[model::kOpacity], &scratch_grad[model::kSh], nullptr};
+    rast.backward(params, {.v_rgb = &v_rgb}, grads);
+    engine::Recorder rec(ctx, "field backward");
+    field->record_backward(rec, canonical(), static_cast<float>(view.time),
+                           {grads.v_means, head(S4D_DEFORM_HEAD_SCALES) ? grads.v_log_scales : nullptr,
+                            head(S4D_DEFORM_HEAD_ROTATIONS) ? grads.v_quats : nullptr,
+                            head(S4D_DEFORM_HEAD_OPACITY) ? grads.v_opacity_logits : nullptr,
+                            head(S4D_DEFORM_HEAD_SH) ? grads.v_sh : nullptr});
+    if (stats) densifier.record_accumulate_batch_add(rec, *gaussians, rast, batch_stats);
+    rec.barrier();
+    if (b > 0)
+      for (uint32_t a = 0; a < model::kAttrCount; ++a)
+        optim::record_grad_add(rec, gaussians->grad(model::Attr(a)), scratch_grad[a],
+                               gaussians->size() * gaussians->width(model::Attr(a)));
+    ctx.run(std::move(rec));
+  }
+  set_learning_rates(iteration);
+  engine::Recorder rec(ctx, "fine update");
+  // The batch's loss is a sum of per-view means, so the regularisers weigh `batch` times as much
+  // to keep 4DGaussians' ratio (it averages over the batch).
+  const float w = static_cast<float>(batch);
+  field->record_regularisers(rec, {config.plane_tv_weight * w, config.time_smoothness_weight * w,
+                                   config.l1_time_planes_weight * w});
+  if (stats) densifier.record_accumulate_batch_end(rec, *gaussians, batch_stats);
+  rec.barrier();
+  record_adam(rec);
+  ctx.run(std::move(rec));
+  return mean;
+}
+}  // namespace s4d::train

@@ -1,0 +1,158 @@
+// Private to s4d_train: the trainer's state and steps (Trainer::Impl), shared by trainer.cpp and
+// the trainer_*.cpp files that define its methods, one job each.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "s4d/data/frame_cache.h"
+#include "s4d/deform/deformation_field.h"
+#include "s4d/densify/densifier.h"
+#include "s4d/model/trainable_gaussians.h"
+#include "s4d/optim/adam.h"
+#include "s4d/optim/image_loss.h"
+#include "s4d/splat/rasterizer.h"
+#include "s4d/train/checkpoint.h"
+#include "s4d/train/trainer.h"
+#include "s4d/train/view_sampler.h"
+
+namespace s4d::train {
+
+namespace fs = std::filesystem;
+
+namespace detail {
+
+// Adam groups: one per Gaussian attribute with the SH rows split into DC and the rest, then the
+// deformation field's planes and MLP.
+enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlanes, gMlp, gCount };
+
+}  // namespace detail
+
+struct Trainer::Impl {
+  engine::Context& ctx;
+  RunDir run;
+  const TrainConfig& config;
+  const data::Dataset& dataset;
+  double lr_scale;
+  std::vector<const data::View*> train_views, test_views;
+  std::vector<const data::View*> static_views;  // the static stage's: train views with time <= static_max_time
+  data::FrameCache frames;
+  std::unique_ptr<model::TrainableGaussians> gaussians;
+  splat::Rasterizer rast;
+  optim::ImageLoss loss;
+  optim::Adam adam;
+  densify::Densifier densifier;
+  Evaluator evaluator;
+  ViewSampler sampler;
+  engine::Buffer target, v_rgb;
+
+  // Stage 2 state: the field, its Adam moments, the deformed Gaussians and a batch's scratch.
+  std::unique_ptr<deform::DeformationField> field;
+  std::array<float, 3> aabb_min{}, aabb_max{};
+  engine::Buffer planes_m, planes_v, mlp_m, mlp_v;
+  std::array<engine::Buffer, model::kAttrCount> deformed, scratch_grad;
+  engine::Buffer batch_stats;
+  uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
+  // The last static_count Gaussians do not move and skip the field (config.static_motion); 0 until
+  // measured and again after densification.
+  uint32_t static_count = 0;
+  double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
+
+  std::string stage = "static";
+  uint32_t iteration = 0;  // within the stage
+  double seconds_before = 0;
+  uint32_t rollbacks = 0;
+  nlohmann::json static_scores;  // the static stage's final test, once done
+  nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
+  Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
+  // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
+  // the newest without rotating it over the good previous one.
+  bool newest_damaged = false;
+
+  // ---- Small queries and the constructor (trainer.cpp).
+  Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d);
+  bool fine() const { return stage == "fine"; }
+  // Each stage draws from its own views, with its own seeded order.
+  ViewSampler stage_sampler() const {
+    const size_t views = fine() ? train_views.size() : static_views.size();
+    return ViewSampler(static_cast<uint32_t>(std::max<size_t>(views, 1)), config.seed + (fine() ? 1u : 0u));
+  }
+  uint32_t stage_iterations() const { return fine() ? config.fine_iterations : config.iterations; }
+  int active_degree() const {
+    return active_sh_degree(config, fine() ? config.iterations + iteration : iteration);  // not reset (3.3)
+  }
+  bool head(uint32_t bit) const { return (config.field_heads & bit) != 0; }
+  double static_window() const { return std::min(config.max_time, config.static_max_time); }
+  double elapsed(const std::chrono::steady_clock::time_point& start) const {
+    return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  TrainResult result(bool complete, double seconds, Evaluation test) const {
+    return {complete, stage, iteration, gaussians->size(), seconds, rollbacks, std::move(test)};
+  }
+
+  // ---- The field, snapshots, checkpoints, rollbacks and loss.csv (trainer_checkpoint.cpp).
+  // The field, sized from the initial cloud's bounds (validated here, so a field the device cannot
+  // run fails before any training).
+  void make_field(uint32_t seed);
+  nlohmann::json meta(double seconds) const;
+  Checkpoint snapshot(double seconds) const;
+  void restore(const Checkpoint& cp);
+  // loss.csv keeps the rows up to the state training continues from: a resumed run drops the rows
+  // logged after its checkpoint (they are logged again), and a new run starts with the header.
+  void trim_loss_log() const;
+  // Saves the current state as the checkpoint and the PLY, or rolls back when it is not finite.
+  bool checkpoint(double seconds);
+  void rollback(const std::string& why);
+
+  // ---- Stage 1 and what both stages' steps share (trainer_static_step.cpp).
+  void set_learning_rates(uint32_t step);
+  // Uploads a view's target image; returns its camera.
+  splat::Camera load_target(const data::View& view);
+  optim::LossValue record_loss(const splat::Camera& cam, float ssim_weight);
+  void record_adam(engine::Recorder& rec);
+  // Stage 1: one view, the canonical Gaussians as they are. Returns the loss (maybe non-finite).
+  optim::LossValue static_step();
+
+  // ---- Stage 2: the deformation field over a batch of views (trainer_fine_step.cpp).
+  void size_stage2_buffers();
+  deform::CanonicalGaussians canonical() const;
+  // Deforms the canonical Gaussians to `time` and returns the rasterizer's view of the result.
+  splat::GaussianParams deform_to(double time);
+  // The fine stage's next view. With fine_time_ramp > 0 the time window opens from the first frame
+  // to the last over that fraction of the stage, so the field learns motion frame by frame: a large
+  // move (a box sliding further than its size between distant times) is found by small steps,
+  // which photometric gradients can follow. With `front`, the view comes from the window's newest
+  // fine_time_front of time. Views outside are skipped in the sampler's order, so the choice stays
+  // deterministic and resumable.
+  const data::View& next_fine_view(bool front);
+  // Stage 2: a batch of views, each deformed to its time; gradients summed over the batch.
+  optim::LossValue fine_step();
+
+  // ---- Changes to the cloud's layout: densification and the static split (trainer_densify.cpp).
+  // Moves the Gaussians `mask` marks static to the end of memory, every per-Gaussian array with
+  // them, so that the field runs over the moving prefix only.
+  void apply_mask(const std::vector<uint32_t>& mask);
+  // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
+  // motion_samples times as static (ALGORITHMS.md has no such step: it is this project's "deform
+  // only what moves").
+  void update_mask();
+  bool mask_due() const;
+  void densify_if_due();
+
+  // ---- Tests, the stage change and train.json (trainer_report.cpp).
+  Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {});
+  // The static stage is complete: keep its scores and move on to the fine stage (4DGaussians calls
+  // training_setup again: fresh Adam moments, statistics and schedules).
+  void begin_fine_stage(const Evaluation& static_test);
+  void write_result(const TrainResult& r) const;
+};
+
+}  // namespace s4d::train

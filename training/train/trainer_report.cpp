@@ -1,0 +1,60 @@
+// Trainer::Impl's tests, the change from the static to the fine stage, and train.json.
+#include "s4d/util/atomic_file.h"
+#include "trainer_impl.h"
+
+namespace s4d::train {
+
+namespace {
+
+nlohmann::json scores_json(const Evaluation& e) {
+  nlohmann::json views = nlohmann::json::array();
+  for (const ViewScore& s : e.views) views.push_back({{"name", s.name}, {"time", s.time}, {"psnr", s.psnr}, {"ssim", s.ssim}});
+  return views;
+}
+
+}  // namespace
+
+Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir) {
+  if (!fine())
+    return evaluator.evaluate(rast, [&](const data::View&) { return gaussians->params(active_degree()); }, views, frames,
+                              dataset.background, save_dir);
+  return evaluator.evaluate(rast, [&](const data::View& v) { return deform_to(v.time); }, views, frames,
+                            dataset.background, save_dir);
+}
+
+void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
+  static_scores = {{"test_psnr", static_test.psnr}, {"test_ssim", static_test.ssim}, {"test_views", scores_json(static_test)}};
+  stage = "fine";
+  iteration = 0;
+  sampler = stage_sampler();
+  engine::Recorder rec(ctx, "fresh optimizer");
+  for (uint32_t a = 0; a < model::kAttrCount; ++a) {
+    rec.fill(gaussians->moment1(model::Attr(a)), 0);
+    rec.fill(gaussians->moment2(model::Attr(a)), 0);
+  }
+  for (uint32_t s = 0; s < model::kStatCount; ++s) rec.fill(gaussians->stat(model::Stat(s)), 0);
+  ctx.run(std::move(rec));
+}
+
+void Trainer::Impl::write_result(const TrainResult& r) const {
+  nlohmann::json j = {{"stage", r.stage},
+                      {"complete", r.complete},
+                      {"iteration", r.iteration},
+                      {"test_psnr", r.test.psnr},
+                      {"test_ssim", r.test.ssim},
+                      {"seconds", r.seconds},
+                      {"num_gaussians", r.num_gaussians},
+                      {"rollbacks", r.rollbacks},
+                      {"test_views", scores_json(r.test)},
+                      {"static", static_scores},
+                      {"deform_evaluations", deform_evaluations},
+                      {"deform_evaluations_unmasked", deform_evaluations_unmasked},
+                      {"moving_gaussians", gaussians->size() - static_count},
+                      {"device", ctx.info().name},
+                      {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
+                      {"data", fs::absolute(dataset.root).string()},
+                      {"dataset", facts},
+                      {"settings", to_json(config)}};
+  util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
+}
+}  // namespace s4d::train

@@ -1,0 +1,74 @@
+// Trainer::Impl's stage-1 step and what both stages' steps share: learning rates, the target
+// image, the loss and the Adam update.
+#include <cmath>
+#include <span>
+
+#include "s4d/optim/lr_schedule.h"
+#include "s4d/splat/scene_upload.h"
+#include "trainer_impl.h"
+
+namespace s4d::train {
+
+using namespace detail;
+
+void Trainer::Impl::set_learning_rates(uint32_t step) {
+  const double e = dataset.extent;
+  const uint32_t span = stage_iterations();
+  const optim::LogLinearSchedule means{config.means_lr * e, config.means_lr_final * e, span};
+  const optim::LogLinearSchedule planes{config.grid_lr * e, config.grid_lr_final * e, span};
+  const optim::LogLinearSchedule mlp{config.deform_lr * e, config.deform_lr_final * e, span};
+  const double lrs[gCount] = {means.at(step),   config.scaling_lr, config.rotation_lr, config.opacity_lr,
+                              config.sh_dc_lr,  config.sh_rest_lr, planes.at(step),    mlp.at(step)};
+  for (uint32_t g = 0; g < gCount; ++g) adam.set_group(g, {.lr = lrs[g] * lr_scale}, step);
+  adam.upload();
+}
+
+splat::Camera Trainer::Impl::load_target(const data::View& view) {
+  const io::ImageF& image = frames.get(view);
+  const splat::Camera cam = splat::to_splat_camera(view.camera);
+  const size_t n = size_t{cam.width} * cam.height * 3;
+  if (target.size() < n * 4) {
+    target = engine::Buffer(ctx, "training target", n * 4);
+    v_rgb = engine::Buffer(ctx, "training image gradient", n * 4);
+  }
+  ctx.upload(target, std::span<const float>(image.data));
+  return cam;
+}
+
+optim::LossValue Trainer::Impl::record_loss(const splat::Camera& cam, float ssim_weight) {
+  engine::Recorder rec(ctx, "training loss");
+  loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, ssim_weight, v_rgb);
+  ctx.run(std::move(rec));
+  return loss.value();
+}
+
+void Trainer::Impl::record_adam(engine::Recorder& rec) {
+  model::TrainableGaussians& g = *gaussians;
+  const uint32_t count = g.size();
+  for (uint32_t a = model::kMeans; a < model::kSh; ++a) {
+    const auto attr = model::Attr(a);
+    adam.record(rec, a, g.param(attr), g.grad(attr), g.moment1(attr), g.moment2(attr), count * g.width(attr));
+  }
+  adam.record_rows(rec, gShDc, gShRest, g.width(model::kSh), 3, g.param(model::kSh), g.grad(model::kSh),
+                   g.moment1(model::kSh), g.moment2(model::kSh), count * g.width(model::kSh));
+  if (fine()) {
+    adam.record(rec, gPlanes, field->planes(), field->v_planes(), planes_m, planes_v, field->plane_floats());
+    adam.record(rec, gMlp, field->mlp(), field->v_mlp(), mlp_m, mlp_v, field->mlp_floats());
+  }
+}
+
+optim::LossValue Trainer::Impl::static_step() {
+  const splat::Camera cam = load_target(*static_views[sampler.next()]);
+  const splat::GaussianParams params = gaussians->params(active_degree());
+  rast.forward(params, cam, dataset.background);
+  const optim::LossValue value = record_loss(cam, config.ssim_weight);
+  if (!std::isfinite(value.loss)) return value;
+  rast.backward(params, {.v_rgb = &v_rgb}, gaussians->grads());
+  set_learning_rates(iteration);
+  engine::Recorder rec(ctx, "training update");
+  if (iteration < config.densify_until) densifier.record_accumulate(rec, *gaussians, rast);
+  record_adam(rec);
+  ctx.run(std::move(rec));
+  return value;
+}
+}  // namespace s4d::train
