@@ -25,6 +25,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/stylize/builtin_style.h"
 #include "s4d/synth/dataset.h"
+#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/progress.h"
 #include "stylize_pipeline.h"
@@ -94,6 +95,9 @@ int cmd_demo(const std::vector<std::string>& argv) {
   request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
   const std::string spiral_frames = args.get_or("spiral-frames", "60");
   fs::create_directories(out);
+  // One demo per folder at a time: a second one on the same --out refuses (run_lock.h); its training
+  // and stylize steps also take the run's locks as the commands do.
+  const train::RunLock lock(out);
   const auto start = Clock::now();
   DemoRecord rec;
   rec.out = out;
@@ -121,6 +125,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
   const fs::path run = out / "run";
   const std::atomic<bool> never_stop{false};
   stage(rec, &ctx, "train", "stages 1-2: static Gaussians, then the 4DGS deformation field", [&] {
+    fs::create_directories(run);
+    const train::RunLock run_lock(run);  // as `style4d train`; released before the styles lock it shared
     auto trainer = fs::exists(run / "run.json") ? train::Trainer::resume(ctx, run)
                                                 : std::make_unique<train::Trainer>(ctx, data, config, run);
     const train::TrainResult trained = trainer->run(never_stop);
