@@ -10,6 +10,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "run_outputs.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/scene/download_cloud.h"
@@ -35,6 +36,7 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
     return 0;
   }
   const std::filesystem::path run_dir = args.require("run"), out = args.require("out");
+  tools::refuse_run_output(out, run_dir, "out");
   const double time = parse_number<double>("time", args.get_or("time", "0"));
   if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1]");
 

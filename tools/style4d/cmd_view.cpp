@@ -7,6 +7,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "run_outputs.h"
 #include "s4d/engine/context.h"
 #include "s4d/scene/trained_run.h"
 #include "s4d/viewer/capture.h"
@@ -51,6 +52,8 @@ int cmd_view(const std::vector<std::string>& argv) {
   if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1]");
   const size_t camera = parse_number<size_t>("camera", args.get_or("camera", "0"));
   const scene::StyleChoice style = parse_style_choice(args);
+  if (auto png = args.get("screenshot")) tools::refuse_run_output(*png, run_dir, "screenshot");
+  if (auto dir = args.get("out-dir")) tools::refuse_run_output(*dir, run_dir, "out-dir");
   const scene::TrainedRun run = scene::read_trained_run(run_dir);
 
   if (args.get("screenshot")) {
