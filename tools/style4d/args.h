@@ -49,8 +49,8 @@ T parse_number(const std::string& option, const std::string& text) {
   T value{};
   std::istringstream in(text);
   if (text.empty() || (std::is_unsigned_v<T> && text[0] == '-') || !(in >> value) || !in.eof())
-    throw std::invalid_argument("--" + option + ": expected a " +
-                                (std::is_unsigned_v<T> ? "non-negative integer" : "integer") + ", got '" + text + "'");
+    throw std::invalid_argument("--" + option + ": expected a" +
+                                (std::is_unsigned_v<T> ? " non-negative integer" : "n integer") + ", got '" + text + "'");
   return value;
 }
 

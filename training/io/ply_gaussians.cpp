@@ -312,6 +312,18 @@ GaussianCloud read_ply_gaussians(const std::filesystem::path& path) {
     cursor.read(chunk.data(), count * record, "vertex data");
     decoder.decode(chunk.data(), first, count);
   }
+  // Bytes after the last element mean the counts are wrong: a count that lies low would otherwise
+  // drop Gaussians without a word, as one that lies high is refused as truncated.
+  if (static_cast<size_t>(vertex_index) + 1 == header.elements.size() && cursor.remaining() > 0) {
+    detail::fail(path, std::to_string(cursor.remaining()) + " bytes follow the " + std::to_string(n) +
+                           " vertices the header declares (element 'vertex' count is wrong)");
+  }
+  // A zero quaternion has no rotation to normalise to; renderers would draw garbage or NaN.
+  for (size_t i = 0; i < n; ++i) {
+    const float* q = &cloud.quats[4 * i];
+    if (q[0] == 0 && q[1] == 0 && q[2] == 0 && q[3] == 0)
+      detail::fail(path, "vertex " + std::to_string(i) + " properties 'rot_0'..'rot_3' are all zero (no rotation)");
+  }
   return cloud;
 }
 

@@ -225,6 +225,12 @@ ImageF read_png(const std::filesystem::path& path) {
   png_set_read_fn(s.png(), &input, on_png_read);
   PngShape shape{};
   if (!decode_header(s.png(), s.info(), &shape)) detail::fail(path, std::string("corrupt PNG: ") + err.message);
+  // Checked before allocating: a header may claim any size (a decompression bomb, or a damaged file).
+  constexpr uint64_t kMaxPixels = uint64_t{1} << 28;  // 268 M pixels: 16384 x 16384, 4 GiB as floats x4
+  if (uint64_t{shape.width} * shape.height > kMaxPixels) {
+    detail::fail(path, "IHDR: " + std::to_string(shape.width) + "x" + std::to_string(shape.height) +
+                           " is over the limit of " + std::to_string(kMaxPixels) + " pixels");
+  }
 
   std::vector<png_byte> pixels(shape.row_bytes * shape.height);
   std::vector<png_bytep> rows(shape.height);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <set>
 #include <stdexcept>
 #include <type_traits>
 
@@ -187,6 +188,13 @@ TrainConfig config_from_json(const nlohmann::json& j, const std::string& source)
   if (!j.is_object())
     throw std::runtime_error(source + ": the training settings are " + (j.is_null() ? std::string("null") : "a JSON " + std::string(j.type_name())) +
                              ", expected a JSON object");
+  static const std::set<std::string> known = {
+#define S4D_NAME(field) #field,
+      S4D_CONFIG_FIELDS(S4D_NAME)
+#undef S4D_NAME
+  };
+  for (const auto& [key, value] : j.items())
+    if (!known.contains(key)) throw std::runtime_error(source + ": field '" + key + "': not a training setting (train.json lists them)");
   TrainConfig c;
 #define S4D_GET(field) \
   if (j.contains(#field)) SettingReader{source, #field, j.at(#field)}.read(j.at(#field), c.field);

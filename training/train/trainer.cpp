@@ -151,6 +151,11 @@ Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& 
     throw std::runtime_error(where + ": field 'data' (the dataset path) is missing or not a string");
   if (!run_json.contains("settings")) throw std::runtime_error(where + ": field 'settings' (the training settings) is missing");
   config_ = config_from_json(run_json["settings"], where);  // validated: a hand-edited value is refused by name
+  // What the run's geometry is (render reads it): a hand-edited stage would be trained and then not render.
+  const std::string expected_stage = config_.fine_iterations > 0 ? "4dgs" : "static";
+  if (run_json.contains("stage") && run_json["stage"] != expected_stage)
+    throw std::runtime_error(where + ": field 'stage' = " + run_json["stage"].dump() + ": expected \"" + expected_stage +
+                             "\" for settings with fine_iterations = " + std::to_string(config_.fine_iterations));
   std::optional<LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
   dataset_ = data::load_dataset(run_json["data"].get<std::string>(), load_options(config_, true));
   // Runs from before the recipe stored no resolved value; nothing is left to the data on resume.
