@@ -4,8 +4,9 @@
 # Set S4D_TEST_DEVICE=any to run on the machine's default device instead of lavapipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# Test-only packages: a single-node Slurm for the sweep's Slurm back end (tests/sweep/slurm_cluster.sh).
-test_packages=(slurm-wlm munge)
+# Test-only packages: a single-node Slurm for the sweep's Slurm back end (tests/sweep/slurm_cluster.sh);
+# clang-14 with its sanitizer runtimes and libFuzzer for the readers' fuzz smoke run (tests/fuzz/build_and_smoke.sh).
+test_packages=(slurm-wlm munge clang-14 libclang-rt-14-dev libfuzzer-14-dev)
 missing=()
 for p in "${test_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

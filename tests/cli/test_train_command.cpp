@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -170,6 +171,52 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
     CHECK(loss_column(run / "loss.csv") == loss_column(whole / "loss.csv"));  // every row once, the same losses
     CHECK(read_json(run / "train.json")["test_psnr"] == read_json(whole / "train.json")["test_psnr"]);
   }
+}
+
+TEST_CASE("kill -9 anywhere, over and over, checkpoint writes included: every resume continues, the end is exact") {
+  const SingleThreadedLavapipe one_thread;
+  const fs::path dir = test::fresh_dir("train_kill_anywhere");
+  // A checkpoint every other step, so kills land in checkpoint writes as well as in steps.
+  std::vector<std::string> settings = kResumeArgs;
+  settings[std::find(settings.begin(), settings.end(), "--checkpoint-every") - settings.begin() + 1] = "2";
+  const fs::path whole = dir / "whole", run = dir / "killed";
+  std::string args = "--data " + tiny_dataset().string() + " --out " + whole.string();
+  for (const std::string& a : settings) args += " " + a;
+  REQUIRE(test::run_style4d("train", args, dir / "whole.log") == 0);
+
+  std::vector<std::string> first = {"train", "--data", tiny_dataset().string(), "--out", run.string()};
+  first.insert(first.end(), settings.begin(), settings.end());
+  const std::vector<std::string> resume = {"train", "--resume", run.string()};
+  // Delays after a segment's first checkpoint exists, spread so that over the segments the kills fall
+  // at different phases of steps and writes (milliseconds; primes, so they do not line up).
+  int kills = 0;
+  for (const int delay_ms : {0, 37, 151, 313, 577, 911, 1409, 2003}) {
+    const bool started = fs::exists(run / "run.json");
+    const pid_t pid = spawn_style4d(started ? resume : first, dir / ("segment" + std::to_string(kills) + ".log"));
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!fs::exists(run / "checkpoint" / "state.s4dckpt") && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    kill(pid, SIGKILL);
+    int status = 0;
+    REQUIRE(waitpid(pid, &status, 0) == pid);
+    if (WIFEXITED(status)) {
+      INFO(test::read_text(dir / ("segment" + std::to_string(kills) + ".log")));
+      REQUIRE(WEXITSTATUS(status) == 0);  // finished before the kill
+      break;
+    }
+    ++kills;
+    // Whatever the kill interrupted, one of the two rotated checkpoints is complete.
+    CHECK_NOTHROW(train::read_checkpoint_or_previous(run / "checkpoint" / "state.s4dckpt",
+                                                     run / "checkpoint" / "state.prev.s4dckpt"));
+  }
+  MESSAGE(kills << " kills before the run finished");
+  CHECK(kills >= 3);
+  if (!fs::exists(run / "train.json") || read_json(run / "train.json")["complete"] != true)
+    REQUIRE(test::run_style4d("train", "--resume " + run.string(), dir / "last.log") == 0);
+  CHECK(test::read_text(run / "geometry" / "gaussians.ply") == test::read_text(whole / "geometry" / "gaussians.ply"));
+  CHECK(loss_column(run / "loss.csv") == loss_column(whole / "loss.csv"));
+  CHECK(read_json(run / "train.json")["test_psnr"] == read_json(whole / "train.json")["test_psnr"]);
 }
 
 TEST_CASE("a diverging run rolls back, says so, and never writes a non-finite checkpoint") {

@@ -556,6 +556,12 @@ def define_checkpoint():
              r"state\.s4dckpt: array 'means' holds \d+ floats, expected \d+ for \d+ Gaussians", untouched=kept)
     run_case("ckpt_sh_degree_lies", "checkpoint", only(lambda p: edit_checkpoint(p, lambda h, a: h.__setitem__("sh_degree", 7))),
              r"state\.s4dckpt: sh_degree 7 is not 0\.\.3", untouched=kept)
+    # Found by fuzz_checkpoint (tests/fuzz): an array listed with 0 floats once reached memcpy with a null pointer.
+    def empty_array(h, arrays):
+        arrays["opacity_logits.adam_m"][:] = b""
+        next(a for a in h["arrays"] if a["name"] == "opacity_logits.adam_m")["floats"] = 0
+    run_case("ckpt_array_empty", "checkpoint", only(lambda p: edit_checkpoint(p, empty_array)),
+             r"state\.s4dckpt: array 'opacity_logits\.adam_m' holds 0 floats, expected \d+", untouched=kept)
     run_case("ckpt_array_renamed", "checkpoint",
              only(lambda p: edit_checkpoint(p, lambda h, a: h["arrays"][0].__setitem__("name", "positions"))),
              r"state\.s4dckpt: array 0 is 'positions', expected 'means'", untouched=kept)

@@ -179,7 +179,7 @@ Checkpoint read_checkpoint(const fs::path& path) {
         fail(path, "array '" + name + "': checksum mismatch");
       std::vector<float>* values = k < arrays.size() ? arrays[k].values : &cp.extra.emplace_back(name, std::vector<float>{}).second;
       values->resize(floats);
-      std::memcpy(values->data(), file.data() + offset, bytes);
+      if (bytes > 0) std::memcpy(values->data(), file.data() + offset, bytes);  // an empty vector's data() may be null
       offset += bytes;
       for (size_t i = 0; i < floats; ++i)
         if (!std::isfinite((*values)[i])) fail(path, "array '" + name + "' holds a non-finite value at " + std::to_string(i));
