@@ -13,7 +13,8 @@ set -euo pipefail
 [ $# -ge 2 ] || { sed -n '2,12p' "$0" >&2; exit 2; }
 data="$1" out="$2"
 shift 2
-downscale=1 frames="" preset=fast style="assets/styles/builtin.png" stage4_iters=1500
+root="$(cd "$(dirname "$0")/.." && pwd)"
+downscale=1 frames="" preset=fast style="$root/assets/styles/builtin.png" stage4_iters=1500
 while [ $# -gt 0 ]; do
   case "$1" in
     --downscale) downscale="$2"; shift 2 ;;
@@ -25,7 +26,7 @@ while [ $# -gt 0 ]; do
     *) echo "real_data.sh: unknown option '$1'" >&2; exit 2 ;;
   esac
 done
-exe="$(cd "$(dirname "$0")/.." && pwd)/${S4D_BUILD_DIR:-build}/style4d"
+exe="${S4D_EXE:-$root/${S4D_BUILD_DIR:-build}/style4d}"
 [ -x "$exe" ] || { echo "real_data.sh: $exe not built (tools/setup.sh style4d)" >&2; exit 2; }
 command -v /usr/bin/time >/dev/null || { echo "real_data.sh: /usr/bin/time missing (apt-get install time)" >&2; exit 2; }
 mkdir -p "$out"
@@ -49,7 +50,7 @@ frame_args=(${frames:+--frames "$frames"})
 stage train "$out/run/train.json" "$exe" train --data "$data" --out "$out/run" --preset "$preset" \
   --downscale "$downscale" "${frame_args[@]}" --skip-check "$@"
 stage stylize "$out/run/style/$style_name/stylize.json" "$exe" stylize --run "$out/run" --style "$style" \
-  --iters "$stage4_iters"
+  --iters "$stage4_iters" --mlp-iters $((stage4_iters / 5))  # the MLPs in the last fifth, as the default 1500 / 300
 stage bench "$out/bench/report.json" "$exe" bench --run "$out/run" --style "$style_name" --out "$out/bench"
 
 python3 - "$out" "$style_name" <<'PY'
