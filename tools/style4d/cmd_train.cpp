@@ -102,22 +102,25 @@ train::TrainConfig config_from_args(const Args& args) {
 }
 
 // A new run checks its dataset first, loaded as the trainer loads it (style4d check-data): warnings
-// are printed, errors are printed and refuse the run.
-void check_dataset_first(const std::string& dir, const train::TrainConfig& config) {
-  const data::DatasetReport report = data::load_and_check(dir, train::load_options(config, false)).report;
+// are printed, errors are printed and refuse the run. Returns the dataset for the trainer.
+data::Dataset check_dataset_first(const std::string& dir, const train::TrainConfig& config) {
+  data::CheckedDataset checked = data::load_and_check(dir, train::load_options(config, false));
+  const data::DatasetReport& report = checked.report;
   for (const data::Problem& p : report.problems) std::cerr << data::format_problem(p) << "\n";
   if (report.errors() > 0) {
     throw std::runtime_error("the dataset check found " + std::to_string(report.errors()) +
                              " error(s), listed above (style4d check-data " + dir +
                              " shows them all); fix them, or pass --skip-check to train anyway");
   }
+  return std::move(checked.dataset);
 }
 
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
-      {"data", "dataset directory (DyNeRF/Neu3D or D-NeRF layout, e.g. from style4d synth)", true, "DIR"},
+      {"data", "dataset directory in any layout of docs/real-data.md (DyNeRF/Neu3D, 4DGaussians, D-NeRF, HyperNeRF,\n"
+                 "                        COLMAP rig), e.g. from style4d synth", true, "DIR"},
       {"out", "run directory to create (must not exist, or be empty)", true, "RUN"},
       {"resume", "continue the run in RUN from its last checkpoint (other options are taken from the run)", true, "RUN"},
       {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
@@ -156,7 +159,13 @@ int cmd_train(const std::vector<std::string>& argv) {
     return 0;
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
-  if (!args.get("resume") && !args.flag("skip-check")) check_dataset_first(args.require("data"), config_from_args(args));
+  // A new run's settings and, unless skipped, its checked dataset, which the trainer then takes as is.
+  std::optional<train::TrainConfig> config;
+  std::optional<data::Dataset> checked;
+  if (!args.get("resume")) {
+    config = config_from_args(args);
+    if (!args.flag("skip-check")) checked = check_dataset_first(args.require("data"), *config);
+  }
 
   // One writer per run: the lock is held until this process ends (released by the kernel however it
   // ends), and a second `train` on the run refuses at once (run_lock.h).
@@ -181,7 +190,7 @@ int cmd_train(const std::vector<std::string>& argv) {
     trainer = train::Trainer::resume(ctx, *run);
   } else {
     try {
-      trainer = std::make_unique<train::Trainer>(ctx, args.require("data"), config_from_args(args), args.require("out"));
+      trainer = std::make_unique<train::Trainer>(ctx, args.require("data"), *config, args.require("out"), std::move(checked));
     } catch (...) {
       if (created && lock) {  // leave no empty run folder behind
         lock->release(true);

@@ -66,7 +66,6 @@ class Problems {
   std::vector<Problem> list_;
 };
 
-Vec3 camera_centre(const io::CameraView& c);
 
 void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources, Problems& problems,
                   DatasetSummary& summary);

@@ -6,63 +6,11 @@
 #include <set>
 
 #include "dataset_check_parts.h"
+#include "s4d/data/camera_geometry.h"
 
 namespace s4d::data::detail {
 
-Vec3 camera_centre(const io::CameraView& c) {
-  const auto& m = c.world_to_cam;
-  Vec3 o{};
-  for (size_t i = 0; i < 3; ++i) o[i] = -(m[i] * m[3] + m[4 + i] * m[7] + m[8 + i] * m[11]);
-  return o;
-}
-
 namespace {
-
-Vec3 to_camera(const io::CameraView& c, const Vec3& p) {
-  Vec3 x{};
-  for (size_t i = 0; i < 3; ++i) {
-    x[i] = c.world_to_cam[i * 4] * p[0] + c.world_to_cam[i * 4 + 1] * p[1] + c.world_to_cam[i * 4 + 2] * p[2] +
-           c.world_to_cam[i * 4 + 3];
-  }
-  return x;
-}
-
-// The point nearest (least squares) to the optical axes of `cameras`: solves
-// sum (I - d d^T) p = sum (I - d d^T) c. nullopt when the axes are (nearly) parallel.
-std::optional<Vec3> nearest_to_axes(const std::vector<const io::CameraView*>& cameras) {
-  double a[3][3] = {};
-  Vec3 b{};
-  for (const io::CameraView* cam : cameras) {
-    const Vec3 c = camera_centre(*cam);
-    Vec3 d{cam->world_to_cam[8], cam->world_to_cam[9], cam->world_to_cam[10]};  // forward (third row of R)
-    const double n = std::hypot(d[0], d[1], d[2]);
-    if (!(n > 0)) continue;
-    for (double& x : d) x /= n;
-    for (size_t i = 0; i < 3; ++i) {
-      for (size_t j = 0; j < 3; ++j) {
-        const double m = (i == j ? 1.0 : 0.0) - d[i] * d[j];
-        a[i][j] += m;
-        b[i] += m * c[j];
-      }
-    }
-  }
-  auto det3 = [](const double m[3][3]) {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-  };
-  const double det = det3(a);
-  const double scale = (a[0][0] + a[1][1] + a[2][2]) / 3;
-  if (!(scale > 0) || !(std::abs(det) > 1e-6 * scale * scale * scale)) return std::nullopt;
-  Vec3 p{};
-  for (size_t k = 0; k < 3; ++k) {  // Cramer's rule
-    double m[3][3];
-    for (size_t i = 0; i < 3; ++i) {
-      for (size_t j = 0; j < 3; ++j) m[i][j] = j == k ? b[i] : a[i][j];
-    }
-    p[k] = det3(m) / det;
-  }
-  return p;
-}
 
 // Views that stand for distinct cameras: the first of each camera_index, and every view without one.
 std::vector<size_t> camera_representatives(const Dataset& dataset) {
@@ -123,7 +71,7 @@ void check_cameras(const Dataset& dataset, const std::vector<ViewSource>& source
   if (!summary.scene_centre) {
     std::vector<const io::CameraView*> cams;
     for (size_t k : finite) cams.push_back(&dataset.views[k].camera);
-    if (const std::optional<Vec3> p = nearest_to_axes(cams)) {
+    if (const std::optional<Vec3> p = nearest_to_optical_axes(cams)) {
       summary.scene_centre = *p;
       summary.scene_centre_from = "nearest point to the optical axes";
     } else {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "dataset_check_parts.h"
+#include "s4d/data/camera_geometry.h"
 
 namespace s4d::data {
 

@@ -1,4 +1,5 @@
 #include "dataset_parts.h"
+#include "s4d/data/camera_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,19 +64,11 @@ int checked_downscale(const std::filesystem::path& root, const LoadOptions& opti
 
 namespace {
 
-// Camera centre -R^T t of a row-major world-to-camera [R | t].
-std::array<double, 3> centre(const io::CameraView& camera) {
-  const auto& m = camera.world_to_cam;
-  std::array<double, 3> c{};
-  for (size_t i = 0; i < 3; ++i) c[i] = -(m[0 * 4 + i] * m[3] + m[1 * 4 + i] * m[7] + m[2 * 4 + i] * m[11]);
-  return c;
-}
-
 // 3DGS getNerfppNorm's radius: densification and learning rates scale with it.
 double camera_extent(const Dataset& dataset) {
   std::vector<std::array<double, 3>> centres;
   for (const View& v : dataset.views) {
-    if (!v.test) centres.push_back(centre(v.camera));
+    if (!v.test) centres.push_back(camera_centre(v.camera));
   }
   if (centres.empty()) fail(dataset.root, "no training views");
   std::array<double, 3> mean{};

@@ -1,5 +1,7 @@
 #include "s4d/train/init_cloud.h"
 
+#include "s4d/data/camera_geometry.h"
+
 #include <array>
 #include <algorithm>
 #include <cmath>
@@ -134,49 +136,6 @@ constexpr size_t kFrustumCameras = 64;    // training cameras a random candidate
 constexpr double kFrustumShare = 0.8;     // share of them that must see it
 constexpr uint32_t kCandidatesPerPoint = 200;  // gives up past this many candidates per wanted point
 
-// The point nearest to all training cameras' optical axes (least squares; Cramer's rule), or the
-// origin when the axes are parallel or there are fewer than two cameras.
-std::array<double, 3> look_at_point(const data::Dataset& dataset) {
-  double a[3][3] = {}, b[3] = {};
-  size_t train = 0;
-  for (const data::View& v : dataset.views) {
-    if (v.test) continue;
-    const auto& m = v.camera.world_to_cam;
-    const double d[3] = {m[8], m[9], m[10]};  // forward axis in world = third row of R
-    const double o[3] = {-(m[0] * m[3] + m[4] * m[7] + m[8] * m[11]), -(m[1] * m[3] + m[5] * m[7] + m[9] * m[11]),
-                         -(m[2] * m[3] + m[6] * m[7] + m[10] * m[11])};
-    for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s) {
-        const double proj = (r == s ? 1.0 : 0.0) - d[r] * d[s];
-        a[r][s] += proj;
-        b[r] += proj * o[s];
-      }
-    ++train;
-  }
-  std::array<double, 3> centre{0, 0, 0};
-  const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-                     a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-  if (train < 2 || std::abs(det) <= 1e-9) return centre;
-  for (int c = 0; c < 3; ++c) {
-    double m[3][3];
-    for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s) m[r][s] = s == c ? b[r] : a[r][s];
-    centre[size_t(c)] = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])) / det;
-  }
-  return centre;
-}
-
-// Whether camera c sees world point p: in front of it and inside its image.
-bool sees(const io::CameraView& c, const float* p) {
-  const auto& m = c.world_to_cam;
-  double x[3];
-  for (size_t i = 0; i < 3; ++i) x[i] = m[i * 4] * p[0] + m[i * 4 + 1] * p[1] + m[i * 4 + 2] * p[2] + m[i * 4 + 3];
-  if (x[2] <= 1e-6) return false;
-  const double u = c.fx * x[0] / x[2] + c.cx, v = c.fy * x[1] / x[2] + c.cy;
-  return u >= 0 && u < c.width && v >= 0 && v < c.height;
-}
-
 }  // namespace
 
 io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uint32_t random_points, uint32_t max_points,
@@ -209,13 +168,13 @@ io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uin
     return cloud_from_points(points, colors, sh_degree);
   }
   if (random_points == 0) throw std::invalid_argument(dataset.root.string() + ": no point cloud and no random points asked for");
-  std::vector<const io::CameraView*> cameras;
-  std::vector<const data::View*> train;
+  std::vector<const io::CameraView*> train, cameras;
   for (const data::View& v : dataset.views)
-    if (!v.test) train.push_back(&v);
+    if (!v.test) train.push_back(&v.camera);
   const size_t used = std::min(kFrustumCameras, train.size());
-  for (size_t i = 0; i < used; ++i) cameras.push_back(&train[i * train.size() / used]->camera);
-  const std::array<double, 3> centre = look_at_point(dataset);
+  for (size_t i = 0; i < used; ++i) cameras.push_back(train[i * train.size() / used]);
+  // The region the cameras look at; the origin when their axes are parallel.
+  const data::Point3 centre = data::nearest_to_optical_axes(train).value_or(data::Point3{0, 0, 0});
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   const float half = static_cast<float>(dataset.extent);
@@ -227,7 +186,7 @@ io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uin
     float p[3];
     for (size_t a = 0; a < 3; ++a) p[a] = float(centre[a]) + (2 * unit(rng) - 1) * half;
     size_t seen = 0;
-    for (const io::CameraView* c : cameras) seen += sees(*c, p) ? 1 : 0;
+    for (const io::CameraView* c : cameras) seen += data::sees(*c, {p[0], p[1], p[2]}) ? 1 : 0;
     if (double(seen) < kFrustumShare * double(cameras.size())) continue;
     for (size_t a = 0; a < 3; ++a) pts.push_back(p[a]), cols.push_back(unit(rng));
   }

@@ -111,14 +111,15 @@ Trainer::Impl::Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const 
   if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
-Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConfig& config, const fs::path& run_dir)
+Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConfig& config, const fs::path& run_dir,
+                 std::optional<data::Dataset> loaded)
     : config_(config) {
   validate(config_, "training settings");
   // The folder's .lock is the caller's run lock (run_lock.h), taken before the run is created.
   if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && empty_but_for_lock(run_dir)))
     throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with --resume or choose "
                                 "another --out");
-  dataset_ = data::load_dataset(data_dir, load_options(config_, false));
+  dataset_ = loaded ? std::move(*loaded) : data::load_dataset(data_dir, load_options(config_, false));
   config_.background = dataset_.background;
   if (!dataset_.background_conflict.empty())
     std::cerr << "warning: " << dataset_.root.string() << ": background: " << dataset_.background_conflict << "\n";

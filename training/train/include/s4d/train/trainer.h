@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,10 +35,12 @@ struct TrainResult {
 class Trainer {
  public:
   // A new run into `run_dir`, which must not exist or be empty (a run is never overwritten).
-  // Writes RUN/run.json at once.
+  // Writes RUN/run.json at once. `loaded`: the dataset as load_options(config, false) loads it from
+  // data_dir, when the caller has it already (style4d train checks it first), so it is not read twice.
   Trainer(engine::Context& ctx, const std::filesystem::path& data_dir, const TrainConfig& config,
-          const std::filesystem::path& run_dir);
-  // Continues the run in `run_dir` from its checkpoint (or from the start when it has none yet).
+          const std::filesystem::path& run_dir, std::optional<data::Dataset> loaded = std::nullopt);
+  // Continues the run in `run_dir` from its checkpoint (or from the previous one when that is damaged);
+  // refuses when neither loads and the run has results, restarts a run killed before its first checkpoint.
   static std::unique_ptr<Trainer> resume(engine::Context& ctx, const std::filesystem::path& run_dir);
   ~Trainer();
 
