@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host_state_fixture.h"
 #include "s4d/deform/static_split.h"
 #include "s4d/train/checkpoint.h"
 #include "s4d/train/evaluate.h"
@@ -29,23 +30,6 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-model::HostState small_state(size_t n, int degree) {
-  model::HostState s;
-  s.cloud.sh_degree = degree;
-  const size_t k = size_t((degree + 1) * (degree + 1));
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(-1, 1);
-  auto fill = [&](std::vector<float>& v, size_t count) {
-    v.resize(count);
-    for (float& x : v) x = u(rng);
-  };
-  fill(s.cloud.means, n * 3), fill(s.cloud.log_scales, n * 3), fill(s.cloud.quats, n * 4), fill(s.cloud.opacity_logits, n);
-  fill(s.cloud.sh, n * k * 3);
-  const size_t widths[] = {3, 3, 4, 1, k * 3};
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) fill(s.m[a], n * widths[a]), fill(s.v[a], n * widths[a]);
-  for (auto& st : s.stats) fill(st, n);
-  return s;
-}
 
 }  // namespace
 
@@ -88,7 +72,7 @@ TEST_CASE("cloud_from_points follows graphdeco's initialisation") {
 
 TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, truncation and other files") {
   const fs::path dir = fresh_dir("s4d_checkpoint_test");
-  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, small_state(50, 1), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
+  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, test::small_state(50, 1, 3), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
   write_checkpoint(dir / "a.s4dckpt", cp);
   const train::Checkpoint back = train::read_checkpoint(dir / "a.s4dckpt");
   CHECK(back.meta == cp.meta);
@@ -169,7 +153,7 @@ TEST_CASE("the static split puts static Gaussians last, stably, and moves every 
   CHECK_FALSE(split.identity());
   CHECK(deform::split_static(deform::tail_mask(7, 3)).identity());  // what checkpoints hold: already in order
   CHECK(deform::tail_mask(4, 1) == std::vector<uint32_t>{0, 0, 0, 1});
-  const model::HostState s = small_state(mask.size(), 1);
+  const model::HostState s = test::small_state(mask.size(), 1, 3);
   const model::HostState g = train::gather_state(s, split.order);
   auto row = [](const std::vector<float>& v, size_t width, size_t i) {
     return std::vector<float>(v.begin() + i * width, v.begin() + (i + 1) * width);

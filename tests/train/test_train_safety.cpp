@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host_state_fixture.h"
 #include "s4d/train/checkpoint.h"
 #include "s4d/train/run_lock.h"
 #include "s4d/train/train_config.h"
@@ -44,27 +45,10 @@ std::string read_bytes(const fs::path& p) {
 
 void write_bytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
-model::HostState small_state(size_t n, int degree, unsigned seed) {
-  model::HostState s;
-  s.cloud.sh_degree = degree;
-  const size_t k = size_t((degree + 1) * (degree + 1));
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1, 1);
-  auto fill = [&](std::vector<float>& v, size_t count) {
-    v.resize(count);
-    for (float& x : v) x = u(rng);
-  };
-  fill(s.cloud.means, n * 3), fill(s.cloud.log_scales, n * 3), fill(s.cloud.quats, n * 4), fill(s.cloud.opacity_logits, n);
-  fill(s.cloud.sh, n * k * 3);
-  const size_t widths[] = {3, 3, 4, 1, k * 3};
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) fill(s.m[a], n * widths[a]), fill(s.v[a], n * widths[a]);
-  for (auto& st : s.stats) fill(st, n);
-  return s;
-}
 
 train::Checkpoint sample(int iteration) {
   return {{{"iteration", iteration}, {"stage", "static"}},
-          small_state(12, 1, static_cast<unsigned>(iteration)),
+          test::small_state(12, 1, static_cast<unsigned>(iteration)),
           {{"field.planes", {1, 2, 3, 4}}, {"field.mlp", {5, 6}}, {"field.empty", {}}}};
 }
 
