@@ -36,4 +36,10 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
   if (::rename(tmp.c_str(), path.c_str()) != 0) fail("rename");
 }
 
+void require_written(const std::ostream& stream, const std::filesystem::path& path) {
+  if (stream.good()) return;
+  const int err = errno;
+  throw std::runtime_error("cannot write " + path.string() + ": " + (err != 0 ? std::strerror(err) : "the stream failed"));
+}
+
 }  // namespace s4d::util

@@ -35,3 +35,13 @@ TEST_CASE("a failed atomic write names the path") {
   CHECK_THROWS_WITH_AS(s4d::util::write_file_atomic("/nonexistent-dir/x.json", "x"),
                        doctest::Contains("/nonexistent-dir/x.json"), std::runtime_error);
 }
+
+TEST_CASE("a log whose stream failed is refused by name") {
+  std::ofstream closed;  // never opened: every write fails
+  closed << "x";
+  CHECK_THROWS_WITH_AS(s4d::util::require_written(closed, "run/loss.csv"), doctest::Contains("cannot write run/loss.csv"),
+                       std::runtime_error);
+  std::ostringstream fine;
+  fine << "x";
+  CHECK_NOTHROW(s4d::util::require_written(fine, "run/loss.csv"));
+}

@@ -1,5 +1,6 @@
 // style4d: one program, one subcommand per job (the contract is in ARCHITECTURE.md). Errors print
 // one line "style4d: error: ..." and exit non-zero.
+#include <csignal>
 #include <exception>
 #include <functional>
 #include <iostream>
@@ -57,6 +58,9 @@ void print_help() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past the file-size limit (ulimit -f) a write should fail and be reported by name like a full
+  // disk, not kill the process halfway through a file.
+  std::signal(SIGXFSZ, SIG_IGN);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     print_help();

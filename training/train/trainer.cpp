@@ -15,8 +15,10 @@
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/run_lock.h"
+#include "s4d/train/run_size.h"
 #include "s4d/train/time_estimate.h"
 #include "s4d/util/atomic_file.h"
+#include "s4d/util/free_space.h"
 #include "s4d/util/progress.h"
 #include "trainer_impl.h"
 
@@ -95,6 +97,18 @@ std::optional<LoadedCheckpoint> checkpoint_to_resume(const RunDir& run) {
   return std::nullopt;
 }
 
+// Refuses a run whose next checkpoint cannot be written (run_size.h); warns when the disk would
+// fill before the Gaussian budget is reached.
+void require_room_for(const fs::path& run_dir, const TrainConfig& config, size_t gaussians) {
+  const RunSize size = run_size(config, static_cast<uint32_t>(gaussians));
+  util::require_room(run_dir, size.least, size.largest_file,
+                     "a checkpoint of " + std::to_string(gaussians) + " Gaussians (written beside the current one)");
+  const uint64_t free = util::free_bytes(run_dir);
+  if (free < size.at_budget)
+    std::cerr << "warning: " << run_dir.string() << ": " << util::megabytes(free) << " free; the run's checkpoints at its "
+              << "budget of " << config.budget << " Gaussians need about " << util::megabytes(size.at_budget) << "\n";
+}
+
 }  // namespace
 
 Trainer::Impl::Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d)
@@ -131,6 +145,7 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here
+  require_room_for(run_dir, config_, initial.size());  // and a disk that cannot take the first checkpoint
   fs::create_directories(run_dir / "checkpoint");
   fs::create_directories(run_dir / "geometry");
   // "stage" names what the run's geometry is, for readers of a run (render, viewer).
@@ -184,6 +199,7 @@ Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& 
     impl_->gaussians = std::make_unique<model::TrainableGaussians>(ctx, initial, "gaussians");
   }
   impl_->last_good = impl_->snapshot(impl_->seconds_before);
+  require_room_for(run.root, config_, impl_->gaussians->size());
 }
 
 std::unique_ptr<Trainer> Trainer::resume(engine::Context& ctx, const fs::path& run_dir) {
@@ -228,6 +244,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       if (m.iteration % 10 == 0)
         log << m.stage << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
             << m.gaussians->size() << ',' << m.elapsed(start) << std::endl;  // on disk before any later checkpoint
+      util::require_written(log, m.run.loss_csv());
       if (m.iteration % config_.test_every == 0 && m.iteration < m.stage_iterations())
         test_psnr = m.evaluate(spread(m.test_views, kPeriodicTestViews)).psnr;
       m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities

@@ -326,7 +326,10 @@ StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
     if (!std::isfinite(value))
       throw std::runtime_error("stage 4: the loss became non-finite at iteration " + std::to_string(s.iteration) +
                                "; the last checkpoint is " + s.checkpoint_path().string() + " (lower the learning rates)");
-    if (s.iteration % 10 == 0) log << s.iteration << ',' << value << ',' << elapsed() << std::endl;
+    if (s.iteration % 10 == 0) {
+      log << s.iteration << ',' << value << ',' << elapsed() << std::endl;
+      util::require_written(log, s.dir / "loss.csv");
+    }
     if (s.iteration % s.config.test_every == 0 && s.iteration < s.config.iterations)
       test_psnr = s.evaluate(spread(s.test_views, kPeriodicTestViews)).psnr;
     if (s.iteration % s.config.checkpoint_every == 0 && s.iteration < s.config.iterations) s.save(elapsed());
