@@ -27,9 +27,12 @@ uint64_t file_size_limit() {
   return static_cast<uint64_t>(r.rlim_cur);
 }
 
-std::string megabytes(uint64_t bytes) {
+std::string byte_size(uint64_t bytes) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1e6);
+  if (bytes < 1000000)
+    std::snprintf(text, sizeof text, "%.1f KB", static_cast<double>(bytes) / 1e3);
+  else
+    std::snprintf(text, sizeof text, "%.1f MB", static_cast<double>(bytes) / 1e6);
   return text;
 }
 
@@ -37,12 +40,12 @@ void require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64
                   const std::string& what) {
   const uint64_t limit = file_size_limit();
   if (largest_file_bytes > limit)
-    throw std::runtime_error(dir.string() + ": the file size limit (ulimit -f) is " + megabytes(limit) + ", " + what +
-                             " writes files of about " + megabytes(largest_file_bytes));
+    throw std::runtime_error(dir.string() + ": the file size limit (ulimit -f) is " + byte_size(limit) + ", " + what +
+                             " writes files of about " + byte_size(largest_file_bytes));
   const uint64_t free = free_bytes(dir);
   if (total_bytes > free)
-    throw std::runtime_error(dir.string() + ": " + megabytes(free) + " free, " + what + " needs about " +
-                             megabytes(total_bytes));
+    throw std::runtime_error(dir.string() + ": " + byte_size(free) + " free, " + what + " needs about " +
+                             byte_size(total_bytes));
 }
 
 }  // namespace s4d::util

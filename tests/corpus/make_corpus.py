@@ -653,6 +653,28 @@ def define_command_lines():
              r"--screenshot: .*eval/shot\.png is one of .*run's own files", 1,
              lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
 
+    # Unwritable and full output folders: a path under a regular file, a file-size limit (ulimit -f,
+    # reported as a write error like a full disk, not a signal). The real full disk is cli_disk_full.
+    def a_file(d, b):
+        write(d + "/file", "not a folder\n")
+    cli_case("cli_synth_out_under_file", "{EXE} synth --out {CASE}/file/o --cams 2 --frames 2 --size 32x24",
+             r"Not a directory.*file/o", 1, a_file)
+    cli_case("cli_train_out_under_file", "{EXE} train --data {BASE}/data --out {CASE}/file/run --iters 5",
+             r"Not a directory.*file/run", 1, a_file)
+    cli_case("cli_render_out_under_file", "{EXE} render --run {BASE}/run --path test --out {CASE}/file/o",
+             r"Not a directory.*file/o", 1, a_file)
+    cli_case("cli_export_ply_out_under_file", "{EXE} export-ply --run {BASE}/run --time 0 --out {CASE}/file/o.ply",
+             r"cannot write .*file/o\.ply: open: Not a directory", 1, a_file)
+    cli_case("cli_check_data_json_under_file", "{EXE} check-data {BASE}/data --json {CASE}/file/c.json",
+             r"cannot write .*file/c\.json: open: Not a directory", 1, a_file)
+    cli_case("cli_train_file_size_limit", "ulimit -f 16; {EXE} train --data {BASE}/data --out {CASE}/run --iters 5 --preset fast",
+             r"run: the file size limit \(ulimit -f\) is [0-9.]+ [KM]B, a checkpoint of [0-9]+ Gaussians", 1)
+    cli_case("cli_train_resume_file_size_limit", "ulimit -f 16; {EXE} train --resume {CASE}/run",
+             r"run: the file size limit \(ulimit -f\) is [0-9.]+ [KM]B, a checkpoint of [0-9]+ Gaussians", 1,
+             lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
+    cli_case("cli_export_ply_file_size_limit", "ulimit -f 1; {EXE} export-ply --run {BASE}/run --time 0 --out {CASE}/o.ply",
+             r"cannot write .*o\.ply: write: File too large", 1)
+
 
 DEFINE = [define_ply, define_cameras, define_npy, define_dnerf, define_hypernerf, define_colmap, define_images,
           define_safetensors, define_checkpoint, define_run_json, define_command_lines]

@@ -105,8 +105,8 @@ void require_room_for(const fs::path& run_dir, const TrainConfig& config, size_t
                      "a checkpoint of " + std::to_string(gaussians) + " Gaussians (written beside the current one)");
   const uint64_t free = util::free_bytes(run_dir);
   if (free < size.at_budget)
-    std::cerr << "warning: " << run_dir.string() << ": " << util::megabytes(free) << " free; the run's checkpoints at its "
-              << "budget of " << config.budget << " Gaussians need about " << util::megabytes(size.at_budget) << "\n";
+    std::cerr << "warning: " << run_dir.string() << ": " << util::byte_size(free) << " free; the run's checkpoints at its "
+              << "budget of " << config.budget << " Gaussians need about " << util::byte_size(size.at_budget) << "\n";
 }
 
 }  // namespace

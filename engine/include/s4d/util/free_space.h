@@ -22,7 +22,7 @@ uint64_t file_size_limit();
 void require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64_t largest_file_bytes,
                   const std::string& what);
 
-// "12.3 MB": bytes for messages.
-std::string megabytes(uint64_t bytes);
+// "12.3 MB", "16.0 KB": bytes for messages.
+std::string byte_size(uint64_t bytes);
 
 }  // namespace s4d::util
