@@ -1,5 +1,5 @@
 // adam_step: one Adam update of a parameter tensor (PyTorch semantics):
-// m = b1 m + (1 - b1) g, v = b2 v + (1 - b2) g^2, p -= lr (m / (1 - b1^t)) / (sqrt(v / (1 - b2^t)) + eps).
+// (g clamped to +-S4D_ADAM_MAX_GRAD), m = b1 m + (1 - b1) g, v = b2 v + (1 - b2) g^2, p -= lr (m / (1 - b1^t)) / (sqrt(v / (1 - b2^t)) + eps).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_optim.h"
@@ -18,6 +18,7 @@ void main() {
   if (i >= p.n) return;
   AdamGroup h = groups[i % p.row < p.head ? p.group : p.tail_group];
   float g = grads[i];
+  if (abs(g) > S4D_ADAM_MAX_GRAD) g = sign(g) * S4D_ADAM_MAX_GRAD;
   float mi = h.beta1 * m[i] + (1.0 - h.beta1) * g;
   float vi = h.beta2 * v[i] + (1.0 - h.beta2) * g * g;
   m[i] = mi;

@@ -5,6 +5,11 @@
 #include "s4d_common.h"
 
 #define S4D_ADAM_WG 256
+// Adam sees gradients clamped to +-S4D_ADAM_MAX_GRAD (NaN passes through, for the trainer's
+// rollback): the square of a larger one overflows float to inf, which would stop the parameter for
+// good (m / sqrt(inf) = 0) and put inf in its second moment and the next checkpoint. 1e18 squared
+// stays finite, and a clamped first step moves the parameter by lr like any other.
+#define S4D_ADAM_MAX_GRAD 1e18
 #define S4D_B_ADAM_GROUPS 0  // [groups] AdamGroup
 #define S4D_B_ADAM_PARAMS 1  // [n] float, updated in place
 #define S4D_B_ADAM_GRADS 2   // [n] float

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <vector>
 
+#include "s4d_optim.h"
+
 namespace s4d::ref {
 
 struct AdamHyper {
@@ -11,6 +13,7 @@ struct AdamHyper {
 
 template <class T>
 void adam_update(T& p, T g, T& m, T& v, const AdamHyper& h, int t) {
+  if (std::abs(g) > T(S4D_ADAM_MAX_GRAD)) g = std::copysign(T(S4D_ADAM_MAX_GRAD), g);
   const T b1 = T(h.beta1), b2 = T(h.beta2);
   const T inv_bias1 = T(1 / (1 - std::pow(h.beta1, t))), inv_sqrt_bias2 = T(1 / std::sqrt(1 - std::pow(h.beta2, t)));
   m = b1 * m + (1 - b1) * g;
