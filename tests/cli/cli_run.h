@@ -1,13 +1,17 @@
 // Helpers for tests that run the style4d program: run a subcommand with its output captured in a
 // log file, read the log, and make a fresh scratch directory.
 #pragma once
+#include <fcntl.h>
+#include <spawn.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace s4d::test {
 
@@ -16,6 +20,35 @@ inline int run_style4d(const std::string& command, const std::string& args, cons
   const std::string cmd =
       std::string(S4D_STYLE4D_EXE) + " " + command + " " + args + " > " + log.string() + " 2>&1";
   return std::system(cmd.c_str());
+}
+
+// While alive, style4d runs started by this process use one lavapipe thread, so float atomics add
+// in one order and runs are bit for bit reproducible (for the resume tests).
+struct SingleThreadedLavapipe {
+  SingleThreadedLavapipe() { setenv("LP_NUM_THREADS", "1", 1); }
+  ~SingleThreadedLavapipe() { unsetenv("LP_NUM_THREADS"); }
+  SingleThreadedLavapipe(const SingleThreadedLavapipe&) = delete;
+  SingleThreadedLavapipe& operator=(const SingleThreadedLavapipe&) = delete;
+};
+
+// Starts style4d ARGS... in the background with stdout and stderr in `log`; returns its pid (for
+// kill and waitpid).
+extern "C" char** environ;
+inline pid_t spawn_style4d(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  std::vector<std::string> all = {S4D_STYLE4D_EXE};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error("cannot start " + all[0]);
+  return pid;
 }
 
 inline std::string read_text(const std::filesystem::path& p) {

@@ -4,7 +4,6 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,7 +23,6 @@
 using namespace s4d;
 namespace fs = std::filesystem;
 
-extern char** environ;
 
 namespace {
 
@@ -55,23 +53,6 @@ std::vector<double> loss_column(const fs::path& csv) {
 }
 
 // Starts style4d with stdout and stderr in `log`; returns its pid.
-pid_t spawn_style4d(const std::vector<std::string>& args, const fs::path& log) {
-  std::vector<std::string> all = {S4D_STYLE4D_EXE};
-  all.insert(all.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : all) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  REQUIRE(rc == 0);
-  return pid;
-}
-
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
 TEST_CASE("train writes the run contract and learns the scene") {
@@ -103,11 +84,6 @@ TEST_CASE("train writes the run contract and learns the scene") {
 // llvmpipe runs compute workgroups on LP_NUM_THREADS threads; with one, the order of the float
 // atomics in the backward pass is fixed, so two runs are bit-identical and a resumed run must be too.
 // (With more threads, two uninterrupted runs already differ in the last bits, which compound.)
-struct SingleThreadedLavapipe {
-  SingleThreadedLavapipe() { setenv("LP_NUM_THREADS", "1", 1); }
-  ~SingleThreadedLavapipe() { unsetenv("LP_NUM_THREADS"); }
-};
-
 const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "60", "--fine-iters", "40", "--batch", "2",
                                               "--checkpoint-every", "20", "--static-motion", "0.002"};
 
@@ -116,7 +92,7 @@ const std::vector<std::string> kResumeArgs = {"--preset", "fast", "--iters", "60
 bool interrupt_and_resume(const fs::path& run, int signal, const fs::path& dir) {
   std::vector<std::string> args = {"train", "--data", tiny_dataset().string(), "--out", run.string()};
   args.insert(args.end(), kResumeArgs.begin(), kResumeArgs.end());
-  const pid_t pid = spawn_style4d(args, dir / "parted.log");
+  const pid_t pid = test::spawn_style4d(args, dir / "parted.log");
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (!fs::exists(run / "checkpoint" / "state.s4dckpt") && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -143,7 +119,7 @@ bool interrupt_and_resume(const fs::path& run, int signal, const fs::path& dir) 
 }  // namespace
 
 TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an uninterrupted run ends") {
-  const SingleThreadedLavapipe one_thread;
+  const test::SingleThreadedLavapipe one_thread;
   const fs::path dir = test::fresh_dir("train_resume");
   const fs::path whole = dir / "whole";
   std::string args = "--data " + tiny_dataset().string() + " --out " + whole.string();
@@ -174,7 +150,7 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
 }
 
 TEST_CASE("kill -9 anywhere, over and over, checkpoint writes included: every resume continues, the end is exact") {
-  const SingleThreadedLavapipe one_thread;
+  const test::SingleThreadedLavapipe one_thread;
   const fs::path dir = test::fresh_dir("train_kill_anywhere");
   // A checkpoint every other step, so kills land in checkpoint writes as well as in steps.
   std::vector<std::string> settings = kResumeArgs;
@@ -192,7 +168,7 @@ TEST_CASE("kill -9 anywhere, over and over, checkpoint writes included: every re
   int kills = 0;
   for (const int delay_ms : {0, 37, 151, 313, 577, 911, 1409, 2003}) {
     const bool started = fs::exists(run / "run.json");
-    const pid_t pid = spawn_style4d(started ? resume : first, dir / ("segment" + std::to_string(kills) + ".log"));
+    const pid_t pid = test::spawn_style4d(started ? resume : first, dir / ("segment" + std::to_string(kills) + ".log"));
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
     while (!fs::exists(run / "checkpoint" / "state.s4dckpt") && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(2));

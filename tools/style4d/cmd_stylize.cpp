@@ -37,6 +37,7 @@ style::StyleConfig config_from_args(const Args& args) {
   if (auto v = args.get("iters")) c.iterations = parse_number<uint32_t>("iters", *v);
   if (auto v = args.get("mlp-iters")) c.mlp_iterations = parse_number<uint32_t>("mlp-iters", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
+  if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
   if (auto v = args.get("tv-weight")) c.tv_weight = parse_float("tv-weight", *v);
   if (auto v = args.get("mlp-lr")) c.mlp_lr = parse_float("mlp-lr", *v);
   if (auto v = args.get("depth-input")) {
@@ -76,6 +77,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"mlp-iters", "method full: the last N iterations also train the MLPs (default 300; the others train "
                     "colours and opacities only, on the plain rasterizer)", true, "N"},
       {"seed", "seed of the stylizer and of stage 4 (default 0)", true, "N"},
+      {"checkpoint-every", "stage 4 iterations between checkpoints (default 500)", true, "N"},
       {"tv-weight", "weight of the image TV term (default 0.05)", true, "W"},
       {"mlp-lr", "learning rate of the style MLPs (default 2.5e-4)", true, "LR"},
       {"depth-input", "how the MLP reads the ray-hit depth: relative (t* - centre depth) or ndc (default relative)", true, "D"},

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The sanitizer job: builds style4d and the unit tests with AddressSanitizer and UBSan
+# (-DS4D_SANITIZE=ON, -O1) into BUILD_DIR, then runs the unit tests (ctest -L unit) and the
+# bad-input corpus (tests/corpus) against that build. Any sanitizer report is fatal to its process,
+# so it fails the test or the corpus case that caused it.
+#
+#   tests/sanitize/build_and_run.sh BUILD_DIR
+set -uo pipefail
+[ $# -eq 1 ] || { echo "usage: $0 BUILD_DIR" >&2; exit 2; }
+build_dir=$1
+source_dir=$(cd "$(dirname "$0")/../.." && pwd)
+start=$(date +%s)
+# Mesa's lavapipe keeps allocations until exit that LeakSanitizer would report as leaks of ours:
+# leaks are the fuzz targets' job (tests/fuzz, readers only); here ASan checks memory errors.
+export ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:halt_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+cmake -S "$source_dir" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
+  -DS4D_SANITIZE=ON -DS4D_BUILD_VIEWER=OFF -DS4D_BUILD_TESTS=ON > "$build_dir.configure.log" 2>&1 ||
+  { cat "$build_dir.configure.log"; echo "[sanitize] FAIL: configure"; exit 1; }
+mapfile -t unit_tests < <(ctest --test-dir "$build_dir" -N -L unit | sed -n 's/^ *Test *#[0-9]*: //p')
+[ ${#unit_tests[@]} -gt 0 ] || { echo "[sanitize] FAIL: no unit tests found"; exit 1; }
+echo "[sanitize] building style4d and ${#unit_tests[@]} unit tests with ASan + UBSan"
+cmake --build "$build_dir" --target style4d "${unit_tests[@]}" -j "$(nproc)" > "$build_dir.build.log" 2>&1 ||
+  { tail -40 "$build_dir.build.log"; echo "[sanitize] FAIL: build"; exit 1; }
+echo "[sanitize] built in $(( $(date +%s) - start )) s"
+status=0
+ctest --test-dir "$build_dir" -L unit --output-on-failure --parallel "$(nproc)" --timeout 600 || status=1
+python3 "$source_dir/tests/corpus/run_corpus.py" --exe "$build_dir/style4d" --timeout 240 || status=1
+echo "[sanitize] $([ $status -eq 0 ] && echo passed || echo FAILED) in $(( $(date +%s) - start )) s"
+exit $status
