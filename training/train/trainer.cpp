@@ -250,7 +250,10 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
       if (m.mask_due()) m.update_mask();
       if (m.iteration % config_.checkpoint_every == 0 && m.iteration < m.stage_iterations()) m.checkpoint(m.elapsed(start));
-      std::vector<std::pair<std::string, double>> shown = {{"loss", value.loss}, {"gaussians", m.gaussians->size()}};
+      std::vector<std::pair<std::string, double>> shown = {
+          {"loss", value.loss},
+          {"gaussians", m.gaussians->size()},
+          {"device_mib", static_cast<double>(m.ctx.memory_in_use()) / (1 << 20)}};  // bench/soak.sh plots it
       if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
       // A fresh run tells its expected length once its first steps are timed.
       if (m.stage == "static" && m.seconds_before == 0 && m.iteration == kProbeFrom) probe_start = m.elapsed(start);
