@@ -19,7 +19,7 @@
 
 #include "s4d/model/trainable_gaussians.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 struct Checkpoint {
   nlohmann::json meta;  // iteration, stage, rng state, lr scale... (owned by the trainer)
@@ -61,4 +61,4 @@ struct LoadedCheckpoint {
 // Throws std::runtime_error when neither loads, with what is wrong with each.
 LoadedCheckpoint read_checkpoint_or_previous(const std::filesystem::path& path, const std::filesystem::path& previous);
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <filesystem>
 
-namespace s4d::train {
+namespace s4d::run {
 
 struct RunDir {
   std::filesystem::path root;
@@ -42,4 +42,4 @@ struct RunDir {
   }
 };
 
-}  // namespace s4d::train
+}  // namespace s4d::run
