@@ -17,7 +17,6 @@
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/time_estimate.h"
-#include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
 #include "trainer_impl.h"
 

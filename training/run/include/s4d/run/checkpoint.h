@@ -5,7 +5,7 @@
 // Format S4DCKPT2: "S4DCKPT2", u64 header length, u64 FNV-1a 64 of the header bytes, a JSON header
 // (meta, and per array its name, float count and "fnv1a64", the FNV-1a 64 of its bytes as 16 hex
 // digits, in file order), then the arrays as little-endian float32. S4DCKPT1 (no header checksum,
-// no array checksums) is still read, unverified. The style files of stage 4 (scene/style_file.h)
+// no array checksums) is still read, unverified. The style files of stage 4 (style_file.h)
 // use the same container.
 #pragma once
 #include <cstddef>

@@ -1,4 +1,4 @@
-// The 4DGS stage's result as a run's checkpoint holds it (training/train/checkpoint.h): the
+// The 4DGS stage's result as a run's checkpoint holds it (s4d/run/checkpoint.h): the
 // canonical Gaussians, the deformation field's parameters (arrays field.planes and field.mlp) and
 // its bounds (meta aabb_min / aabb_max). Both come from the one file, so they always belong together.
 #pragma once
