@@ -26,7 +26,7 @@
 #include "s4d/engine/timestamps.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/random_deform.h"
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 #include "timing.h"
 
 namespace {
@@ -146,8 +146,8 @@ int main(int argc, char** argv) {
   try {
     const Options o = parse(argc, argv);
     engine::Context ctx;
-    const train::TrainConfig tc = train::preset_config(o.preset);
-    const deform::FieldConfig fc = train::field_config(tc, {-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f});
+    const run::TrainConfig tc = run::preset_config(o.preset);
+    const deform::FieldConfig fc = run::field_config(tc, {-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f});
     deform::DeformationField field(ctx, fc, 7, "bench field", {.force_cas_atomics = o.cas});
     std::mt19937 rng(8);
     // Planes around 1, as trained ones start, so the 6-fold products stay O(1).

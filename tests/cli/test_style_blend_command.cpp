@@ -17,7 +17,7 @@
 #include "s4d/splat/scene_upload.h"
 #include "s4d/ref/style_mlp_ref.h"
 #include "s4d/scene/style_blend.h"
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 #include "s4d_style_splat.h"
 #include "style_fixture.h"
 #include "test_context.h"
@@ -107,9 +107,9 @@ TEST_CASE("a blend at factor 0.5 lies between the two styles' renders") {
 
 TEST_CASE("the blended MLPs' outputs lie close to the lerp of the two styles' outputs") {
   train_styles();
-  const scene::StyleFile a = scene::read_style_file(scene::style_file_path(test::run4d().run, "full"));
-  const scene::StyleFile b = scene::read_style_file(scene::style_file_path(test::run4d().run, "full_b"));
-  const scene::StyleFile mid = scene::blend_styles(a, b, 0.5f);
+  const run::StyleFile a = run::read_style_file(run::style_file_path(test::run4d().run, "full"));
+  const run::StyleFile b = run::read_style_file(run::style_file_path(test::run4d().run, "full_b"));
+  const run::StyleFile mid = scene::blend_styles(a, b, 0.5f);
   float hidden = 0;  // how far the hidden layers moved apart from the shared initialisation
   for (size_t k = 0; k < a.mlp.size(); ++k)
     if (k % S4D_STYLE_MLP_STRIDE < S4D_STYLE_MLP_W3) hidden = std::max(hidden, std::abs(a.mlp[k] - b.mlp[k]));
@@ -192,13 +192,13 @@ TEST_CASE("render and view refuse a bad blend factor, half a blend, a scratch st
   // A copy of the run with a scratch style's file and a style of 5 Gaussians.
   const fs::path run = test::fresh_dir("blend_refusals") / "run";
   fs::copy(r.run, run, fs::copy_options::recursive);
-  scene::StyleFile scratch;
-  scratch.method = "scratch";
-  fs::create_directories(scene::style_dir(run, "retrained"));
-  scene::write_style_file(scene::style_file_path(run, "retrained"), scratch);
-  const scene::StyleFile full = scene::read_style_file(scene::style_file_path(run, "full"));
-  fs::create_directories(scene::style_dir(run, "five"));
-  scene::write_style_file(scene::style_file_path(run, "five"), scene::no_style(5, full.sh_coeffs));
+  run::StyleFile scratch;
+  scratch.method = run::StyleMethod::scratch;
+  fs::create_directories(run::style_dir(run, "retrained"));
+  run::write_style_file(run::style_file_path(run, "retrained"), scratch);
+  const run::StyleFile full = run::read_style_file(run::style_file_path(run, "full"));
+  fs::create_directories(run::style_dir(run, "five"));
+  run::write_style_file(run::style_file_path(run, "five"), scene::no_style(5, full.sh_coeffs));
 
   const std::string render = "--run " + run.string() + " --path test --out " + (r.root / "refused").string() + " ";
   const std::vector<std::pair<std::string, std::string>> cases = {

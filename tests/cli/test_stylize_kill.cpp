@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "run4d_fixture.h"
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
 #include "style_fixture.h"
 
 using namespace s4d;
@@ -55,7 +55,7 @@ TEST_CASE("stylize killed anywhere, over and over, continues and ends exactly wh
       break;
     }
     ++kills;
-    if (fs::exists(style / "checkpoint.s4dckpt")) CHECK_NOTHROW(train::read_checkpoint(style / "checkpoint.s4dckpt"));
+    if (fs::exists(style / "checkpoint.s4dckpt")) CHECK_NOTHROW(run::read_checkpoint(style / "checkpoint.s4dckpt"));
   }
   MESSAGE(kills << " kills before stylize finished");
   CHECK(kills >= 3);

@@ -18,7 +18,7 @@
 
 #include "cli_run.h"
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
 
 using namespace s4d;
 namespace fs = std::filesystem;
@@ -110,7 +110,7 @@ bool interrupt_and_resume(const fs::path& run, int signal, const fs::path& dir) 
     CHECK(test::read_text(dir / "parted.log").find("--resume") != std::string::npos);
   } else {
     CHECK(WIFSIGNALED(status));
-    CHECK_NOTHROW(train::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));  // the last one is intact
+    CHECK_NOTHROW(run::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));  // the last one is intact
   }
   REQUIRE(test::run_style4d("train", "--resume " + run.string(), dir / "resumed.log") == 0);
   return true;
@@ -132,7 +132,7 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   CHECK(j["test_views"][1]["time"].get<double>() == doctest::Approx(0.5));
   REQUIRE(j["static"]["test_views"].size() == 3);
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.29 dB (19.18 vs 18.89)
-  const train::Checkpoint cp = train::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
+  const run::Checkpoint cp = run::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
   CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the static mask
   // Deform only what moves: from the end of densification on, Gaussians under the threshold skip the field
   // and are moved behind the moving ones in memory, every per-Gaussian array with them, so the resumes
@@ -183,7 +183,7 @@ TEST_CASE("kill -9 anywhere, over and over, checkpoint writes included: every re
     }
     ++kills;
     // Whatever the kill interrupted, one of the two rotated checkpoints is complete.
-    CHECK_NOTHROW(train::read_checkpoint_or_previous(run / "checkpoint" / "state.s4dckpt",
+    CHECK_NOTHROW(run::read_checkpoint_or_previous(run / "checkpoint" / "state.s4dckpt",
                                                      run / "checkpoint" / "state.prev.s4dckpt"));
   }
   MESSAGE(kills << " kills before the run finished");
@@ -204,7 +204,7 @@ TEST_CASE("a diverging run rolls back, says so, and never writes a non-finite ch
   INFO(log);
   CHECK(log.find("rolled back") != std::string::npos);
   if (rc != 0) CHECK(log.find("diverged") != std::string::npos);
-  if (fs::exists(run / "checkpoint" / "state.s4dckpt")) CHECK_NOTHROW(train::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));
+  if (fs::exists(run / "checkpoint" / "state.s4dckpt")) CHECK_NOTHROW(run::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));
 }
 
 TEST_CASE("train refuses bad input with a clear message") {

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
-#include "s4d/train/checkpoint.h"
-#include "s4d/train/run_lock.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/run_lock.h"
 
 using namespace s4d;
 namespace fs = std::filesystem;
@@ -135,8 +135,8 @@ TEST_CASE("resume without a loadable checkpoint refuses and leaves train.json, t
 TEST_CASE("resume falls back to the previous checkpoint when the newest is damaged, in one line, and keeps it") {
   const fs::path run = copy_of_base("fallback");
   const fs::path newest = run / "checkpoint" / "state.s4dckpt", prev = run / "checkpoint" / "state.prev.s4dckpt";
-  CHECK(train::read_checkpoint(newest).meta.at("iteration") == 40);
-  CHECK(train::read_checkpoint(prev).meta.at("iteration") == 30);
+  CHECK(run::read_checkpoint(newest).meta.at("iteration") == 40);
+  CHECK(run::read_checkpoint(prev).meta.at("iteration") == 30);
   damage_array(newest, "means");
   bool ok = false;
   const std::string log = run_train("--resume " + run.string(), base().dir / "l_fallback", ok);
@@ -148,8 +148,8 @@ TEST_CASE("resume falls back to the previous checkpoint when the newest is damag
   CHECK(log.find("previous checkpoint") == log.rfind("previous checkpoint"));  // said once
   // Trained on from iteration 30 to the end; the damaged newest was replaced, the good previous kept.
   CHECK(read_json(run / "train.json")["complete"] == true);
-  CHECK(train::read_checkpoint(newest).meta.at("iteration") == 40);
-  CHECK(train::read_checkpoint(prev).meta.at("iteration") == 30);
+  CHECK(run::read_checkpoint(newest).meta.at("iteration") == 40);
+  CHECK(run::read_checkpoint(prev).meta.at("iteration") == 30);
 }
 
 TEST_CASE("a run killed before its first checkpoint, with no results to lose, trains again from the start and says so") {
@@ -245,7 +245,7 @@ TEST_CASE("a second writer is refused at once while the run lock is held") {
   const auto before = contents(run);
   const std::string held_by_me = ": locked by another style4d process (pid " + std::to_string(::getpid()) + ")";
   {
-    const train::RunLock lock(run);  // as `style4d train` holds it
+    const run::RunLock lock(run);  // as `style4d train` holds it
     bool ok = true;
     std::string log = run_train("--resume " + run.string(), base().dir / "l_lock", ok);
     CHECK_FALSE(ok);
@@ -263,14 +263,14 @@ TEST_CASE("a second writer is refused at once while the run lock is held") {
     const fs::path fresh = base().dir / "fresh_locked";
     fs::remove_all(fresh);
     fs::create_directories(fresh);
-    const train::RunLock lock(fresh);
+    const run::RunLock lock(fresh);
     bool ok = true;
     const std::string log = run_train("--data " + base().data.string() + " --out " + fresh.string() +
                                       " --preset fast --stage static --iters 10 --max-time 0 --skip-check",
                                   base().dir / "l_lock_new", ok);
     CHECK_FALSE(ok);
     CHECK_MESSAGE(contains(log, fresh.string() + held_by_me), log);
-    CHECK(train::empty_but_for_lock(fresh));
+    CHECK(run::empty_but_for_lock(fresh));
   }
   // Released: the same resume goes ahead (the run is finished, so it only evaluates and saves).
   bool ok = false;

@@ -9,10 +9,10 @@
 #include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
-#include "s4d/optim/grad_add.h"
 #include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/optim/tv_loss.h"
+#include "s4d/primitives/add.h"
 #include "s4d/primitives/shader_pipeline.h"
 #include "s4d/ref/adam_ref.h"
 #include "s4d/ref/loss_ref.h"
@@ -127,13 +127,13 @@ TEST_CASE("grad_add sums a batch's gradients exactly like the twin (a float add 
   const std::vector<float> a = random_values(n, 51, -1, 1), b = random_values(n, 52, -1, 1);
   engine::Buffer da = engine::buffer_from(test::context(), "dst", a), db = engine::buffer_from(test::context(), "src", b);
   engine::Recorder rec(test::context(), "grad_add");
-  optim::record_grad_add(rec, da, db, n - 1);  // the last element stays: n is honoured
+  primitives::cmd_add(rec, da, db, n - 1);  // the last element stays: n is honoured
   test::context().run(std::move(rec));
   const std::vector<float> out = test::context().download<float>(da, n);
   for (uint32_t i = 0; i + 1 < n; ++i) CHECK(out[i] == a[i] + b[i]);  // one IEEE float add: exact
   CHECK(out[n - 1] == a[n - 1]);
   engine::Recorder bad(test::context(), "bad grad_add");
-  CHECK_THROWS_AS(optim::record_grad_add(bad, da, db, n + 1), std::invalid_argument);
+  CHECK_THROWS_AS(primitives::cmd_add(bad, da, db, n + 1), std::invalid_argument);
 }
 
 namespace {

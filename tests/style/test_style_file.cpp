@@ -1,4 +1,4 @@
-// The style file (training/scene/style_file.h) and stage 4's settings: round trips, and the clear
+// The style file (training/run, s4d/run/style_file.h) and stage 4's settings: round trips, and the clear
 // errors for files that are missing, truncated, of the wrong sizes or hold NaN.
 #include <doctest/doctest.h>
 
@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 #include "s4d/style/style_config.h"
 #include "s4d_style_splat.h"
 
@@ -16,15 +16,15 @@ namespace {
 using namespace s4d;
 namespace fs = std::filesystem;
 
-scene::StyleFile sample(const std::string& method) {
-  scene::StyleFile s;
+run::StyleFile sample(run::StyleMethod method) {
+  run::StyleFile s;
   s.method = method;
   s.settings = {{"note", "test"}};
   s.count = 3, s.sh_coeffs = 4;
   s.sh_delta.assign(3 * 4 * 3, 0.25f);
   s.opacity_delta = {0.1f, -0.2f, 0.3f};
-  if (method == "full") s.mlp.assign(3 * S4D_STYLE_MLP_STRIDE, -0.5f);
-  s.depth_input = scene::DepthInput::ndc, s.depth_scale = 2.5f, s.input_sigmoid = true;
+  if (method == run::StyleMethod::full) s.mlp.assign(3 * S4D_STYLE_MLP_STRIDE, -0.5f);
+  s.depth_input = run::DepthInput::ndc, s.depth_scale = 2.5f, s.input_sigmoid = true;
   return s;
 }
 
@@ -37,7 +37,7 @@ fs::path scratch(const std::string& name) {
 
 std::string error_of(const fs::path& file) {
   try {
-    scene::read_style_file(file);
+    run::read_style_file(file);
   } catch (const std::runtime_error& e) {
     return e.what();
   }
@@ -48,13 +48,14 @@ std::string error_of(const fs::path& file) {
 
 TEST_CASE("a style file round-trips every array and setting; list_styles finds finished styles only") {
   const fs::path run = scratch("roundtrip");
-  for (const std::string method : {"full", "colors", "scratch"}) {
-    CAPTURE(method);
-    scene::StyleFile s = method == "scratch" ? scene::StyleFile{} : sample(method);
+  for (const run::StyleMethod method : {run::StyleMethod::full, run::StyleMethod::colors, run::StyleMethod::scratch}) {
+    const std::string name = run::method_name(method);
+    CAPTURE(name);
+    run::StyleFile s = method == run::StyleMethod::scratch ? run::StyleFile{} : sample(method);
     s.method = method;
-    fs::create_directories(scene::style_dir(run, method));
-    scene::write_style_file(scene::style_file_path(run, method), s);
-    const scene::StyleFile r = scene::read_style_file(scene::style_file_path(run, method));
+    fs::create_directories(run::style_dir(run, name));
+    run::write_style_file(run::style_file_path(run, name), s);
+    const run::StyleFile r = run::read_style_file(run::style_file_path(run, name));
     CHECK(r.method == method);
     CHECK(r.count == s.count);
     CHECK(r.sh_delta == s.sh_delta);
@@ -65,8 +66,8 @@ TEST_CASE("a style file round-trips every array and setting; list_styles finds f
     CHECK(r.input_sigmoid == s.input_sigmoid);
   }
   fs::create_directories(run / "style" / "unfinished");
-  CHECK(scene::list_styles(run) == std::vector<std::string>{"colors", "full", "scratch"});
-  CHECK(scene::list_styles(run / "nothing").empty());
+  CHECK(run::list_styles(run) == std::vector<std::string>{"colors", "full", "scratch"});
+  CHECK(run::list_styles(run / "nothing").empty());
 }
 
 TEST_CASE("bad style files are refused with the file and the problem named; nothing is written for bad input") {
@@ -74,16 +75,16 @@ TEST_CASE("bad style files are refused with the file and the problem named; noth
   const fs::path file = dir / "style.s4dstyle";
   CHECK(error_of(file).find("missing") != std::string::npos);
 
-  scene::StyleFile wrong = sample("full");
+  run::StyleFile wrong = sample(run::StyleMethod::full);
   wrong.mlp.pop_back();
-  CHECK_THROWS_AS(scene::write_style_file(file, wrong), std::invalid_argument);
+  CHECK_THROWS_AS(run::write_style_file(file, wrong), std::invalid_argument);
   CHECK_FALSE(fs::exists(file));
-  scene::StyleFile nan = sample("full");
+  run::StyleFile nan = sample(run::StyleMethod::full);
   nan.opacity_delta[1] = std::numeric_limits<float>::quiet_NaN();
-  CHECK_THROWS_AS(scene::write_style_file(file, nan), std::invalid_argument);
+  CHECK_THROWS_AS(run::write_style_file(file, nan), std::invalid_argument);
   CHECK_FALSE(fs::exists(file));
 
-  scene::write_style_file(file, sample("full"));
+  run::write_style_file(file, sample(run::StyleMethod::full));
   const auto size = fs::file_size(file);
   fs::resize_file(file, size - 8);
   const std::string truncated = error_of(file);
@@ -95,7 +96,7 @@ TEST_CASE("bad style files are refused with the file and the problem named; noth
 
 TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
   style::StyleConfig c;
-  c.method = "colors", c.iterations = 123, c.mlp_iterations = 50, c.depth_input = scene::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
+  c.method = run::StyleMethod::colors, c.iterations = 123, c.mlp_iterations = 50, c.depth_input = run::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
   const style::StyleConfig r = style::style_config_from_json(style::to_json(c));
   CHECK(style::to_json(r) == style::to_json(c));
   auto message = [](const nlohmann::json& j) {

@@ -8,7 +8,7 @@
 using namespace s4d;
 
 TEST_CASE("time estimate: a cloud already at its budget costs the measured step throughout") {
-  train::TrainConfig c = train::preset_config("fast");
+  run::TrainConfig c = run::preset_config("fast");
   c.budget = 5000;
   c.fine_batch = 2;
   const train::TimeEstimate e = train::estimate_time(c, 0.2, 5000);
@@ -19,7 +19,7 @@ TEST_CASE("time estimate: a cloud already at its budget costs the measured step 
 }
 
 TEST_CASE("time estimate: growth to the budget over the densification window, Gaussians^0.5 and ^0.65") {
-  train::TrainConfig c = train::preset_config("fast");  // 900 static: densify 300..700; budget 15000
+  run::TrainConfig c = run::preset_config("fast");  // 900 static: densify 300..700; budget 15000
   const double s = 0.1, n0 = 3750;                       // budget / 4
   const train::TimeEstimate e = train::estimate_time(c, s, static_cast<uint32_t>(n0));
   // Before the window at 1x, after it at 4^0.5 = 2x, during it the mean of sqrt over a linear ramp
@@ -30,7 +30,7 @@ TEST_CASE("time estimate: growth to the budget over the densification window, Ga
   CHECK(e.static_seconds_low == doctest::Approx(s * 900));
   // 90 s to 132 s, and 150 s to 923 s, in whole minutes.
   CHECK(train::describe(e, 30).starts_with("estimate: static stage 2 min to 2 min, 4DGS stage 2 min to 15 min ("));
-  train::TrainConfig static_only = c;
+  run::TrainConfig static_only = c;
   static_only.fine_iterations = 0;
   CHECK(train::describe(train::estimate_time(static_only, s, 3750), 30).find("4DGS") == std::string::npos);
 }

@@ -11,11 +11,11 @@
 
 #include "host_state_fixture.h"
 #include "s4d/deform/static_split.h"
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/train_config.h"
 #include "s4d/train/evaluate.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/split_state.h"
-#include "s4d/train/train_config.h"
 #include "s4d/train/view_sampler.h"
 
 using namespace s4d;
@@ -72,9 +72,9 @@ TEST_CASE("cloud_from_points follows graphdeco's initialisation") {
 
 TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, truncation and other files") {
   const fs::path dir = fresh_dir("s4d_checkpoint_test");
-  train::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, test::small_state(50, 1, 3), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
+  run::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, test::small_state(50, 1, 3), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
   write_checkpoint(dir / "a.s4dckpt", cp);
-  const train::Checkpoint back = train::read_checkpoint(dir / "a.s4dckpt");
+  const run::Checkpoint back = run::read_checkpoint(dir / "a.s4dckpt");
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
   CHECK(back.state.cloud.sh == cp.state.cloud.sh);
@@ -83,39 +83,39 @@ TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, trunc
   CHECK(back.state.stats[model::kMaxRadius] == cp.state.stats[model::kMaxRadius]);
   CHECK(back.extra == cp.extra);
 
-  train::Checkpoint bad = cp;
+  run::Checkpoint bad = cp;
   bad.state.m[model::kOpacity][7] = NAN;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "a.s4dckpt", bad), doctest::Contains("opacity_logits.adam_m"),
                        std::invalid_argument);
-  CHECK(train::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
+  CHECK(run::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
 
-  train::Checkpoint bad_extra = cp;
+  run::Checkpoint bad_extra = cp;
   bad_extra.extra[0].second[1] = INFINITY;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "b.s4dckpt", bad_extra), doctest::Contains("field.planes"), std::invalid_argument);
 
   const auto size = fs::file_size(dir / "a.s4dckpt");
   fs::copy_file(dir / "a.s4dckpt", dir / "cut.s4dckpt");
   fs::resize_file(dir / "cut.s4dckpt", size - 10);
-  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "cut.s4dckpt"), doctest::Contains("truncated"), std::runtime_error);
+  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "cut.s4dckpt"), doctest::Contains("truncated"), std::runtime_error);
   std::ofstream(dir / "text.s4dckpt") << "hello";
-  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "text.s4dckpt"), doctest::Contains("not a style4d checkpoint"),
+  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "text.s4dckpt"), doctest::Contains("not a style4d checkpoint"),
                        std::runtime_error);
-  CHECK_THROWS_WITH_AS(train::read_checkpoint(dir / "missing.s4dckpt"), doctest::Contains("missing.s4dckpt"),
+  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "missing.s4dckpt"), doctest::Contains("missing.s4dckpt"),
                        std::runtime_error);
 }
 
 TEST_CASE("settings round-trip through JSON and --iters rescales the schedules") {
-  train::TrainConfig c = train::preset_config("fast");
+  run::TrainConfig c = run::preset_config("fast");
   c.background = {1, 0.5f, 0};
-  CHECK(train::to_json(train::config_from_json(train::to_json(c))) == train::to_json(c));
-  train::TrainConfig d = train::preset_config("default");
-  train::set_iterations(d, 3000);
+  CHECK(run::to_json(run::config_from_json(run::to_json(c))) == run::to_json(c));
+  run::TrainConfig d = run::preset_config("default");
+  run::set_iterations(d, 3000);
   CHECK(d.iterations == 3000);
   CHECK(d.densify_until == 1500);
   CHECK(d.densify_from == 50);
   CHECK(d.densify_every == 100);  // the interval is a rate, kept
-  CHECK_THROWS_AS(train::preset_config("turbo"), std::invalid_argument);
-  CHECK_THROWS_WITH_AS(train::config_from_json(nlohmann::json{{"iterations", "many"}}), doctest::Contains("iterations"),
+  CHECK_THROWS_AS(run::preset_config("turbo"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(run::config_from_json(nlohmann::json{{"iterations", "many"}}), doctest::Contains("iterations"),
                        std::runtime_error);
 }
 

@@ -22,9 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include "host_state_fixture.h"
-#include "s4d/train/checkpoint.h"
-#include "s4d/train/run_lock.h"
-#include "s4d/train/train_config.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/run_lock.h"
+#include "s4d/run/train_config.h"
 
 using namespace s4d;
 namespace fs = std::filesystem;
@@ -46,7 +46,7 @@ std::string read_bytes(const fs::path& p) {
 void write_bytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
 
-train::Checkpoint sample(int iteration) {
+run::Checkpoint sample(int iteration) {
   return {{{"iteration", iteration}, {"stage", "static"}},
           test::small_state(12, 1, static_cast<unsigned>(iteration)),
           {{"field.planes", {1, 2, 3, 4}}, {"field.mlp", {5, 6}}, {"field.empty", {}}}};
@@ -73,14 +73,14 @@ std::string flip_bit(std::string file, size_t byte, int bit = 3) {
   return file;
 }
 
-int iteration_of(const train::Checkpoint& cp) { return cp.meta.at("iteration").get<int>(); }
+int iteration_of(const run::Checkpoint& cp) { return cp.meta.at("iteration").get<int>(); }
 
 }  // namespace
 
 TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refused, naming the damaged section") {
   const fs::path dir = fresh_dir("s4d_ckpt_bits");
   const fs::path good = dir / "good.s4dckpt", bad = dir / "bad.s4dckpt";
-  train::write_checkpoint(good, sample(7));
+  run::write_checkpoint(good, sample(7));
   const std::string file = read_bytes(good);
   const Layout l = layout_of(file);
   size_t offset = l.body, checked = 0;
@@ -92,7 +92,7 @@ TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refuse
       CAPTURE(name);
       for (size_t at : {offset, offset + bytes / 2, offset + bytes - 1}) {  // first, middle and last byte
         write_bytes(bad, flip_bit(file, at, static_cast<int>(at % 8)));
-        CHECK_THROWS_WITH_AS(train::read_checkpoint(bad), (bad.string() + ": array '" + name + "': checksum mismatch").c_str(),
+        CHECK_THROWS_WITH_AS(run::read_checkpoint(bad), (bad.string() + ": array '" + name + "': checksum mismatch").c_str(),
                              std::runtime_error);
       }
       ++checked;
@@ -106,23 +106,23 @@ TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refuse
   for (size_t at : {size_t{24}, size_t{24} + l.header_len / 2, size_t{24} + l.header_len - 1, size_t{16}, size_t{23}}) {
     CAPTURE(at);
     write_bytes(bad, flip_bit(file, at));
-    CHECK_THROWS_WITH_AS(train::read_checkpoint(bad), header_error.c_str(), std::runtime_error);
+    CHECK_THROWS_WITH_AS(run::read_checkpoint(bad), header_error.c_str(), std::runtime_error);
   }
-  CHECK_NOTHROW(train::read_checkpoint(good));  // the untouched file still loads
+  CHECK_NOTHROW(run::read_checkpoint(good));  // the untouched file still loads
 }
 
 TEST_CASE("a truncated checkpoint is refused at any length") {
   const fs::path dir = fresh_dir("s4d_ckpt_cut");
-  train::write_checkpoint(dir / "good.s4dckpt", sample(3));
+  run::write_checkpoint(dir / "good.s4dckpt", sample(3));
   const std::string file = read_bytes(dir / "good.s4dckpt");
   const Layout l = layout_of(file);
   for (size_t keep : {size_t{0}, size_t{4}, size_t{8}, size_t{20}, size_t{24}, l.body - 1, l.body, l.body + 5,
                       (l.body + file.size()) / 2, file.size() - 1}) {
     CAPTURE(keep);
     write_bytes(dir / "cut.s4dckpt", file.substr(0, keep));
-    CHECK_THROWS_AS(train::read_checkpoint(dir / "cut.s4dckpt"), std::runtime_error);
+    CHECK_THROWS_AS(run::read_checkpoint(dir / "cut.s4dckpt"), std::runtime_error);
     try {
-      train::read_checkpoint(dir / "cut.s4dckpt");
+      run::read_checkpoint(dir / "cut.s4dckpt");
     } catch (const std::runtime_error& e) {
       const std::string what = e.what();
       CHECK(what.rfind((dir / "cut.s4dckpt").string() + ": ", 0) == 0);
@@ -133,8 +133,8 @@ TEST_CASE("a truncated checkpoint is refused at any length") {
 
 TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
   const fs::path dir = fresh_dir("s4d_ckpt_v1");
-  const train::Checkpoint cp = sample(5);
-  train::write_checkpoint(dir / "v2.s4dckpt", cp);
+  const run::Checkpoint cp = sample(5);
+  run::write_checkpoint(dir / "v2.s4dckpt", cp);
   const std::string v2 = read_bytes(dir / "v2.s4dckpt");
   Layout l = layout_of(v2);
   for (nlohmann::json& a : l.header["arrays"]) a.erase("fnv1a64");
@@ -145,7 +145,7 @@ TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
   v1 += json;
   v1 += v2.substr(l.body);
   write_bytes(dir / "v1.s4dckpt", v1);
-  const train::Checkpoint back = train::read_checkpoint(dir / "v1.s4dckpt");
+  const run::Checkpoint back = run::read_checkpoint(dir / "v1.s4dckpt");
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
   CHECK(back.state.v[model::kSh] == cp.state.v[model::kSh]);
@@ -155,17 +155,17 @@ TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
 TEST_CASE("checkpoints rotate, and reading falls back to the previous one when the newest is damaged or missing") {
   const fs::path dir = fresh_dir("s4d_ckpt_rotate");
   const fs::path newest = dir / "state.s4dckpt", prev = dir / "state.prev.s4dckpt";
-  train::write_checkpoint_rotating(newest, prev, sample(1));
+  run::write_checkpoint_rotating(newest, prev, sample(1));
   CHECK(fs::exists(newest));
   CHECK_FALSE(fs::exists(prev));
-  train::write_checkpoint_rotating(newest, prev, sample(2));
-  train::write_checkpoint_rotating(newest, prev, sample(3));
-  CHECK(iteration_of(train::read_checkpoint(newest)) == 3);
-  CHECK(iteration_of(train::read_checkpoint(prev)) == 2);
+  run::write_checkpoint_rotating(newest, prev, sample(2));
+  run::write_checkpoint_rotating(newest, prev, sample(3));
+  CHECK(iteration_of(run::read_checkpoint(newest)) == 3);
+  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
   for (const fs::directory_entry& e : fs::directory_iterator(dir))  // no temporaries left behind
     CHECK_MESSAGE((e.path() == newest || e.path() == prev), e.path().string());
 
-  train::LoadedCheckpoint got = train::read_checkpoint_or_previous(newest, prev);
+  run::LoadedCheckpoint got = run::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 3);
   CHECK(got.path == newest);
   CHECK(got.newest_problem.empty());
@@ -173,26 +173,26 @@ TEST_CASE("checkpoints rotate, and reading falls back to the previous one when t
   // A damaged newest: the previous, and why.
   const std::string good3 = read_bytes(newest);
   write_bytes(newest, flip_bit(good3, layout_of(good3).body + 5));
-  got = train::read_checkpoint_or_previous(newest, prev);
+  got = run::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 2);
   CHECK(got.path == prev);
   CHECK(got.newest_problem == newest.string() + ": array 'means': checksum mismatch");
 
   // Written after such a fallback, the damaged newest must not replace the good previous one.
-  train::write_checkpoint_rotating(newest, prev, sample(4), /*rotate=*/false);
-  CHECK(iteration_of(train::read_checkpoint(newest)) == 4);
-  CHECK(iteration_of(train::read_checkpoint(prev)) == 2);
+  run::write_checkpoint_rotating(newest, prev, sample(4), /*rotate=*/false);
+  CHECK(iteration_of(run::read_checkpoint(newest)) == 4);
+  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
 
   // A non-finite state is never written and changes neither file.
-  train::Checkpoint nan = sample(5);
+  run::Checkpoint nan = sample(5);
   nan.state.cloud.quats[2] = NAN;
-  CHECK_THROWS_AS(train::write_checkpoint_rotating(newest, prev, nan), std::invalid_argument);
-  CHECK(iteration_of(train::read_checkpoint(newest)) == 4);
-  CHECK(iteration_of(train::read_checkpoint(prev)) == 2);
+  CHECK_THROWS_AS(run::write_checkpoint_rotating(newest, prev, nan), std::invalid_argument);
+  CHECK(iteration_of(run::read_checkpoint(newest)) == 4);
+  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
 
   // A missing newest (a crash between renames where hard links fail): the previous.
   fs::remove(newest);
-  got = train::read_checkpoint_or_previous(newest, prev);
+  got = run::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 2);
   CHECK(got.newest_problem.find(newest.string()) != std::string::npos);
 
@@ -201,9 +201,9 @@ TEST_CASE("checkpoints rotate, and reading falls back to the previous one when t
   write_bytes(prev, flip_bit(read_bytes(prev), 30));
   const std::string prev_damage = prev.string() + ": header: checksum mismatch";
   const std::string newest_damage = newest.string() + ": truncated header";
-  CHECK_THROWS_WITH_AS(train::read_checkpoint_or_previous(newest, prev), doctest::Contains(prev_damage.c_str()),
+  CHECK_THROWS_WITH_AS(run::read_checkpoint_or_previous(newest, prev), doctest::Contains(prev_damage.c_str()),
                        std::runtime_error);
-  CHECK_THROWS_WITH_AS(train::read_checkpoint_or_previous(newest, prev), doctest::Contains(newest_damage.c_str()),
+  CHECK_THROWS_WITH_AS(run::read_checkpoint_or_previous(newest, prev), doctest::Contains(newest_damage.c_str()),
                        std::runtime_error);
 }
 
@@ -212,7 +212,7 @@ namespace {
 // The message config_from_json gives `settings` read from RUN/run.json, or "" when it accepts them.
 std::string refusal(const nlohmann::json& settings) {
   try {
-    train::config_from_json(settings, "RUN/run.json");
+    run::config_from_json(settings, "RUN/run.json");
   } catch (const std::runtime_error& e) {
     return e.what();
   }
@@ -279,53 +279,53 @@ TEST_CASE("settings from JSON are checked by type and range, each refusal as 'SO
   }
   // What is allowed: no fine stage, the static stage's time left to the data, a count written as 1e4.
   CHECK(refusal({{"fine_iterations", 0}, {"static_max_time", -1}, {"iterations", 1e4}}).empty());
-  CHECK(train::config_from_json({{"iterations", 1e4}}, "x").iterations == 10000);
+  CHECK(run::config_from_json({{"iterations", 1e4}}, "x").iterations == 10000);
   CHECK(refusal(nlohmann::json::array()) == "RUN/run.json: the training settings are a JSON array, expected a JSON object");
   CHECK(refusal("fast") == "RUN/run.json: the training settings are a JSON string, expected a JSON object");
   // Every preset passes, and so does what a run stores of it.
   for (const char* name : {"fast", "default", "quality"}) {
     CAPTURE(name);
-    CHECK_NOTHROW(train::validate(train::preset_config(name), std::string("preset ") + name));
-    CHECK(refusal(train::to_json(train::preset_config(name))).empty());
+    CHECK_NOTHROW(run::validate(run::preset_config(name), std::string("preset ") + name));
+    CHECK(refusal(run::to_json(run::preset_config(name))).empty());
   }
 }
 
 TEST_CASE("validate refuses non-finite values held in memory, naming the source") {
-  train::TrainConfig c = train::preset_config("fast");
+  run::TrainConfig c = run::preset_config("fast");
   c.means_lr = NAN;
-  CHECK_THROWS_WITH_AS(train::validate(c, "--set"), "--set: field 'means_lr' = nan: a learning rate must be a finite number > 0",
+  CHECK_THROWS_WITH_AS(run::validate(c, "--set"), "--set: field 'means_lr' = nan: a learning rate must be a finite number > 0",
                        std::runtime_error);
-  c = train::preset_config("fast");
+  c = run::preset_config("fast");
   c.max_time = INFINITY;
-  CHECK_THROWS_WITH_AS(train::validate(c, "command line"), "command line: field 'max_time' = inf: must be a time in [0, 1]",
+  CHECK_THROWS_WITH_AS(run::validate(c, "command line"), "command line: field 'max_time' = inf: must be a time in [0, 1]",
                        std::runtime_error);
-  c = train::preset_config("fast");
+  c = run::preset_config("fast");
   c.background = {0.5f, NAN, 0};
-  CHECK_THROWS_WITH_AS(train::validate(c, "x"), "x: field 'background' = [0.5, nan, 0]: each component must be in [0, 1]",
+  CHECK_THROWS_WITH_AS(run::validate(c, "x"), "x: field 'background' = [0.5, nan, 0]: each component must be in [0, 1]",
                        std::runtime_error);
 }
 
 TEST_CASE("the run lock admits one writer, lets shared holders coexist, and is gone when its holder dies") {
   const fs::path dir = fresh_dir("s4d_run_lock");
   // Takes the lock and lets it go at once.
-  auto take = [](const fs::path& d, train::RunLock::Mode mode = train::RunLock::Mode::exclusive) { train::RunLock l(d, mode); };
+  auto take = [](const fs::path& d, run::RunLock::Mode mode = run::RunLock::Mode::exclusive) { run::RunLock l(d, mode); };
   const std::string locked = dir.string() + ": locked by another style4d process (pid ";
   const std::string me = locked + std::to_string(::getpid()) + ")";
   {
-    train::RunLock held(dir);
+    run::RunLock held(dir);
     CHECK(read_bytes(dir / ".lock") == std::to_string(::getpid()) + "\n");
     // A second open of the file conflicts, in this process too (flock locks belong to open files).
-    CHECK_THROWS_WITH_AS(take(dir), me.c_str(), train::RunLocked);
-    CHECK_THROWS_WITH_AS(take(dir, train::RunLock::Mode::shared), me.c_str(), train::RunLocked);
-    CHECK(train::empty_but_for_lock(dir));
+    CHECK_THROWS_WITH_AS(take(dir), me.c_str(), run::RunLocked);
+    CHECK_THROWS_WITH_AS(take(dir, run::RunLock::Mode::shared), me.c_str(), run::RunLocked);
+    CHECK(run::empty_but_for_lock(dir));
   }
   {
-    train::RunLock a(dir, train::RunLock::Mode::shared), b(dir, train::RunLock::Mode::shared);
-    CHECK_THROWS_WITH_AS(take(dir), me.c_str(), train::RunLocked);
+    run::RunLock a(dir, run::RunLock::Mode::shared), b(dir, run::RunLock::Mode::shared);
+    CHECK_THROWS_WITH_AS(take(dir), me.c_str(), run::RunLocked);
     a.release();
-    CHECK_THROWS_AS(take(dir), train::RunLocked);  // b still holds it
+    CHECK_THROWS_AS(take(dir), run::RunLocked);  // b still holds it
   }
-  train::RunLock again(dir);
+  run::RunLock again(dir);
   again.release(/*remove_file=*/true);
   CHECK_FALSE(fs::exists(dir / ".lock"));
   CHECK_NOTHROW(take(dir));
@@ -348,7 +348,7 @@ TEST_CASE("the run lock admits one writer, lets shared holders coexist, and is g
   ::close(ready[0]);
   ::close(ready[1]);
   CHECK(ok == '1');
-  CHECK_THROWS_WITH_AS(take(dir), (locked + std::to_string(child) + ")").c_str(), train::RunLocked);
+  CHECK_THROWS_WITH_AS(take(dir), (locked + std::to_string(child) + ")").c_str(), run::RunLocked);
   ::kill(child, SIGKILL);
   int status = 0;
   REQUIRE(::waitpid(child, &status, 0) == child);

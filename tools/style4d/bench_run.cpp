@@ -17,7 +17,7 @@
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/protocols/protocol_render.h"
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 #include "s4d/scene/trained_run.h"
 
 namespace s4d::cli {
@@ -33,7 +33,7 @@ struct Method {
 
 // The style image a style was trained with: request.json's style_image.path (stylize_pipeline.cpp).
 fs::path requested_style_image(const fs::path& run, const std::string& style) {
-  const fs::path file = scene::style_dir(run, style) / "request.json";
+  const fs::path file = run::style_dir(run, style) / "request.json";
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": missing; it names the style image (or pass --style-image S)");
   nlohmann::json j;
@@ -66,7 +66,7 @@ std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
       std::string known;
       for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
       throw std::invalid_argument("--style " + name + ": no style " + name + " in " + run.root.string() + " (no " +
-                                  scene::style_file_path(run.root, name).string() + "); it has: " + known +
+                                  run::style_file_path(run.root, name).string() + "); it has: " + known +
                                   " (train one with style4d stylize --run " + run.root.string() + " --style IMG --name " + name + ")");
     }
     Method m{name, {}};

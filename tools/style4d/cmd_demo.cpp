@@ -23,9 +23,9 @@
 #include "primitives_bench.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
+#include "s4d/run/run_lock.h"
 #include "s4d/stylize/builtin_style.h"
 #include "s4d/synth/dataset.h"
-#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/progress.h"
 #include "stylize_pipeline.h"
@@ -84,12 +84,12 @@ int cmd_demo(const std::vector<std::string>& argv) {
   }
   const fs::path out = args.get_or("out", "style4d-demo");
   const uint32_t keys = parse_number<uint32_t>("keys", args.get_or("keys", "1048576"));
-  train::TrainConfig config = train::preset_config("fast");
-  if (auto v = args.get("iters")) train::set_iterations(config, parse_number<uint32_t>("iters", *v));
+  run::TrainConfig config = run::preset_config("fast");
+  if (auto v = args.get("iters")) run::set_iterations(config, parse_number<uint32_t>("iters", *v));
   // The fine stage and stage 4 are shortened from fast's 1500 and stylize's 1500/300 so that the
   // build and the demo fit 30 minutes on two lavapipe cores (docs/demo.md: with fast's full
   // fine stage and 100 MLP steps the demo alone took 29.5 minutes).
-  train::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
+  run::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
   StylizeRequest request;
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));
   request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
@@ -97,7 +97,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   fs::create_directories(out);
   // One demo per folder at a time: a second one on the same --out refuses (run_lock.h); its training
   // and stylize steps also take the run's locks as the commands do.
-  const train::RunLock lock(out);
+  const run::RunLock lock(out);
   const auto start = Clock::now();
   DemoRecord rec;
   rec.out = out;
@@ -126,7 +126,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   const std::atomic<bool> never_stop{false};
   stage(rec, &ctx, "train", "stages 1-2: static Gaussians, then the 4DGS deformation field", [&] {
     fs::create_directories(run);
-    const train::RunLock run_lock(run);  // as `style4d train`; released before the styles lock it shared
+    const run::RunLock run_lock(run);  // as `style4d train`; released before the styles lock it shared
     auto trainer = fs::exists(run / "run.json") ? train::Trainer::resume(ctx, run)
                                                 : std::make_unique<train::Trainer>(ctx, data, config, run);
     const train::TrainResult trained = trainer->run(never_stop);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "args.h"
@@ -31,7 +32,7 @@ float parse_float(const std::string& option, const std::string& text) {
 
 style::StyleConfig config_from_args(const Args& args) {
   style::StyleConfig c;
-  if (auto v = args.get("method")) c.method = *v;
+  if (auto v = args.get("method")) c.method = style::method_setting(*v);
   if (auto v = args.get("stylizer")) c.stylizer = *v;
   if (auto v = args.get("strength")) c.strength = parse_float("strength", *v);
   if (auto v = args.get("iters")) c.iterations = parse_number<uint32_t>("iters", *v);
@@ -41,8 +42,9 @@ style::StyleConfig config_from_args(const Args& args) {
   if (auto v = args.get("tv-weight")) c.tv_weight = parse_float("tv-weight", *v);
   if (auto v = args.get("mlp-lr")) c.mlp_lr = parse_float("mlp-lr", *v);
   if (auto v = args.get("depth-input")) {
-    if (*v != "ndc" && *v != "relative") throw std::invalid_argument("--depth-input: expected ndc or relative, got '" + *v + "'");
-    c.depth_input = *v == "ndc" ? scene::DepthInput::ndc : scene::DepthInput::relative;
+    const std::optional<run::DepthInput> input = run::parse_depth_input(*v);
+    if (!input) throw std::invalid_argument("--depth-input: expected ndc or relative, got '" + *v + "'");
+    c.depth_input = *input;
   }
   if (auto v = args.get("depth-scale")) c.depth_scale = parse_float("depth-scale", *v);
   if (auto v = args.get("mlp-init")) c.mlp_init = *v;

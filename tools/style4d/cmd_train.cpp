@@ -16,8 +16,8 @@
 #include "commands.h"
 #include "s4d/data/dataset_check.h"
 #include "s4d/engine/context.h"
+#include "s4d/run/run_lock.h"
 #include "s4d/train/data_recipe.h"
-#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 
 namespace s4d::cli {
@@ -49,12 +49,12 @@ T parse_real(const std::string& option, const std::string& text) {
   return value;
 }
 
-// The settings from the options: each option's value is checked once, by train::validate, with
+// The settings from the options: each option's value is checked once, by run::validate, with
 // SOURCE "command line" (the preset and the options) or "--set" (after the --set values).
-train::TrainConfig config_from_args(const Args& args) {
-  train::TrainConfig c = train::preset_config(args.get_or("preset", "default"));
-  if (auto v = args.get("iters")) train::set_iterations(c, parse_number<uint32_t>("iters", *v));
-  if (auto v = args.get("fine-iters")) train::set_fine_iterations(c, parse_number<uint32_t>("fine-iters", *v));
+run::TrainConfig config_from_args(const Args& args) {
+  run::TrainConfig c = run::preset_config(args.get_or("preset", "default"));
+  if (auto v = args.get("iters")) run::set_iterations(c, parse_number<uint32_t>("iters", *v));
+  if (auto v = args.get("fine-iters")) run::set_fine_iterations(c, parse_number<uint32_t>("fine-iters", *v));
   const std::string stage = args.get_or("stage", "all");
   if (stage == "static") c.fine_iterations = 0;
   else if (stage != "all") throw std::invalid_argument("--stage: expected static or all, got '" + stage + "'");
@@ -78,9 +78,9 @@ train::TrainConfig config_from_args(const Args& args) {
   if (auto v = args.get("sh-degree")) c.sh_degree = parse_number<int>("sh-degree", *v);
   if (auto v = args.get("lr-scale")) c.lr_scale = parse_real<double>("lr-scale", *v);
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
-  train::validate(c, "command line");
+  run::validate(c, "command line");
   // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
-  nlohmann::json j = train::to_json(c);
+  nlohmann::json j = run::to_json(c);
   bool background_given = args.get("background").has_value();
   for (const std::string& kv : args.get_all("set")) {
     background_given = background_given || kv.starts_with("background=");
@@ -92,18 +92,18 @@ train::TrainConfig config_from_args(const Args& args) {
       j[key] = nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
       if (!j[key].is_string())  // 1e999, nan: no number JSON holds
-        throw std::invalid_argument(train::setting_error("--set", key, text, std::string("expected a JSON value (") + e.what() + ")"));
+        throw std::invalid_argument(run::setting_error("--set", key, text, std::string("expected a JSON value (") + e.what() + ")"));
       j[key] = text;  // a bare word: a string setting such as the preset name
     }
   }
-  train::TrainConfig out = train::config_from_json(j, "--set");  // validated again with the --set values
+  run::TrainConfig out = run::config_from_json(j, "--set");  // validated again with the --set values
   out.background_given = background_given;
   return out;
 }
 
 // A new run checks its dataset first, loaded as the trainer loads it (style4d check-data): warnings
 // are printed, errors are printed and refuse the run. Returns the dataset for the trainer.
-data::Dataset check_dataset_first(const std::string& dir, const train::TrainConfig& config) {
+data::Dataset check_dataset_first(const std::string& dir, const run::TrainConfig& config) {
   data::CheckedDataset checked = data::load_and_check(dir, train::load_options(config, false));
   const data::DatasetReport& report = checked.report;
   for (const data::Problem& p : report.problems) std::cerr << data::format_problem(p) << "\n";
@@ -160,7 +160,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
   // A new run's settings and, unless skipped, its checked dataset, which the trainer then takes as is.
-  std::optional<train::TrainConfig> config;
+  std::optional<run::TrainConfig> config;
   std::optional<data::Dataset> checked;
   if (!args.get("resume")) {
     config = config_from_args(args);
@@ -170,7 +170,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   // One writer per run: the lock is held until this process ends (released by the kernel however it
   // ends), and a second `train` on the run refuses at once (run_lock.h).
   namespace fs = std::filesystem;
-  std::optional<train::RunLock> lock;
+  std::optional<run::RunLock> lock;
   std::optional<fs::path> created;  // a new run's folder this command made, removed again if the run cannot start
   if (auto run = args.get("resume")) {
     for (const char* other : {"data", "out", "preset", "iters", "downscale", "max-time", "static-max-time", "set", "background", "frames", "seed", "budget", "sh-degree", "lr-scale", "stage", "fine-iters", "batch", "static-motion"})
@@ -179,7 +179,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   } else {
     const fs::path out = args.require("out");
     if (!fs::exists(out)) created = out;
-    if (created || (fs::is_directory(out) && train::empty_but_for_lock(out))) {  // else the trainer refuses it
+    if (created || (fs::is_directory(out) && run::empty_but_for_lock(out))) {  // else the trainer refuses it
       fs::create_directories(out);
       lock.emplace(out);
     }
@@ -204,7 +204,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   std::signal(SIGTERM, request_stop);
   const train::TrainResult r = trainer->run(g_stop);
   if (!r.complete) return 130;
-  std::cout << r.stage << " stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
+  std::cout << run::stage_name(r.stage) << " stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
             << " Gaussians, " << r.seconds << " s\n";
   return 0;
 }

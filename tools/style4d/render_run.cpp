@@ -65,7 +65,7 @@ int render_run(const Args& args) {
                                   {"style", args.get("style") ? nlohmann::json(*args.get("style")) : nlohmann::json()},
                                   {"mix", choice.mix.empty() ? nlohmann::json() : nlohmann::json(choice.mix)},
                                   {"alpha", choice.mix.empty() ? nlohmann::json() : nlohmann::json(choice.alpha)},
-                                  {"stage", trained.stage},
+                                  {"stage", run::geometry_name(trained.stage)},
                                   {"scene", source->describe()},
                                   {"data", trained.dataset.root.string()},
                                   {"path", path.text()},

@@ -16,14 +16,14 @@
 #include "s4d/metrics/warp_loss.h"
 #include "s4d/protocols/protocol.h"
 #include "s4d/protocols/protocol_render.h"
-#include "s4d/scene/style_file.h"
+#include "s4d/run/run_lock.h"
+#include "s4d/run/style_file.h"
 #include "s4d/scene/trained_run.h"
 #include "s4d/style/style_trainer.h"
 #include "s4d/style/stylized_frames.h"
 #include "s4d/stylize/image_file.h"
 #include "s4d/stylize/registry.h"
 #include "s4d/stylize/warp_error.h"
-#include "s4d/train/run_lock.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/atomic_file.h"
 
@@ -213,8 +213,8 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   // The run is held shared while its style trains: `train --resume` (exclusive) cannot change the
   // geometry under it, and other styles of the run may train at once (run_lock.h). A folder that is
   // not a run gets read_trained_run's message.
-  std::optional<train::RunLock> run_lock;
-  if (fs::exists(req.run / "run.json")) run_lock.emplace(req.run, train::RunLock::Mode::shared);
+  std::optional<run::RunLock> run_lock;
+  if (fs::exists(req.run / "run.json")) run_lock.emplace(req.run, run::RunLock::Mode::shared);
   const scene::TrainedRun run = scene::read_trained_run(req.run);
   const std::string name = req.name.empty() ? req.style_image.stem().string() : req.name;
   if (name.empty() || name == "original" || name.find('/') != std::string::npos)
@@ -223,9 +223,9 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const std::unique_ptr<stylize::Stylizer> stylizer = stylize::make_stylizer(
       req.config.stylizer, {.weights = req.weights, .style_size = req.style_size, .context = &ctx});
   StylizeOutcome out;
-  out.dir = scene::style_dir(run.root, name);
+  out.dir = run::style_dir(run.root, name);
   fs::create_directories(out.dir);
-  const train::RunLock style_lock(out.dir);  // one writer per style
+  const run::RunLock style_lock(out.dir);  // one writer per style
 
   const nlohmann::json network = req.weights.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json{{"weights", fs::absolute(req.weights).string()},
@@ -252,7 +252,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   // Stage 4.
   nlohmann::json stage4;
   fs::path eval_dir = out.dir / "eval";
-  if (req.config.method == "scratch") {
+  if (req.config.method == run::StyleMethod::scratch) {
     write_dataset_layout(run.dataset, out.dir / "stylized");
     const fs::path scratch = out.dir / "run";
     std::unique_ptr<train::Trainer> trainer = fs::exists(scratch / "run.json")
@@ -260,11 +260,11 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                                                   : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", run.config, scratch);
     const train::TrainResult r = trainer->run(stop);
     if (!r.complete) return out;
-    scene::StyleFile file;
-    file.method = "scratch";
+    run::StyleFile file;
+    file.method = run::StyleMethod::scratch;
     file.settings = style::to_json(req.config);
     file.count = r.num_gaussians;
-    scene::write_style_file(scene::style_file_path(run.root, name), file);
+    run::write_style_file(run::style_file_path(run.root, name), file);
     stage4 = {{"seconds", r.seconds}, {"test_psnr_vs_stylized", r.test.psnr}, {"test_ssim_vs_stylized", r.test.ssim}};
     eval_dir = scratch / "eval";
   } else {
@@ -290,7 +290,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   out.complete = true;
   out.summary = {{"style", name},
                  {"run", fs::absolute(run.root).string()},
-                 {"method", req.config.method},
+                 {"method", run::method_name(req.config.method)},
                  {"stylizer", stylizer->name()},
                  {"style_image", request.at("style_image")},
                  {"stage3", frames.to_json()},

@@ -6,8 +6,8 @@
 
 namespace s4d::scene {
 
-BlendedScene::BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, StyleFile a,
-                           const std::string& name_a, StyleFile b, const std::string& name_b, float alpha)
+BlendedScene::BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, run::StyleFile a,
+                           const std::string& name_a, run::StyleFile b, const std::string& name_b, float alpha)
     : a_(std::move(a)), b_(std::move(b)), alpha_(alpha) {
   styled_ = std::make_unique<StyledScene>(ctx, std::move(base), blend_styles(a_, b_, alpha), name_a + " + " + name_b);
 }

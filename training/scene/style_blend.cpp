@@ -14,11 +14,11 @@ namespace {
 [[noreturn]] void refuse(const std::string& why) { throw std::invalid_argument("cannot blend these styles: " + why); }
 
 // The settings that fix an MLP's initial weights (style_config.h); null where a file does not say.
-nlohmann::json init_setting(const StyleFile& s, const char* key) {
+nlohmann::json init_setting(const run::StyleFile& s, const char* key) {
   return s.settings.is_object() && s.settings.contains(key) ? s.settings.at(key) : nlohmann::json();
 }
 
-void check_mlps_match(const StyleFile& a, const StyleFile& b) {
+void check_mlps_match(const run::StyleFile& a, const run::StyleFile& b) {
   for (const char* key : {"seed", "mlp_init"})
     if (init_setting(a, key) != init_setting(b, key))
       refuse(std::string("their MLPs started from other initialisations (") + key + " " + init_setting(a, key).dump() +
@@ -41,7 +41,7 @@ bool adds_nothing(const float* w) {
 
 // The per-Gaussian MLP blend (style_blend.h): hidden layers of an MLP that adds nothing come from the
 // other style; a style without MLPs stands for zero last layers.
-std::vector<float> blend_mlps(const StyleFile& a, const StyleFile& b, float alpha) {
+std::vector<float> blend_mlps(const run::StyleFile& a, const run::StyleFile& b, float alpha) {
   const uint32_t n = S4D_STYLE_MLP_STRIDE;
   std::vector<float> out(size_t{a.count} * n);
   for (size_t i = 0; i < a.count; ++i) {
@@ -59,9 +59,9 @@ std::vector<float> blend_mlps(const StyleFile& a, const StyleFile& b, float alph
 
 }  // namespace
 
-StyleFile blend_styles(const StyleFile& a, const StyleFile& b, float alpha) {
+run::StyleFile blend_styles(const run::StyleFile& a, const run::StyleFile& b, float alpha) {
   if (!(alpha >= 0.0f && alpha <= 1.0f)) refuse("the blend factor " + std::to_string(alpha) + " is not in [0, 1]");
-  if (a.method == "scratch" || b.method == "scratch")
+  if (a.method == run::StyleMethod::scratch || b.method == run::StyleMethod::scratch)
     refuse("a style trained with --method scratch is a run of its own (RUN/style/NAME/run), not changes to this "
            "run's Gaussians");
   if (a.count != b.count)
@@ -71,24 +71,24 @@ StyleFile blend_styles(const StyleFile& a, const StyleFile& b, float alpha) {
            " SH coefficients per channel");
   const bool mlp_a = !a.mlp.empty(), mlp_b = !b.mlp.empty();
   if (mlp_a && mlp_b) check_mlps_match(a, b);
-  const StyleFile& inputs = mlp_a || !mlp_b ? a : b;  // where the MLP's depth settings come from
-  StyleFile out;
-  out.method = mlp_a || mlp_b ? "full" : "colors";
+  const run::StyleFile& inputs = mlp_a || !mlp_b ? a : b;  // where the MLP's depth settings come from
+  run::StyleFile out;
+  out.method = mlp_a || mlp_b ? run::StyleMethod::full : run::StyleMethod::colors;
   out.settings = {{"blend", {{"alpha", alpha}, {"a", a.settings}, {"b", b.settings}}}};
   out.count = a.count;
   out.sh_coeffs = a.sh_coeffs;
   out.sh_delta = lerp_all(a.sh_delta, b.sh_delta, alpha);
   out.opacity_delta = lerp_all(a.opacity_delta, b.opacity_delta, alpha);
-  if (out.method == "full") out.mlp = blend_mlps(a, b, alpha);
+  if (out.method == run::StyleMethod::full) out.mlp = blend_mlps(a, b, alpha);
   out.depth_input = inputs.depth_input;
   out.depth_scale = inputs.depth_scale;
   out.input_sigmoid = inputs.input_sigmoid;
   return out;
 }
 
-StyleFile no_style(uint32_t count, uint32_t sh_coeffs) {
-  StyleFile s;
-  s.method = "colors";
+run::StyleFile no_style(uint32_t count, uint32_t sh_coeffs) {
+  run::StyleFile s;
+  s.method = run::StyleMethod::colors;
   s.settings = {{"original", true}};
   s.count = count;
   s.sh_coeffs = sh_coeffs;

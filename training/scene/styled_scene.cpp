@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "s4d/engine/buffer_from.h"
-#include "s4d/optim/grad_add.h"
+#include "s4d/primitives/add.h"
 
 namespace s4d::scene {
 
@@ -17,29 +17,29 @@ splat::GaussianParams record_style_deltas(engine::Recorder& rec, const splat::Ga
   rec.copy(*g.sh, out_sh, size_t{sh_floats} * 4);
   rec.copy(*g.opacity_logits, out_opacity, size_t{g.count} * 4);
   rec.barrier();
-  optim::record_grad_add(rec, out_sh, sh_delta, sh_floats);
-  optim::record_grad_add(rec, out_opacity, opacity_delta, g.count);
+  primitives::cmd_add(rec, out_sh, sh_delta, sh_floats);
+  primitives::cmd_add(rec, out_opacity, opacity_delta, g.count);
   splat::GaussianParams out = g;
   out.sh = &out_sh;
   out.opacity_logits = &out_opacity;
   return out;
 }
 
-splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, DepthInput depth, float depth_scale,
+splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, run::DepthInput depth, float depth_scale,
                           bool input_sigmoid) {
   splat::StyleMlp m;
   m.weights = &weights;
   m.time = static_cast<float>(time);
-  m.depth = depth == DepthInput::ndc ? splat::StyleDepth::ndc : splat::StyleDepth::relative;
+  m.depth = depth == run::DepthInput::ndc ? splat::StyleDepth::ndc : splat::StyleDepth::relative;
   m.depth_scale = depth_scale;
   m.input_sigmoid = input_sigmoid;
   return m;
 }
 
-StyledScene::StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const StyleFile& style, std::string name)
+StyledScene::StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const run::StyleFile& style, std::string name)
     : ctx_(&ctx), base_(std::move(base)), name_(std::move(name)), method_(style.method), sh_coeffs_(style.sh_coeffs),
       depth_(style.depth_input), depth_scale_(style.depth_scale), input_sigmoid_(style.input_sigmoid) {
-  if (style.method == "scratch") throw std::invalid_argument("style " + name_ + " is a retrained run, not a style of this one");
+  if (style.method == run::StyleMethod::scratch) throw std::invalid_argument("style " + name_ + " is a retrained run, not a style of this one");
   if (style.count != base_->size())
     throw std::invalid_argument("style " + name_ + " was trained for " + std::to_string(style.count) +
                                 " Gaussians; the run has " + std::to_string(base_->size()) + " (was it retrained since?)");
@@ -50,7 +50,7 @@ StyledScene::StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
   if (!style.mlp.empty()) mlp_ = engine::buffer_from(ctx, name_ + " mlp", style.mlp);
 }
 
-void StyledScene::restyle(const StyleFile& style) {
+void StyledScene::restyle(const run::StyleFile& style) {
   if (style.method != method_ || style.count != base_->size() || style.sh_coeffs != sh_coeffs_)
     throw std::invalid_argument("style " + name_ + ": a restyle must keep the method, Gaussian count and SH layout");
   ctx_->upload(sh_delta_, std::span<const float>(style.sh_delta));
@@ -69,7 +69,7 @@ splat::GaussianParams StyledScene::at(double time, const splat::Camera& camera) 
   engine::Recorder rec(*ctx_, "style " + name_);
   splat::GaussianParams out = record_style_deltas(rec, g, sh_delta_, opacity_delta_, sh_, opacity_);
   ctx_->run(std::move(rec));
-  if (method_ == "full") {
+  if (method_ == run::StyleMethod::full) {
     mlp_desc_ = style_mlp(mlp_, time, depth_, depth_scale_, input_sigmoid_);
     out.style = &mlp_desc_;
   }
@@ -77,7 +77,7 @@ splat::GaussianParams StyledScene::at(double time, const splat::Camera& camera) 
 }
 
 std::string StyledScene::describe() const {
-  return "style " + name_ + " (" + method_ + ") over " + base_->describe();
+  return "style " + name_ + " (" + run::method_name(method_) + ") over " + base_->describe();
 }
 
 }  // namespace s4d::scene

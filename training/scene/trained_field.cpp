@@ -3,7 +3,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/names.h"
 #include "s4d_deform.h"
 
 namespace s4d::scene {
@@ -22,7 +23,7 @@ T meta_field(const nlohmann::json& meta, const char* key, const char* what, cons
   }
 }
 
-std::vector<float> take_array(train::Checkpoint& cp, const std::string& name, const char* what, size_t floats,
+std::vector<float> take_array(run::Checkpoint& cp, const std::string& name, const char* what, size_t floats,
                               const fs::path& file) {
   std::string present;
   for (auto& [n, values] : cp.extra) {
@@ -42,18 +43,18 @@ std::vector<float> take_array(train::Checkpoint& cp, const std::string& name, co
 
 }  // namespace
 
-TrainedField read_trained_field(const fs::path& file, const train::TrainConfig& config, const fs::path& run_root) {
-  train::Checkpoint cp = train::read_checkpoint(file);
+TrainedField read_trained_field(const fs::path& file, const run::TrainConfig& config, const fs::path& run_root) {
+  run::Checkpoint cp = run::read_checkpoint(file);
   const std::string stage = meta_field<std::string>(cp.meta, "stage", "a stage name", file);
   const uint32_t iteration = meta_field<uint32_t>(cp.meta, "iteration", "an iteration count", file);
-  if (stage != "fine")
+  if (run::parse_stage(stage) != run::Stage::fine)
     throw std::runtime_error(file.string() + ": the run is incomplete: the checkpoint is from the " + stage +
                              " stage (iteration " + std::to_string(iteration) + " of " +
                              std::to_string(config.iterations) + ") and the 4DGS stage has not started; finish it "
                              "with `style4d train --resume " + run_root.string() + "`");
   TrainedField out;
   out.fine_iteration = iteration;
-  out.field = train::field_config(config, meta_field<std::array<float, 3>>(cp.meta, "aabb_min", "three floats", file),
+  out.field = run::field_config(config, meta_field<std::array<float, 3>>(cp.meta, "aabb_min", "three floats", file),
                                   meta_field<std::array<float, 3>>(cp.meta, "aabb_max", "three floats", file));
   gpu::DeformShape shape;
   try {

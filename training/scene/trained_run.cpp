@@ -1,50 +1,32 @@
 #include "s4d/scene/trained_run.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
-#include <fstream>
 #include <stdexcept>
 
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/run/run_dir.h"
+#include "s4d/run/run_json.h"
+#include "s4d/run/style_file.h"
 #include "s4d/scene/deformed_scene.h"
 #include "s4d/scene/static_scene.h"
 #include "s4d/scene/style_blend.h"
-#include "s4d/scene/style_file.h"
 #include "s4d/scene/styled_scene.h"
 #include "s4d/scene/trained_field.h"
-#include "s4d/train/run_dir.h"
 
 namespace s4d::scene {
 namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json read_json(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file.string() + ": cannot be opened");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(file.string() + ": " + e.what());
-  }
-}
-
-const nlohmann::json& field(const nlohmann::json& j, const char* key, const char* what, const fs::path& file) {
-  if (!j.is_object() || !j.contains(key))
-    throw std::runtime_error(file.string() + ": no field '" + key + "' (" + what + ")");
-  return j.at(key);
-}
-
 // The style file of `style`, one of run.styles other than "original".
-StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
+run::StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
   if (std::find(run.styles.begin(), run.styles.end(), style) == run.styles.end()) {
     std::string known;
     for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
     throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
                              " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
   }
-  return read_style_file(style_file_path(run.root, style));
+  return run::read_style_file(run::style_file_path(run.root, style));
 }
 
 [[noreturn]] void incomplete(const fs::path& root, const std::vector<std::string>& missing, const std::string& fix) {
@@ -56,34 +38,26 @@ StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
 }  // namespace
 
 TrainedRun read_trained_run(const fs::path& root) {
-  const train::RunDir run{root};
+  const run::RunDir run{root};
   if (!fs::is_directory(root))
     throw std::runtime_error(root.string() + " is not a directory; train one with `style4d train --data DIR --out " +
                              root.string() + "`");
   if (!fs::exists(run.run_json()))
     incomplete(root, {run.run_json().string() + ": missing (what was trained from what)"},
                "train one with `style4d train --data DIR --out " + root.string() + "`");
-  const nlohmann::json j = read_json(run.run_json());
-  const nlohmann::json& data = field(j, "data", "the dataset path", run.run_json());
-  const nlohmann::json& settings = field(j, "settings", "the training settings", run.run_json());
-  if (!data.is_string()) throw std::runtime_error(run.run_json().string() + ": field 'data' is not a string");
-  if (j.contains("stage") && !j.at("stage").is_string())
-    throw std::runtime_error(run.run_json().string() + ": field 'stage' is not a string");
+  run::RunJson j = run::read_run_json(run);  // names the file and the field
   TrainedRun out;
   out.root = root;
-  out.stage = j.value("stage", "static");  // runs written before stages were named
-  if (out.stage != "static" && out.stage != "4dgs")
-    throw std::runtime_error(run.run_json().string() + ": stage '" + out.stage +
-                             "' is not one this build renders (static, 4dgs)");
-  out.config = train::config_from_json(settings, run.run_json().string());  // names the file and the field
+  out.stage = j.stage.value_or(run::Stage::coarse);  // runs written before stages were named are static
+  out.config = std::move(j.settings);
 
   std::vector<std::string> missing;
-  if (out.stage == "static" && !fs::exists(run.gaussians_ply()))
+  if (out.stage == run::Stage::coarse && !fs::exists(run.gaussians_ply()))
     missing.push_back(run.gaussians_ply().string() + ": missing (the Gaussians, written at each checkpoint and at the end)");
-  if (out.stage == "4dgs" && !fs::exists(run.checkpoint()))
+  if (out.stage == run::Stage::fine && !fs::exists(run.checkpoint()))
     missing.push_back(run.checkpoint().string() +
                       ": missing (the canonical Gaussians and the deformation field, written at each checkpoint)");
-  const fs::path data_path = data.get<std::string>();
+  const fs::path data_path = j.data;
   const bool no_data = !fs::exists(data_path);
   if (no_data) missing.push_back(data_path.string() + ": missing (the dataset that run.json's field 'data' names)");
   if (!missing.empty())
@@ -94,27 +68,27 @@ TrainedRun read_trained_run(const fs::path& root) {
   if (!out.config.frames.empty()) load.frames = data::parse_frame_range(out.config.frames, run.run_json().string() + ": frames");
   out.dataset = data::load_dataset(data_path, load);
   if (out.dataset.views.empty()) throw std::runtime_error(data_path.string() + ": the dataset has no views");
-  for (const std::string& name : list_styles(root)) out.styles.push_back(name);
+  for (const std::string& name : run::list_styles(root)) out.styles.push_back(name);
   return out;
 }
 
 std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style) {
   if (style != "original") {
-    const StyleFile file = read_run_style(run, style);
-    if (file.method == "scratch")  // the ablation's own 4DGS run, trained on the stylized frames
-      return open_scene(ctx, read_trained_run(style_dir(run.root, style) / "run"), "original");
+    const run::StyleFile file = read_run_style(run, style);
+    if (file.method == run::StyleMethod::scratch)  // the ablation's own 4DGS run, trained on the stylized frames
+      return open_scene(ctx, read_trained_run(run::style_dir(run.root, style) / "run"), "original");
     return std::make_unique<StyledScene>(ctx, open_scene(ctx, run, "original"), file, style);
   }
-  const train::RunDir dir{run.root};
-  const train::TrainConfig& c = run.config;
-  if (run.stage == "4dgs") {
+  const run::RunDir dir{run.root};
+  const run::TrainConfig& c = run.config;
+  if (run.stage == run::Stage::fine) {
     const TrainedField f = read_trained_field(dir.checkpoint(), c, run.root);
     return std::make_unique<DeformedScene>(ctx, f.canonical, f.field, f.planes, f.mlp, f.static_mask,
-                                           train::active_sh_degree(c, c.iterations + f.fine_iteration));
+                                           run::active_sh_degree(c, c.iterations + f.fine_iteration));
   }
   const io::GaussianCloud cloud = io::read_ply_gaussians(dir.gaussians_ply());
   if (cloud.size() == 0) throw std::runtime_error(dir.gaussians_ply().string() + ": no Gaussians");
-  return std::make_unique<StaticScene>(ctx, cloud, train::active_sh_degree(c, c.iterations), "run gaussians");
+  return std::make_unique<StaticScene>(ctx, cloud, run::active_sh_degree(c, c.iterations), "run gaussians");
 }
 
 std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
@@ -122,14 +96,14 @@ std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun&
   std::unique_ptr<SceneSource> base = open_scene(ctx, run, "original");
   auto style_of = [&](const std::string& name) {
     if (name == "original") return no_style(base->size(), base->at(0.0, {}).sh_coeffs);
-    StyleFile file = read_run_style(run, name);
-    if (file.method == "scratch")
+    run::StyleFile file = read_run_style(run, name);
+    if (file.method == run::StyleMethod::scratch)
       throw std::invalid_argument("style " + name + " was trained with --method scratch: it is a run of its own (" +
-                                  (style_dir(run.root, name) / "run").string() +
+                                  (run::style_dir(run.root, name) / "run").string() +
                                   "), not changes to this run's Gaussians, so it cannot be blended with another style");
     return file;
   };
-  StyleFile file_a = style_of(a), file_b = style_of(b);
+  run::StyleFile file_a = style_of(a), file_b = style_of(b);
   try {
     return std::make_unique<BlendedScene>(ctx, std::move(base), std::move(file_a), a, std::move(file_b), b, alpha);
   } catch (const std::invalid_argument& e) {

@@ -8,7 +8,7 @@ namespace {
 constexpr double kMonocularViewsPerTime = 1.5;  // a monocular capture has 1; the smallest rig 2
 }
 
-data::LoadOptions load_options(const TrainConfig& c, bool resumed) {
+data::LoadOptions load_options(const run::TrainConfig& c, bool resumed) {
   data::LoadOptions o{.downscale = c.downscale};
   if (!c.frames.empty()) o.frames = data::parse_frame_range(c.frames, "frames");
   if (resumed || c.background_given) o.background = c.background;
@@ -29,7 +29,7 @@ std::string capture_kind(const data::Dataset& dataset) {
   return train_views_per_time(dataset) <= kMonocularViewsPerTime ? "monocular" : "multi-view";
 }
 
-nlohmann::json adapt_to_data(TrainConfig& config, const data::Dataset& dataset) {
+nlohmann::json adapt_to_data(run::TrainConfig& config, const data::Dataset& dataset) {
   const std::string capture = capture_kind(dataset);
   nlohmann::json choices = {{"capture", capture}, {"views_per_time", train_views_per_time(dataset)}};
   if (config.static_max_time < 0) {

@@ -32,7 +32,7 @@ std::string duration(double seconds) {
 
 }  // namespace
 
-TimeEstimate estimate_time(const TrainConfig& c, double seconds_per_step, uint32_t gaussians) {
+TimeEstimate estimate_time(const run::TrainConfig& c, double seconds_per_step, uint32_t gaussians) {
   TimeEstimate e;
   e.probe_seconds_per_step = seconds_per_step;
   e.probe_gaussians = gaussians;

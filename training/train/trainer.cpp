@@ -11,11 +11,12 @@
 #include <stdexcept>
 
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/run_json.h"
+#include "s4d/run/run_lock.h"
+#include "s4d/run/run_size.h"
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
-#include "s4d/train/run_lock.h"
-#include "s4d/train/run_size.h"
 #include "s4d/train/time_estimate.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/free_space.h"
@@ -34,7 +35,7 @@ constexpr uint32_t kProbeFrom = 20, kProbeSteps = 30;
 
 // Cap on the points a run starts from: 4DGaussians downsamples its clouds to 40k, and starting at
 // the Gaussian budget would leave densification no room.
-uint32_t max_initial_points(const TrainConfig& c) { return std::min<uint32_t>(40000, std::max<uint32_t>(1, c.budget / 2)); }
+uint32_t max_initial_points(const run::TrainConfig& c) { return std::min<uint32_t>(40000, std::max<uint32_t>(1, c.budget / 2)); }
 
 // What train.json and run.json say about the data and the choices made from it.
 nlohmann::json dataset_facts(const data::Dataset& d, const InitReport& init, const nlohmann::json& recipe) {
@@ -48,7 +49,7 @@ nlohmann::json dataset_facts(const data::Dataset& d, const InitReport& init, con
           {"recipe", recipe}};
 }
 
-std::vector<const data::View*> select_views(const data::Dataset& d, const TrainConfig& c, bool test) {
+std::vector<const data::View*> select_views(const data::Dataset& d, const run::TrainConfig& c, bool test) {
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test && v.time <= c.max_time + 1e-9) out.push_back(&v);
@@ -75,9 +76,9 @@ std::pair<std::array<float, 3>, std::array<float, 3>> bounds(const std::vector<f
 // only when it holds no results either: it was killed before its first checkpoint, so nothing is
 // lost (its loss.csv rows up to then are logged again). One with results (a deleted checkpoint) is
 // refused before anything is loaded or written: training it again would overwrite them.
-std::optional<LoadedCheckpoint> checkpoint_to_resume(const RunDir& run) {
+std::optional<run::LoadedCheckpoint> checkpoint_to_resume(const run::RunDir& run) {
   if (fs::exists(run.checkpoint()) || fs::exists(run.previous_checkpoint()))
-    return read_checkpoint_or_previous(run.checkpoint(), run.previous_checkpoint());
+    return run::read_checkpoint_or_previous(run.checkpoint(), run.previous_checkpoint());
   std::string results;
   auto found = [&](const fs::path& p, const char* name) {
     std::error_code ec;
@@ -99,8 +100,8 @@ std::optional<LoadedCheckpoint> checkpoint_to_resume(const RunDir& run) {
 
 // Refuses a run whose next checkpoint cannot be written (run_size.h); warns when the disk would
 // fill before the Gaussian budget is reached.
-void require_room_for(const fs::path& run_dir, const TrainConfig& config, size_t gaussians) {
-  const RunSize size = run_size(config, static_cast<uint32_t>(gaussians));
+void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, size_t gaussians) {
+  const run::RunSize size = run::run_size(config, static_cast<uint32_t>(gaussians));
   util::require_room(run_dir, size.least, size.largest_file,
                      "a checkpoint of " + std::to_string(gaussians) + " Gaussians (written beside the current one)");
   const uint64_t free = util::free_bytes(run_dir);
@@ -111,7 +112,7 @@ void require_room_for(const fs::path& run_dir, const TrainConfig& config, size_t
 
 }  // namespace
 
-Trainer::Impl::Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d)
+Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d)
     : ctx(c), run(std::move(r)), config(cfg), dataset(d), lr_scale(cfg.lr_scale), train_views(select_views(d, cfg, false)),
       test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
       loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
@@ -125,12 +126,12 @@ Trainer::Impl::Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const 
   if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
-Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConfig& config, const fs::path& run_dir,
+Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::TrainConfig& config, const fs::path& run_dir,
                  std::optional<data::Dataset> loaded)
     : config_(config) {
-  validate(config_, "training settings");
+  run::validate(config_, "training settings");
   // The folder's .lock is the caller's run lock (run_lock.h), taken before the run is created.
-  if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && empty_but_for_lock(run_dir)))
+  if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && run::empty_but_for_lock(run_dir)))
     throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with --resume or choose "
                                 "another --out");
   dataset_ = loaded ? std::move(*loaded) : data::load_dataset(data_dir, load_options(config_, false));
@@ -141,7 +142,7 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   InitReport init;
   const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
                                                   max_initial_points(config_), config_.seed, &init);
-  impl_ = std::make_unique<Impl>(ctx, RunDir{run_dir}, config_, dataset_);
+  impl_ = std::make_unique<Impl>(ctx, run::RunDir{run_dir}, config_, dataset_);
   impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here
@@ -149,35 +150,26 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const TrainConf
   fs::create_directories(run_dir / "checkpoint");
   fs::create_directories(run_dir / "geometry");
   // "stage" names what the run's geometry is, for readers of a run (render, viewer).
-  util::write_file_atomic(impl_->run.run_json(),
-                          nlohmann::json{{"data", fs::absolute(data_dir).string()},
-                                         {"stage", config_.fine_iterations > 0 ? "4dgs" : "static"},
-                                         {"dataset", impl_->facts},
-                                         {"settings", to_json(config_)}}.dump(2) + "\n");
+  run::write_run_json(impl_->run, {.data = data_dir, .stage = run::last_stage(config_), .dataset = impl_->facts,
+                                   .settings = config_});
   impl_->gaussians = std::make_unique<model::TrainableGaussians>(ctx, initial, "gaussians");
   impl_->last_good = impl_->snapshot(0);
 }
 
-Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& run_json) {
-  const std::string where = run.run_json().string();
-  if (!run_json.is_object())
-    throw std::runtime_error(where + ": expected a JSON object with 'data' and 'settings', got a JSON " +
-                             std::string(run_json.type_name()));
-  if (!run_json.contains("data") || !run_json["data"].is_string())
-    throw std::runtime_error(where + ": field 'data' (the dataset path) is missing or not a string");
-  if (!run_json.contains("settings")) throw std::runtime_error(where + ": field 'settings' (the training settings) is missing");
-  config_ = config_from_json(run_json["settings"], where);  // validated: a hand-edited value is refused by name
+Trainer::Trainer(engine::Context& ctx, const run::RunDir& run, const run::RunJson& run_json) {
+  config_ = run_json.settings;
   // What the run's geometry is (render reads it): a hand-edited stage would be trained and then not render.
-  const std::string expected_stage = config_.fine_iterations > 0 ? "4dgs" : "static";
-  if (run_json.contains("stage") && run_json["stage"] != expected_stage)
-    throw std::runtime_error(where + ": field 'stage' = " + run_json["stage"].dump() + ": expected \"" + expected_stage +
+  const run::Stage expected_stage = run::last_stage(config_);
+  if (run_json.stage && *run_json.stage != expected_stage)
+    throw std::runtime_error(run.run_json().string() + ": field 'stage' = \"" + run::geometry_name(*run_json.stage) +
+                             "\": expected \"" + run::geometry_name(expected_stage) +
                              "\" for settings with fine_iterations = " + std::to_string(config_.fine_iterations));
-  std::optional<LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
-  dataset_ = data::load_dataset(run_json["data"].get<std::string>(), load_options(config_, true));
+  std::optional<run::LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
+  dataset_ = data::load_dataset(run_json.data, load_options(config_, true));
   // Runs from before the recipe stored no resolved value; nothing is left to the data on resume.
   const nlohmann::json recipe = adapt_to_data(config_, dataset_);
   impl_ = std::make_unique<Impl>(ctx, run, config_, dataset_);
-  impl_->facts = run_json.contains("dataset") ? run_json["dataset"] : dataset_facts(dataset_, {}, recipe);
+  impl_->facts = run_json.dataset.is_null() ? dataset_facts(dataset_, {}, recipe) : run_json.dataset;
   if (from) {
     try {
       impl_->restore(from->checkpoint);
@@ -187,7 +179,7 @@ Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& 
     if (!from->newest_problem.empty()) {
       impl_->newest_damaged = true;
       std::cerr << "warning: " << from->newest_problem << "; resuming from the previous checkpoint " << from->path.string()
-                << " (" << impl_->stage << " stage, iteration " << impl_->iteration << ")\n";
+                << " (" << run::stage_name(impl_->stage) << " stage, iteration " << impl_->iteration << ")\n";
     }
   } else {
     fs::create_directories(run.root / "checkpoint");  // as a new run has them
@@ -203,16 +195,10 @@ Trainer::Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& 
 }
 
 std::unique_ptr<Trainer> Trainer::resume(engine::Context& ctx, const fs::path& run_dir) {
-  const RunDir run{run_dir};
-  std::ifstream in(run.run_json());
-  if (!in) throw std::runtime_error(run.run_json().string() + ": missing; " + run_dir.string() + " is not a training run");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(run.run_json().string() + ": " + e.what());
-  }
-  return std::unique_ptr<Trainer>(new Trainer(ctx, run, j));
+  const run::RunDir run{run_dir};
+  if (!fs::exists(run.run_json()))
+    throw std::runtime_error(run.run_json().string() + ": missing; " + run_dir.string() + " is not a training run");
+  return std::unique_ptr<Trainer>(new Trainer(ctx, run, run::read_run_json(run)));
 }
 
 Trainer::~Trainer() = default;
@@ -224,14 +210,14 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
   std::ofstream log(m.run.loss_csv(), std::ios::app);
   double probe_start = 0;
   while (true) {
-    util::Progress progress(m.stage, m.stage_iterations());
+    util::Progress progress(run::stage_name(m.stage), m.stage_iterations());
     double test_psnr = NAN;
     while (m.iteration < m.stage_iterations()) {
       if (stop.load()) {
         m.checkpoint(m.elapsed(start));
         TrainResult r = m.result(false, m.elapsed(start), {});
         m.write_result(r);
-        std::cerr << m.stage << ": interrupted at iteration " << m.iteration << "; checkpoint written, continue with "
+        std::cerr << run::stage_name(m.stage) << ": interrupted at iteration " << m.iteration << "; checkpoint written, continue with "
                      "style4d train --resume " << m.run.root.string() << "\n";
         return r;
       }
@@ -242,7 +228,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
         continue;
       }
       if (m.iteration % 10 == 0)
-        log << m.stage << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
+        log << run::stage_name(m.stage) << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
             << m.gaussians->size() << ',' << m.elapsed(start) << std::endl;  // on disk before any later checkpoint
       util::require_written(log, m.run.loss_csv());
       if (m.iteration % config_.test_every == 0 && m.iteration < m.stage_iterations())
@@ -256,8 +242,8 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
           {"device_mib", static_cast<double>(m.ctx.memory_in_use()) / (1 << 20)}};  // bench/soak.sh plots it
       if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
       // A fresh run tells its expected length once its first steps are timed.
-      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == kProbeFrom) probe_start = m.elapsed(start);
-      if (m.stage == "static" && m.seconds_before == 0 && m.iteration == kProbeFrom + kProbeSteps) {
+      if (m.stage == run::Stage::coarse && m.seconds_before == 0 && m.iteration == kProbeFrom) probe_start = m.elapsed(start);
+      if (m.stage == run::Stage::coarse && m.seconds_before == 0 && m.iteration == kProbeFrom + kProbeSteps) {
         const TimeEstimate e =
             estimate_time(config_, (m.elapsed(start) - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
         std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <span>
 #include <stdexcept>
 
@@ -31,7 +32,7 @@ engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t float
 void Trainer::Impl::make_field(uint32_t seed) {
   if (config.fine_iterations == 0) return;
   try {
-    field = std::make_unique<deform::DeformationField>(ctx, field_config(config, aabb_min, aabb_max), seed, "deformation field");
+    field = std::make_unique<deform::DeformationField>(ctx, run::field_config(config, aabb_min, aabb_max), seed, "deformation field");
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + " (the 4DGS stage of preset '" + config.preset +
                              "'; --preset fast fits lavapipe, --stage static trains without it)");
@@ -43,14 +44,14 @@ void Trainer::Impl::make_field(uint32_t seed) {
 }
 
 nlohmann::json Trainer::Impl::meta(double seconds) const {
-  return {{"stage", stage},         {"iteration", iteration},   {"lr_scale", lr_scale},   {"seconds", seconds},
+  return {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", lr_scale},   {"seconds", seconds},
           {"rollbacks", rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
           {"deform_evaluations_unmasked", deform_evaluations_unmasked}};
 }
 
-Checkpoint Trainer::Impl::snapshot(double seconds) const {
-  Checkpoint cp{meta(seconds), gaussians->download(), {}};
+run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
+  run::Checkpoint cp{meta(seconds), gaussians->download(), {}};
   if (field) {
     cp.extra = {{"field.planes", field->download_planes()},
                 {"field.mlp", field->download_mlp()},
@@ -66,10 +67,13 @@ Checkpoint Trainer::Impl::snapshot(double seconds) const {
   return cp;
 }
 
-void Trainer::Impl::restore(const Checkpoint& cp) {
+void Trainer::Impl::restore(const run::Checkpoint& cp) {
   gaussians = std::make_unique<model::TrainableGaussians>(ctx, cp.state, "gaussians");
   sized_for = UINT32_MAX;
-  stage = cp.meta.at("stage").get<std::string>();
+  const std::string stage_in_file = cp.meta.at("stage").get<std::string>();
+  const std::optional<run::Stage> known = run::parse_stage(stage_in_file);
+  if (!known) throw std::runtime_error("checkpoint: meta 'stage' = '" + stage_in_file + "' is not static or fine");
+  stage = *known;
   iteration = cp.meta.at("iteration").get<uint32_t>();
   lr_scale = cp.meta.at("lr_scale").get<double>();
   seconds_before = cp.meta.at("seconds").get<double>();
@@ -115,18 +119,18 @@ void Trainer::Impl::trim_loss_log() const {
   while (std::getline(in, line)) {
     const size_t comma = line.find(',');
     if (comma == std::string::npos) break;  // a row cut short by a kill
-    const std::string row_stage = line.substr(0, comma);
+    const std::optional<run::Stage> row_stage = run::parse_stage(line.substr(0, comma));
     const uint32_t row_iteration = static_cast<uint32_t>(std::strtoul(line.c_str() + comma + 1, nullptr, 10));
-    const bool before = row_stage == stage ? row_iteration <= iteration : row_stage == "static";
+    const bool before = row_stage == stage ? row_iteration <= iteration : row_stage == run::Stage::coarse;
     if (before && std::count(line.begin(), line.end(), ',') == 6) kept += line + "\n";
   }
   util::write_file_atomic(run.loss_csv(), kept);
 }
 
 bool Trainer::Impl::checkpoint(double seconds) {
-  Checkpoint cp = snapshot(seconds);
+  run::Checkpoint cp = snapshot(seconds);
   try {
-    write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
+    run::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
   } catch (const std::invalid_argument& e) {  // non-finite parameters: never written
     rollback(e.what());
     return false;
@@ -148,7 +152,7 @@ void Trainer::Impl::rollback(const std::string& why) {
   rollbacks = rollbacks_now;
   seconds_before = seconds;
   lr_scale = scale;
-  std::cerr << stage << ": " << why << "; rolled back to iteration " << iteration
+  std::cerr << run::stage_name(stage) << ": " << why << "; rolled back to iteration " << iteration
             << " and halved the learning rates (scale " << lr_scale << ")\n";
 }
 }  // namespace s4d::train

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "s4d/optim/grad_add.h"
+#include "s4d/primitives/add.h"
 #include "trainer_impl.h"
 
 namespace s4d::train {
@@ -100,7 +100,7 @@ optim::LossValue Trainer::Impl::fine_step() {
     rec.barrier();
     if (b > 0)
       for (uint32_t a = 0; a < model::kAttrCount; ++a)
-        optim::record_grad_add(rec, gaussians->grad(model::Attr(a)), scratch_grad[a],
+        primitives::cmd_add(rec, gaussians->grad(model::Attr(a)), scratch_grad[a],
                                gaussians->size() * gaussians->width(model::Attr(a)));
     ctx.run(std::move(rec));
   }

@@ -19,8 +19,8 @@
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
 #include "s4d/optim/image_loss.h"
+#include "s4d/run/checkpoint.h"
 #include "s4d/splat/rasterizer.h"
-#include "s4d/train/checkpoint.h"
 #include "s4d/train/trainer.h"
 #include "s4d/train/view_sampler.h"
 
@@ -38,8 +38,8 @@ enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlan
 
 struct Trainer::Impl {
   engine::Context& ctx;
-  RunDir run;
-  const TrainConfig& config;
+  run::RunDir run;
+  const run::TrainConfig& config;
   const data::Dataset& dataset;
   double lr_scale;
   std::vector<const data::View*> train_views, test_views;
@@ -66,20 +66,20 @@ struct Trainer::Impl {
   uint32_t static_count = 0;
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
 
-  std::string stage = "static";
+  run::Stage stage = run::Stage::coarse;
   uint32_t iteration = 0;  // within the stage
   double seconds_before = 0;
   uint32_t rollbacks = 0;
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
-  Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
+  run::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
   // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
   // the newest without rotating it over the good previous one.
   bool newest_damaged = false;
 
   // ---- Small queries and the constructor (trainer.cpp).
-  Impl(engine::Context& c, RunDir r, const TrainConfig& cfg, const data::Dataset& d);
-  bool fine() const { return stage == "fine"; }
+  Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d);
+  bool fine() const { return stage == run::Stage::fine; }
   // Each stage draws from its own views, with its own seeded order.
   ViewSampler stage_sampler() const {
     const size_t views = fine() ? train_views.size() : static_views.size();
@@ -87,7 +87,7 @@ struct Trainer::Impl {
   }
   uint32_t stage_iterations() const { return fine() ? config.fine_iterations : config.iterations; }
   int active_degree() const {
-    return active_sh_degree(config, fine() ? config.iterations + iteration : iteration);  // not reset (3.3)
+    return run::active_sh_degree(config, fine() ? config.iterations + iteration : iteration);  // not reset (3.3)
   }
   bool head(uint32_t bit) const { return (config.field_heads & bit) != 0; }
   double static_window() const { return std::min(config.max_time, config.static_max_time); }
@@ -103,8 +103,8 @@ struct Trainer::Impl {
   // run fails before any training).
   void make_field(uint32_t seed);
   nlohmann::json meta(double seconds) const;
-  Checkpoint snapshot(double seconds) const;
-  void restore(const Checkpoint& cp);
+  run::Checkpoint snapshot(double seconds) const;
+  void restore(const run::Checkpoint& cp);
   // loss.csv keeps the rows up to the state training continues from: a resumed run drops the rows
   // logged after its checkpoint (they are logged again), and a new run starts with the header.
   void trim_loss_log() const;

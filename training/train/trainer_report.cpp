@@ -24,7 +24,7 @@ Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, 
 
 void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
   static_scores = {{"test_psnr", static_test.psnr}, {"test_ssim", static_test.ssim}, {"test_views", scores_json(static_test)}};
-  stage = "fine";
+  stage = run::Stage::fine;
   iteration = 0;
   sampler = stage_sampler();
   engine::Recorder rec(ctx, "fresh optimizer");
@@ -37,7 +37,7 @@ void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
 }
 
 void Trainer::Impl::write_result(const TrainResult& r) const {
-  nlohmann::json j = {{"stage", r.stage},
+  nlohmann::json j = {{"stage", run::stage_name(r.stage)},
                       {"complete", r.complete},
                       {"iteration", r.iteration},
                       {"test_psnr", r.test.psnr},
@@ -54,7 +54,7 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                       {"data", fs::absolute(dataset.root).string()},
                       {"dataset", facts},
-                      {"settings", to_json(config)}};
+                      {"settings", run::to_json(config)}};
   util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
 }
 }  // namespace s4d::train

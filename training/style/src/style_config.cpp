@@ -1,11 +1,12 @@
 #include "s4d/style/style_config.h"
 
+#include <optional>
 #include <stdexcept>
 
 namespace s4d::style {
 
 nlohmann::json to_json(const StyleConfig& c) {
-  return {{"method", c.method},
+  return {{"method", run::method_name(c.method)},
           {"stylizer", c.stylizer},
           {"strength", c.strength},
           {"iterations", c.iterations},
@@ -18,7 +19,7 @@ nlohmann::json to_json(const StyleConfig& c) {
           {"mlp_lr", c.mlp_lr},
           {"ssim_weight", c.ssim_weight},
           {"tv_weight", c.tv_weight},
-          {"depth_input", c.depth_input == scene::DepthInput::ndc ? "ndc" : "relative"},
+          {"depth_input", run::depth_input_name(c.depth_input)},
           {"depth_scale", c.depth_scale},
           {"input_sigmoid", c.input_sigmoid},
           {"mlp_init", c.mlp_init},
@@ -40,14 +41,18 @@ StyleConfig style_config_from_json(const nlohmann::json& j) {
       throw std::invalid_argument(std::string("style settings: field '") + key + "' has the wrong type");
     }
   };
-  get("method", c.method), get("stylizer", c.stylizer), get("strength", c.strength), get("iterations", c.iterations);
+  std::string method = run::method_name(c.method);
+  get("method", method);
+  c.method = method_setting(method);
+  get("stylizer", c.stylizer), get("strength", c.strength), get("iterations", c.iterations);
   get("mlp_iterations", c.mlp_iterations);
   get("seed", c.seed), get("train_colors", c.train_colors), get("sh_dc_lr", c.sh_dc_lr), get("sh_rest_lr", c.sh_rest_lr);
   get("opacity_lr", c.opacity_lr), get("mlp_lr", c.mlp_lr), get("ssim_weight", c.ssim_weight), get("tv_weight", c.tv_weight);
-  std::string depth = "relative";
+  std::string depth = run::depth_input_name(c.depth_input);
   get("depth_input", depth);
-  if (depth != "ndc" && depth != "relative") throw std::invalid_argument("style settings: depth_input '" + depth + "' is not ndc or relative");
-  c.depth_input = depth == "ndc" ? scene::DepthInput::ndc : scene::DepthInput::relative;
+  const std::optional<run::DepthInput> input = run::parse_depth_input(depth);
+  if (!input) throw std::invalid_argument("style settings: depth_input '" + depth + "' is not ndc or relative");
+  c.depth_input = *input;
   get("depth_scale", c.depth_scale), get("input_sigmoid", c.input_sigmoid), get("mlp_init", c.mlp_init);
   get("region", c.region);
   get("test_every", c.test_every), get("checkpoint_every", c.checkpoint_every);
@@ -57,7 +62,6 @@ StyleConfig style_config_from_json(const nlohmann::json& j) {
 
 void validate(const StyleConfig& c) {
   auto bad = [](const std::string& what) { throw std::invalid_argument("style settings: " + what); };
-  if (c.method != "full" && c.method != "colors" && c.method != "scratch") bad("method '" + c.method + "' is not full, colors or scratch");
   if (c.mlp_init != "uniform" && c.mlp_init != "identity") bad("mlp_init '" + c.mlp_init + "' is not uniform or identity");
   if (!(c.strength >= 0 && c.strength <= 1)) bad("strength must be in [0, 1]");
   if (c.iterations == 0) bad("iterations must be positive");
@@ -70,6 +74,12 @@ void validate(const StyleConfig& c) {
   if (!c.region.empty() && (c.region.size() != 6 || !(c.region[0] < c.region[3] && c.region[1] < c.region[4] && c.region[2] < c.region[5])))
     bad("region must be empty or 6 numbers min x, y, z, max x, y, z with min < max");
   if (c.test_every == 0 || c.checkpoint_every == 0) bad("test_every and checkpoint_every must be positive");
+}
+
+run::StyleMethod method_setting(const std::string& name) {
+  const std::optional<run::StyleMethod> method = run::parse_method(name);
+  if (!method) throw std::invalid_argument("style settings: " + run::unknown_method(name));
+  return *method;
 }
 
 }  // namespace s4d::style

@@ -14,11 +14,11 @@
 #include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/optim/tv_loss.h"
+#include "s4d/run/checkpoint.h"
 #include "s4d/scene/cached_scene.h"
 #include "s4d/scene/styled_scene.h"
 #include "s4d/splat/rasterizer.h"
 #include "s4d/splat/scene_upload.h"
-#include "s4d/train/checkpoint.h"
 #include "s4d/train/view_sampler.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/progress.h"
@@ -125,13 +125,13 @@ struct StyleTrainer::Impl {
   double seconds_before = 0;
 
   Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg)
-      : ctx(c), run(r), name(std::move(n)), config(cfg), dir(scene::style_dir(r.root, name)),
+      : ctx(c), run(r), name(std::move(n)), config(cfg), dir(run::style_dir(r.root, name)),
         train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
         rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
         sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
     if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);
-    full = config.method == "full";
+    full = config.method == run::StyleMethod::full;
     std::set<double> times;
     for (const data::View& view : stylized.views) times.insert(view.time);
     geometry = std::make_unique<scene::CachedScene>(ctx, scene::open_scene(ctx, run, "original"),
@@ -173,7 +173,7 @@ struct StyleTrainer::Impl {
   }
 
   void save(double seconds) {
-    train::Checkpoint cp{meta(seconds), {}, {}};
+    run::Checkpoint cp{meta(seconds), {}, {}};
     const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k) {
       if (floats[k] == 0) continue;
@@ -181,11 +181,11 @@ struct StyleTrainer::Impl {
       cp.extra.emplace_back(std::string(names[k]) + ".adam_m", ctx.download<float>(m[k], floats[k]));
       cp.extra.emplace_back(std::string(names[k]) + ".adam_v", ctx.download<float>(v[k], floats[k]));
     }
-    train::write_checkpoint(checkpoint_path(), cp);
+    run::write_checkpoint(checkpoint_path(), cp);
   }
 
   void restore() {
-    const train::Checkpoint cp = train::read_checkpoint(checkpoint_path());
+    const run::Checkpoint cp = run::read_checkpoint(checkpoint_path());
     const nlohmann::json saved = cp.meta.at("settings");
     if (saved != to_json(config))
       throw std::runtime_error(checkpoint_path().string() + " was written with other settings (" + saved.dump() +
@@ -282,8 +282,8 @@ struct StyleTrainer::Impl {
         run.dataset.background, save_dir);
   }
 
-  scene::StyleFile style_file() const {
-    scene::StyleFile s;
+  run::StyleFile style_file() const {
+    run::StyleFile s;
     s.method = config.method;
     s.settings = to_json(config);
     s.count = count, s.sh_coeffs = sh_coeffs;
@@ -298,7 +298,7 @@ struct StyleTrainer::Impl {
 StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, const data::Dataset& stylized, std::string name,
                            const StyleConfig& config) {
   validate(config);
-  if (config.method == "scratch") throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
+  if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
   impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config);
   fs::create_directories(impl_->dir);
   if (fs::exists(impl_->checkpoint_path())) impl_->restore();
@@ -340,7 +340,7 @@ StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
   train::Evaluation test = s.evaluate(s.test_views, s.dir / "eval");
   progress.finish({{"test_psnr_vs_stylized", test.psnr}});
   s.save(elapsed());
-  scene::write_style_file(scene::style_file_path(s.run.root, s.name), s.style_file());
+  run::write_style_file(run::style_file_path(s.run.root, s.name), s.style_file());
   return {true, s.iteration, elapsed(), s.region_count, std::move(test)};
 }
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 #include "s4d/scene/styled_scene.h"
 
 namespace s4d::scene {
@@ -14,8 +14,8 @@ class BlendedScene final : public SceneSource {
  public:
   // `a` and `b` are the styles' contents (no_style for the original scene), named for logs; alpha is
   // the weight on b. blend_styles' errors propagate, and StyledScene's for another Gaussian count.
-  BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, StyleFile a, const std::string& name_a,
-               StyleFile b, const std::string& name_b, float alpha);
+  BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, run::StyleFile a, const std::string& name_a,
+               run::StyleFile b, const std::string& name_b, float alpha);
 
   // Re-blends with weight `alpha` on b. The device must have finished the work that reads the last
   // at()'s buffers.
@@ -28,7 +28,7 @@ class BlendedScene final : public SceneSource {
   std::string describe() const override;
 
  private:
-  StyleFile a_, b_;
+  run::StyleFile a_, b_;
   float alpha_;
   std::unique_ptr<StyledScene> styled_;
 };

@@ -14,7 +14,7 @@
 #pragma once
 #include <cstdint>
 
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 
 namespace s4d::scene {
 
@@ -23,10 +23,10 @@ namespace s4d::scene {
 // "colors". Throws std::invalid_argument for alpha outside [0, 1] (or NaN), a "scratch" style (its own
 // geometry), other Gaussian counts or SH layouts, and two MLP styles with other initialisations
 // (settings seed, mlp_init) or inputs (depth input, depth scale, input sigmoid).
-StyleFile blend_styles(const StyleFile& a, const StyleFile& b, float alpha);
+run::StyleFile blend_styles(const run::StyleFile& a, const run::StyleFile& b, float alpha);
 
 // The original scene as a style: zero changes, no MLPs, for `count` Gaussians with `sh_coeffs` SH
 // coefficients per channel; blending a style with it scales the style's changes.
-StyleFile no_style(uint32_t count, uint32_t sh_coeffs);
+run::StyleFile no_style(uint32_t count, uint32_t sh_coeffs);
 
 }  // namespace s4d::scene

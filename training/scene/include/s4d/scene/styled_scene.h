@@ -8,8 +8,8 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/run/style_file.h"
 #include "s4d/scene/scene_source.h"
-#include "s4d/scene/style_file.h"
 
 namespace s4d::scene {
 
@@ -21,18 +21,18 @@ splat::GaussianParams record_style_deltas(engine::Recorder& rec, const splat::Ga
                                           const engine::Buffer& out_sh, const engine::Buffer& out_opacity);
 
 // The rasterizer's description of a style's MLPs at `time` (weights [count * S4D_STYLE_MLP_STRIDE]).
-splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, DepthInput depth, float depth_scale,
+splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, run::DepthInput depth, float depth_scale,
                           bool input_sigmoid);
 
 class StyledScene final : public SceneSource {
  public:
   // Throws std::invalid_argument when the style was trained for another Gaussian count or SH layout.
-  StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const StyleFile& style, std::string name);
+  StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const run::StyleFile& style, std::string name);
 
   // Replaces the style's arrays with `style`'s (a blend of other weights, style_blend.h): the same
   // Gaussian count, SH layout and method, or std::invalid_argument. The device must have finished
   // the work that reads the last at()'s buffers.
-  void restyle(const StyleFile& style);
+  void restyle(const run::StyleFile& style);
 
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return base_->size(); }
@@ -42,9 +42,10 @@ class StyledScene final : public SceneSource {
  private:
   engine::Context* ctx_;
   std::unique_ptr<SceneSource> base_;
-  std::string name_, method_;
+  std::string name_;
+  run::StyleMethod method_;
   uint32_t sh_coeffs_;
-  DepthInput depth_;
+  run::DepthInput depth_;
   float depth_scale_;
   bool input_sigmoid_;
   engine::Buffer sh_delta_, opacity_delta_, mlp_, sh_, opacity_;

@@ -1,4 +1,4 @@
-// The 4DGS stage's result as a run's checkpoint holds it (training/train/checkpoint.h): the
+// The 4DGS stage's result as a run's checkpoint holds it (s4d/run/checkpoint.h): the
 // canonical Gaussians, the deformation field's parameters (arrays field.planes and field.mlp) and
 // its bounds (meta aabb_min / aabb_max). Both come from the one file, so they always belong together.
 #pragma once
@@ -8,7 +8,7 @@
 
 #include "s4d/deform/field_config.h"
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 
 namespace s4d::scene {
 
@@ -25,7 +25,7 @@ struct TrainedField {
 // checkpoint still in the static stage (the 4DGS stage has not started: finish with --resume), meta
 // without stage / iteration / aabb_min / aabb_max, the arrays field.planes or field.mlp missing or
 // of another size than the field `config` describes, or settings the field kernels cannot run.
-TrainedField read_trained_field(const std::filesystem::path& checkpoint, const train::TrainConfig& config,
+TrainedField read_trained_field(const std::filesystem::path& checkpoint, const run::TrainConfig& config,
                                 const std::filesystem::path& run_root);
 
 }  // namespace s4d::scene

@@ -14,16 +14,17 @@
 
 #include "s4d/data/dataset.h"
 #include "s4d/engine/context.h"
+#include "s4d/run/names.h"
+#include "s4d/run/train_config.h"
 #include "s4d/scene/blended_scene.h"
 #include "s4d/scene/scene_source.h"
-#include "s4d/train/train_config.h"
 
 namespace s4d::scene {
 
 struct TrainedRun {
   std::filesystem::path root;
-  std::string stage;  // run.json "stage": "static" or "4dgs"
-  train::TrainConfig config;
+  run::Stage stage = run::Stage::coarse;  // run.json "stage": its last stage (static: coarse, 4dgs: fine)
+  run::TrainConfig config;
   data::Dataset dataset;
   std::vector<std::string> styles{"original"};  // what open_scene takes; "original" is the unstylised scene
 };

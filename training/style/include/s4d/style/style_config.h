@@ -7,15 +7,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 
 namespace s4d::style {
 
 struct StyleConfig {
-  // "full": per-Gaussian MLPs + colours and opacities (the paper's method); "colors": the two-stage
-  // scheme without MLPs (only colours and opacities retrained); "scratch": 4DGS trained from scratch
+  // full: per-Gaussian MLPs + colours and opacities (the paper's method); colors: the two-stage
+  // scheme without MLPs (only colours and opacities retrained); scratch: 4DGS trained from scratch
   // on the stylized frames.
-  std::string method = "full";
+  run::StyleMethod method = run::StyleMethod::full;
   std::string stylizer = "patch";
   float strength = 1.0f;            // of the 2D stylizer
   uint32_t iterations = 1500;
@@ -29,7 +29,7 @@ struct StyleConfig {
   double sh_dc_lr = 0.0025, sh_rest_lr = 0.000125, opacity_lr = 0.05, mlp_lr = 2.5e-4;
   float ssim_weight = 0.0f;         // 0: plain L1, as the paper
   float tv_weight = 0.05f;          // squared image TV on the render (tv_loss.h)
-  scene::DepthInput depth_input = scene::DepthInput::relative;
+  run::DepthInput depth_input = run::DepthInput::relative;
   float depth_scale = 0;            // relative depth: t* - z times this; 0 = 1 / (3 x median Gaussian scale)
   bool input_sigmoid = false;       // SuperGaussians squashes the MLP inputs with a sigmoid
   std::string mlp_init = "identity"; // "uniform": SuperGaussians' U(-0.5, 0.5) weights, zero biases;
@@ -44,5 +44,8 @@ nlohmann::json to_json(const StyleConfig& c);
 // Throws std::invalid_argument naming the field for unknown keys, wrong types or values out of range.
 StyleConfig style_config_from_json(const nlohmann::json& j);
 void validate(const StyleConfig& c);
+// The method of --method or a settings file; std::invalid_argument "style settings: method 'NAME' is
+// not full, colors or scratch" otherwise.
+run::StyleMethod method_setting(const std::string& name);
 
 }  // namespace s4d::style

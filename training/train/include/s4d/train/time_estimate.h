@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 
 namespace s4d::train {
 
@@ -24,7 +24,7 @@ struct TimeEstimate {
 
 // Assumes densification fills the budget linearly over its window (the built-in scene fills it by
 // the window's end); a scene that grows less trains faster than estimated.
-TimeEstimate estimate_time(const TrainConfig& config, double seconds_per_static_step, uint32_t gaussians);
+TimeEstimate estimate_time(const run::TrainConfig& config, double seconds_per_static_step, uint32_t gaussians);
 
 // One line: "estimate: static stage 3-5 min, 4DGS stage 5-17 min (from 30 steps at 0.210 s with 4000 Gaussians; ...)".
 std::string describe(const TimeEstimate& estimate, uint32_t probe_steps);

@@ -16,15 +16,17 @@
 
 #include "s4d/data/dataset.h"
 #include "s4d/engine/context.h"
+#include "s4d/run/names.h"
+#include "s4d/run/run_dir.h"
+#include "s4d/run/run_json.h"
+#include "s4d/run/train_config.h"
 #include "s4d/train/evaluate.h"
-#include "s4d/train/run_dir.h"
-#include "s4d/train/train_config.h"
 
 namespace s4d::train {
 
 struct TrainResult {
   bool complete = false;  // false: interrupted; the checkpoint holds the state to resume from
-  std::string stage;      // "static" or "fine": where the run stopped
+  run::Stage stage = run::Stage::coarse;  // where the run stopped
   uint32_t iteration = 0; // within that stage
   uint32_t num_gaussians = 0;
   double seconds = 0;  // training time over all sessions of the run
@@ -37,7 +39,7 @@ class Trainer {
   // A new run into `run_dir`, which must not exist or be empty (a run is never overwritten).
   // Writes RUN/run.json at once. `loaded`: the dataset as load_options(config, false) loads it from
   // data_dir, when the caller has it already (style4d train checks it first), so it is not read twice.
-  Trainer(engine::Context& ctx, const std::filesystem::path& data_dir, const TrainConfig& config,
+  Trainer(engine::Context& ctx, const std::filesystem::path& data_dir, const run::TrainConfig& config,
           const std::filesystem::path& run_dir, std::optional<data::Dataset> loaded = std::nullopt);
   // Continues the run in `run_dir` from its checkpoint (or from the previous one when that is damaged);
   // refuses when neither loads and the run has results, restarts a run killed before its first checkpoint.
@@ -48,14 +50,14 @@ class Trainer {
   // writes a checkpoint and returns with complete = false). Progress goes to stderr.
   TrainResult run(const std::atomic<bool>& stop);
 
-  const TrainConfig& config() const { return config_; }
+  const run::TrainConfig& config() const { return config_; }
   const data::Dataset& dataset() const { return dataset_; }
 
  private:
   struct Impl;
-  Trainer(engine::Context& ctx, const RunDir& run, const nlohmann::json& run_json);
+  Trainer(engine::Context& ctx, const run::RunDir& run, const run::RunJson& run_json);
 
-  TrainConfig config_;
+  run::TrainConfig config_;
   data::Dataset dataset_;
   std::unique_ptr<Impl> impl_;
 };

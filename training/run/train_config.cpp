@@ -1,4 +1,4 @@
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace s4d::train {
+namespace s4d::run {
 
 TrainConfig preset_config(const std::string& name) {
   TrainConfig c;
@@ -84,6 +84,8 @@ void set_fine_iterations(TrainConfig& c, uint32_t iterations) {
   }
   c.fine_iterations = iterations;
 }
+
+Stage last_stage(const TrainConfig& config) { return config.fine_iterations > 0 ? Stage::fine : Stage::coarse; }
 
 int active_sh_degree(const TrainConfig& c, uint32_t iterations_done) {
   return std::min<int>(c.sh_degree, static_cast<int>(iterations_done / std::max<uint32_t>(1, c.sh_up_every)));
@@ -204,4 +206,4 @@ TrainConfig config_from_json(const nlohmann::json& j, const std::string& source)
   return c;
 }
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -1,11 +1,11 @@
-#include "s4d/train/run_size.h"
+#include "s4d/run/run_size.h"
 
 #include <algorithm>
 
 #include "s4d/deform/field_config.h"
 #include "s4d_deform.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 uint64_t checkpoint_bytes(const TrainConfig& config, uint32_t gaussians) {
   const uint64_t sh = 3ull * static_cast<uint64_t>((config.sh_degree + 1) * (config.sh_degree + 1));
@@ -31,4 +31,4 @@ RunSize run_size(const TrainConfig& config, uint32_t initial_gaussians) {
   return s;
 }
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -10,8 +10,9 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "s4d/deform/field_config.h"
+#include "s4d/run/names.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 struct TrainConfig {
   std::string preset = "default";
@@ -86,6 +87,9 @@ void set_iterations(TrainConfig& config, uint32_t iterations);
 // The same for the fine stage (its densification window).
 void set_fine_iterations(TrainConfig& config, uint32_t iterations);
 
+// The stage a run with these settings ends in: fine when it has fine iterations.
+Stage last_stage(const TrainConfig& config);
+
 // The SH degree the renderer uses after `iterations_done` iterations of both stages together: one
 // more every sh_up_every, at most sh_degree (the degree is not reset by the fine stage).
 int active_sh_degree(const TrainConfig& config, uint32_t iterations_done);
@@ -112,4 +116,4 @@ nlohmann::json to_json(const TrainConfig& config);
 // naming `source` (the file the settings came from).
 TrainConfig config_from_json(const nlohmann::json& j, const std::string& source = "training settings");
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -1,14 +1,14 @@
-#include "s4d/optim/grad_add.h"
+#include "s4d/primitives/add.h"
 
 #include <stdexcept>
 #include <string>
 
 #include "s4d/primitives/shader_pipeline.h"
-#include "s4d_optim.h"
+#include "s4d_optim.h"  // AddParams, S4D_ADD_WG (the kernel lives in shaders/optim)
 
-namespace s4d::optim {
+namespace s4d::primitives {
 
-void record_grad_add(engine::Recorder& rec, const engine::Buffer& dst, const engine::Buffer& src, uint32_t n) {
+void cmd_add(engine::Recorder& rec, const engine::Buffer& dst, const engine::Buffer& src, uint32_t n) {
   for (const engine::Buffer* b : {&dst, &src})
     if (b->size() < size_t{n} * 4)
       throw std::invalid_argument("grad_add: buffer '" + b->name() + "' holds fewer than " + std::to_string(n) + " floats");
@@ -17,4 +17,4 @@ void record_grad_add(engine::Recorder& rec, const engine::Buffer& dst, const eng
                primitives::ceil_div(n, S4D_ADD_WG));
 }
 
-}  // namespace s4d::optim
+}  // namespace s4d::primitives

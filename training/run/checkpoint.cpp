@@ -1,4 +1,4 @@
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -15,7 +15,7 @@
 
 #include "s4d/util/atomic_file.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 namespace fs = std::filesystem;
 
@@ -217,4 +217,4 @@ LoadedCheckpoint read_checkpoint_or_previous(const fs::path& path, const fs::pat
   }
 }
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -1,7 +1,7 @@
 // The run lock (run_lock.h). Holder pids come from /proc/locks, which lists every flock with its
 // owner's pid and the file's device and inode, so shared holders are found too; the pid an
 // exclusive holder writes into the file is the fallback where /proc is not mounted.
-#include "s4d/train/run_lock.h"
+#include "s4d/run/run_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -16,7 +16,7 @@
 #include <sstream>
 #include <string>
 
-namespace s4d::train {
+namespace s4d::run {
 
 namespace fs = std::filesystem;
 
@@ -110,4 +110,4 @@ bool empty_but_for_lock(const fs::path& dir) {
   return !ec;
 }
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -1,5 +1,5 @@
 // The files of a run directory (ARCHITECTURE.md "Files on disk"):
-//   RUN/run.json                  what was trained from what: data path, stage, settings (for --resume)
+//   RUN/run.json                  what was trained from what: data path, stage, settings (run_json.h)
 //   RUN/checkpoint/state.s4dckpt  everything needed to continue (checkpoint.h)
 //   RUN/checkpoint/state.prev.s4dckpt  the one before it, which --resume falls back to when the
 //                                 newest is damaged (write_checkpoint_rotating)
@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <filesystem>
 
-namespace s4d::train {
+namespace s4d::run {
 
 struct RunDir {
   std::filesystem::path root;
@@ -42,4 +42,4 @@ struct RunDir {
   }
 };
 
-}  // namespace s4d::train
+}  // namespace s4d::run

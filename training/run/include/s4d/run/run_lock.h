@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-namespace s4d::train {
+namespace s4d::run {
 
 // "DIR: locked by another style4d process (pid N)".
 struct RunLocked : std::runtime_error {
@@ -43,4 +43,4 @@ class RunLock {
 // Whether `dir` holds nothing but (at most) its .lock: what a new run may be created in.
 bool empty_but_for_lock(const std::filesystem::path& dir);
 
-}  // namespace s4d::train
+}  // namespace s4d::run

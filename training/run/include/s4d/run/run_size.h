@@ -3,9 +3,9 @@
 #pragma once
 #include <cstdint>
 
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 // Bytes of one checkpoint holding `gaussians` Gaussians at the stored SH degree, their Adam moments
 // and densification statistics, and (stage 2 runs) the deformation field with its moments.
@@ -20,4 +20,4 @@ struct RunSize {
 // The run's sizes when it starts from `initial_gaussians` points.
 RunSize run_size(const TrainConfig& config, uint32_t initial_gaussians);
 
-}  // namespace s4d::train
+}  // namespace s4d::run

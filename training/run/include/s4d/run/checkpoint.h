@@ -5,7 +5,7 @@
 // Format S4DCKPT2: "S4DCKPT2", u64 header length, u64 FNV-1a 64 of the header bytes, a JSON header
 // (meta, and per array its name, float count and "fnv1a64", the FNV-1a 64 of its bytes as 16 hex
 // digits, in file order), then the arrays as little-endian float32. S4DCKPT1 (no header checksum,
-// no array checksums) is still read, unverified. The style files of stage 4 (scene/style_file.h)
+// no array checksums) is still read, unverified. The style files of stage 4 (style_file.h)
 // use the same container.
 #pragma once
 #include <cstddef>
@@ -19,7 +19,7 @@
 
 #include "s4d/model/trainable_gaussians.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 struct Checkpoint {
   nlohmann::json meta;  // iteration, stage, rng state, lr scale... (owned by the trainer)
@@ -61,4 +61,4 @@ struct LoadedCheckpoint {
 // Throws std::runtime_error when neither loads, with what is wrong with each.
 LoadedCheckpoint read_checkpoint_or_previous(const std::filesystem::path& path, const std::filesystem::path& previous);
 
-}  // namespace s4d::train
+}  // namespace s4d::run

@@ -10,10 +10,10 @@
 #include <utility>
 
 #include "s4d/deform/field_config.h"
-#include "s4d/train/train_config.h"
+#include "s4d/run/train_config.h"
 #include "s4d_deform.h"
 
-namespace s4d::train {
+namespace s4d::run {
 
 namespace {
 
@@ -141,4 +141,4 @@ void validate(const TrainConfig& c, const std::string& source) {
   check.interval("checkpoint_every", c.checkpoint_every);
 }
 
-}  // namespace s4d::train
+}  // namespace s4d::run

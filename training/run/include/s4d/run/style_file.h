@@ -18,14 +18,12 @@
 
 #include <nlohmann/json.hpp>
 
-namespace s4d::scene {
+#include "s4d/run/names.h"
 
-// How the per-Gaussian MLP reads the ray-hit depth (ALGORITHMS.md 4.3): the GOF/2DGS NDC mapping of
-// t*, or the offset t* - z_centre times depth_scale.
-enum class DepthInput : uint32_t { ndc = 0, relative = 1 };
+namespace s4d::run {
 
 struct StyleFile {
-  std::string method;           // "full" (MLPs + colours), "colors" (no MLPs), "scratch"
+  StyleMethod method = StyleMethod::full;  // full: with sh_delta, opacity_delta, mlp; colors: no mlp; scratch: none
   nlohmann::json settings;      // how it was trained (style image, stylizer, iterations, ...)
   uint32_t count = 0;           // Gaussians of the run it belongs to
   uint32_t sh_coeffs = 0;       // SH coefficients per channel of sh_delta
@@ -50,4 +48,4 @@ StyleFile read_style_file(const std::filesystem::path& path);
 // The names of the run's finished styles (folders under RUN/style with a style file), sorted.
 std::vector<std::string> list_styles(const std::filesystem::path& run_root);
 
-}  // namespace s4d::scene
+}  // namespace s4d::run

@@ -1,12 +1,14 @@
-#include "s4d/scene/style_file.h"
+#include "s4d/run/style_file.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
-#include "s4d/train/checkpoint.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/run_dir.h"
 #include "s4d_style_splat.h"
 
-namespace s4d::scene {
+namespace s4d::run {
 
 namespace fs = std::filesystem;
 
@@ -21,9 +23,7 @@ void check_sizes(const StyleFile& s, const std::string& where, bool reading) {
     if (reading) throw std::runtime_error(where + ": " + what);
     throw std::invalid_argument(where + ": " + what);
   };
-  if (s.method != "full" && s.method != "colors" && s.method != "scratch")
-    bad("method '" + s.method + "' is not full, colors or scratch");
-  if (s.method == "scratch") {
+  if (s.method == StyleMethod::scratch) {
     if (!s.sh_delta.empty() || !s.opacity_delta.empty() || !s.mlp.empty()) bad("a scratch style holds no arrays");
     return;
   }
@@ -34,44 +34,48 @@ void check_sizes(const StyleFile& s, const std::string& where, bool reading) {
   };
   expect("style.sh_delta", s.sh_delta.size(), size_t{s.count} * s.sh_coeffs * 3);
   expect("style.opacity_delta", s.opacity_delta.size(), s.count);
-  expect("style.mlp", s.mlp.size(), s.method == "full" ? size_t{s.count} * S4D_STYLE_MLP_STRIDE : 0);
+  expect("style.mlp", s.mlp.size(), s.method == StyleMethod::full ? size_t{s.count} * S4D_STYLE_MLP_STRIDE : 0);
   if (!(s.depth_scale > 0.0f)) bad("depth_scale must be positive");
 }
 
 }  // namespace
 
-fs::path style_dir(const fs::path& run_root, const std::string& name) { return run_root / "style" / name; }
+fs::path style_dir(const fs::path& run_root, const std::string& name) { return RunDir{run_root}.style_dir() / name; }
 fs::path style_file_path(const fs::path& run_root, const std::string& name) { return style_dir(run_root, name) / kFileName; }
 
 void write_style_file(const fs::path& path, const StyleFile& s) {
   check_sizes(s, path.string(), false);
-  train::Checkpoint cp;
+  Checkpoint cp;
   cp.meta = {{"format", "style4d style"},
-             {"method", s.method},
+             {"method", method_name(s.method)},
              {"settings", s.settings},
              {"count", s.count},
              {"sh_coeffs", s.sh_coeffs},
-             {"depth_input", s.depth_input == DepthInput::ndc ? "ndc" : "relative"},
+             {"depth_input", depth_input_name(s.depth_input)},
              {"depth_scale", s.depth_scale},
              {"input_sigmoid", s.input_sigmoid}};
-  if (s.method != "scratch") cp.extra = {{"style.sh_delta", s.sh_delta}, {"style.opacity_delta", s.opacity_delta}};
-  if (s.method == "full") cp.extra.emplace_back("style.mlp", s.mlp);
-  train::write_checkpoint(path, cp);
+  if (s.method != StyleMethod::scratch) cp.extra = {{"style.sh_delta", s.sh_delta}, {"style.opacity_delta", s.opacity_delta}};
+  if (s.method == StyleMethod::full) cp.extra.emplace_back("style.mlp", s.mlp);
+  write_checkpoint(path, cp);
 }
 
 StyleFile read_style_file(const fs::path& path) {
   if (!fs::exists(path)) fail(path, "missing (train the style with style4d stylize)");
-  const train::Checkpoint cp = train::read_checkpoint(path);
+  const Checkpoint cp = read_checkpoint(path);
   StyleFile s;
   try {
     if (cp.meta.value("format", "") != "style4d style") fail(path, "not a style file (a training checkpoint?)");
-    s.method = cp.meta.at("method").get<std::string>();
+    const std::string method = cp.meta.at("method").get<std::string>();
+    const std::optional<StyleMethod> known = parse_method(method);
+    if (!known) fail(path, unknown_method(method));
+    s.method = *known;
     s.settings = cp.meta.at("settings");
     s.count = cp.meta.at("count").get<uint32_t>();
     s.sh_coeffs = cp.meta.at("sh_coeffs").get<uint32_t>();
     const std::string depth = cp.meta.at("depth_input").get<std::string>();
-    if (depth != "ndc" && depth != "relative") fail(path, "depth_input '" + depth + "' is not ndc or relative");
-    s.depth_input = depth == "ndc" ? DepthInput::ndc : DepthInput::relative;
+    const std::optional<DepthInput> input = parse_depth_input(depth);
+    if (!input) fail(path, "depth_input '" + depth + "' is not ndc or relative");
+    s.depth_input = *input;
     s.depth_scale = cp.meta.at("depth_scale").get<float>();
     s.input_sigmoid = cp.meta.at("input_sigmoid").get<bool>();
   } catch (const nlohmann::json::exception& e) {
@@ -90,10 +94,10 @@ StyleFile read_style_file(const fs::path& path) {
 std::vector<std::string> list_styles(const fs::path& run_root) {
   std::vector<std::string> out;
   std::error_code ec;
-  for (const fs::directory_entry& e : fs::directory_iterator(run_root / "style", ec))
+  for (const fs::directory_entry& e : fs::directory_iterator(RunDir{run_root}.style_dir(), ec))
     if (e.is_directory() && fs::exists(e.path() / kFileName)) out.push_back(e.path().filename().string());
   std::sort(out.begin(), out.end());
   return out;
 }
 
-}  // namespace s4d::scene
+}  // namespace s4d::run
