@@ -48,8 +48,9 @@ int cmd_view(const std::vector<std::string>& argv) {
   }
   if (args.positionals().size() != 1) throw std::invalid_argument("expected one run directory: style4d view RUN");
   const std::filesystem::path run_dir = args.positionals()[0];
-  const double time = parse_number<double>("time", args.get_or("time", "0"));
-  if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1]");
+  const std::string time_text = args.get_or("time", "0");
+  const double time = parse_number<double>("time", time_text);
+  if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1], got '" + time_text + "'");
   const size_t camera = parse_number<size_t>("camera", args.get_or("camera", "0"));
   const scene::StyleChoice style = parse_style_choice(args);
   if (auto png = args.get("screenshot")) tools::refuse_run_output(*png, run_dir, "screenshot");

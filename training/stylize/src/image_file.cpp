@@ -1,5 +1,6 @@
 #include "s4d/stylize/image_file.h"
 
+#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -7,13 +8,20 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cv_image.h"
+#include "s4d/io/image_io.h"
 
 namespace s4d::stylize {
 
 io::ImageF read_image_rgb(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path.string() + ": no such file");
   const cv::Mat raw = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  if (raw.empty()) throw std::runtime_error(path.string() + ": not a readable image (PNG, JPEG, ...)");
+  if (raw.empty()) {
+    // OpenCV does not say why; the project's PNG reader names what is wrong with a PNG (and throws).
+    std::string head(8, '\0');
+    std::ifstream(path, std::ios::binary).read(head.data(), 8);
+    if (head == "\x89PNG\r\n\x1a\n") (void)io::read_png(path);
+    throw std::runtime_error(path.string() + ": not a readable image (PNG, JPEG, ...)");
+  }
   cv::Mat rgb;
   switch (raw.channels()) {
     case 1: cv::cvtColor(raw, rgb, cv::COLOR_GRAY2RGB); break;
