@@ -81,24 +81,6 @@ std::string folded(std::string_view s) {
   return out;
 }
 
-// The rule stated at Recorder::dispatch: the block's name less a first and a last word In or Out
-// (words start at upper-case letters) is part of the id's name. A block without a name (a module
-// stripped of names) agrees with any id.
-bool binding_name_agrees(std::string_view id_name, std::string_view block) {
-  const auto is_in_out = [](std::string_view w) { return w == "In" || w == "Out"; };
-  const auto word_end = [&](size_t i) {
-    do ++i;
-    while (i < block.size() && !std::isupper(static_cast<unsigned char>(block[i])));
-    return i;
-  };
-  if (!block.empty() && is_in_out(block.substr(0, word_end(0)))) block.remove_prefix(word_end(0));
-  size_t last = 0;
-  for (size_t i = 0; i < block.size(); i = word_end(i)) last = i;
-  if (is_in_out(block.substr(last))) block.remove_suffix(block.size() - last);
-  if (id_name.starts_with("S4D_B_")) id_name.remove_prefix(6);
-  return folded(id_name).find(folded(block)) != std::string::npos;
-}
-
 // bindings ordered by binding number, each checked against the pipeline's reflected layout.
 std::vector<const Binding*> by_binding(const Pipeline& pipeline, std::span<const Binding> bindings) {
   const std::vector<DescriptorBinding>& layout = pipeline.reflection().bindings;
@@ -106,11 +88,12 @@ std::vector<const Binding*> by_binding(const Pipeline& pipeline, std::span<const
   std::vector<const Binding*> slots(layout.size(), nullptr);
   for (const Binding& b : bindings) {
     if (b.id >= layout.size())
-      throw std::invalid_argument(who() + b.name + " is binding " + std::to_string(b.id) + ", but the shader declares " +
-                                  (layout.empty() ? "no bindings" : "bindings 0.." + std::to_string(layout.size() - 1)));
+      throw std::invalid_argument(
+          who() + b.name + " is binding " + std::to_string(b.id) + ", but the shader declares " +
+          (layout.empty() ? "no bindings" : "bindings 0.." + std::to_string(layout.size() - 1)));
     if (slots[b.id])
-      throw std::invalid_argument(who() + "binding " + std::to_string(b.id) + " is bound twice, as " + slots[b.id]->name +
-                                  " and as " + b.name);
+      throw std::invalid_argument(who() + "binding " + std::to_string(b.id) + " is bound twice, as " +
+                                  slots[b.id]->name + " and as " + b.name);
     if (!binding_name_agrees(b.name, layout[b.id].block))
       throw std::invalid_argument(who() + b.name + " is binding " + std::to_string(b.id) +
                                   ", where the shader declares block '" + layout[b.id].block +
@@ -125,6 +108,21 @@ std::vector<const Binding*> by_binding(const Pipeline& pipeline, std::span<const
 }
 
 }  // namespace
+
+bool binding_name_agrees(std::string_view id_name, std::string_view block) {
+  const auto is_in_out = [](std::string_view w) { return w == "In" || w == "Out"; };
+  const auto word_end = [&](size_t i) {
+    do ++i;
+    while (i < block.size() && !std::isupper(static_cast<unsigned char>(block[i])));
+    return i;
+  };
+  if (!block.empty() && is_in_out(block.substr(0, word_end(0)))) block.remove_prefix(word_end(0));
+  size_t last = 0;
+  for (size_t i = 0; i < block.size(); i = word_end(i)) last = i;
+  if (is_in_out(block.substr(last))) block.remove_suffix(block.size() - last);
+  if (id_name.starts_with("S4D_B_")) id_name.remove_prefix(6);
+  return folded(id_name).find(folded(block)) != std::string::npos;
+}
 
 void Recorder::dispatch_positional(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
                                    size_t params_bytes, uint32_t flat_groups) {
@@ -161,8 +159,9 @@ void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> b
       throw std::invalid_argument(who() + ": range overruns buffer '" + r.buffer->name() + "'");
     const uint64_t align = ctx_->info().min_storage_buffer_offset_alignment;
     if (align > 1 && r.offset % align != 0)
-      throw std::invalid_argument(who() + ": buffer '" + r.buffer->name() + "' starts at offset " + std::to_string(r.offset) +
-                                  ", not a multiple of minStorageBufferOffsetAlignment (" + std::to_string(align) + ")");
+      throw std::invalid_argument(who() + ": buffer '" + r.buffer->name() + "' starts at offset " +
+                                  std::to_string(r.offset) + ", not a multiple of minStorageBufferOffsetAlignment (" +
+                                  std::to_string(align) + ")");
     infos[i] = {.buffer = r.buffer->handle(), .offset = r.offset, .range = r.bytes ? r.bytes : VK_WHOLE_SIZE};
     writes[i] = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                  .dstBinding = static_cast<uint32_t>(i),

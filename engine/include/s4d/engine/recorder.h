@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 namespace s4d::engine {
@@ -40,6 +41,13 @@ struct Binding {
 #define S4D_BIND(ID, ...) \
   ::s4d::engine::Binding { S4D_B_##ID, "S4D_B_" #ID, ::s4d::engine::BufferRange(__VA_ARGS__) }
 
+// Whether an id's name agrees with the shader's block at that binding: the block's name less a
+// first and a last word In or Out (words start at upper-case letters), in lower case, is part of
+// the id's name less S4D_B_ and underscores (S4D_B_ADAM_PARAMS: block Params; S4D_B_RASTER_RGB:
+// block OutRgb). An id of another kernel's header fails it. A block without a name (a module
+// stripped of names) agrees with any id.
+bool binding_name_agrees(std::string_view id_name, std::string_view block);
+
 struct Groups {
   uint32_t x = 1, y = 1, z = 1;
 };
@@ -54,12 +62,9 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   // Dispatches `flat_groups` workgroups of `pipeline`; 0 records nothing. `bindings` come in any
-  // order and must bind each binding of the shader exactly once. Each id's name must agree with
-  // the shader's block at that binding: the block's name less a first and a last word In or Out,
-  // in lower case, is part of the id's name less S4D_B_ and underscores (S4D_B_ADAM_PARAMS:
-  // block Params; S4D_B_RASTER_RGB: block OutRgb), which catches an id of another kernel's header.
-  // `params` must match the push-constant size exactly. Throws std::invalid_argument naming the
-  // pipeline and the binding otherwise.
+  // order and must bind each binding of the shader exactly once, each by an id whose name agrees
+  // with the shader's block there (binding_name_agrees). `params` must match the push-constant
+  // size exactly. Throws std::invalid_argument naming the pipeline and the binding otherwise.
   template <class Params>
   void dispatch(const Pipeline& pipeline, std::initializer_list<Binding> bindings, const Params& params,
                 uint32_t flat_groups) {
