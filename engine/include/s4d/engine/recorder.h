@@ -36,8 +36,8 @@ struct Binding {
   BufferRange range;
 };
 
-// S4D_BIND(ADAM_PARAMS, params) or S4D_BIND(SCAN_DATA, buffer, offset, bytes): binds to
-// S4D_B_ADAM_PARAMS; an unknown id fails to compile.
+// S4D_BIND(ADAM_PARAMS, params) binds `params` to S4D_B_ADAM_PARAMS; S4D_BIND(SCAN_DATA, buffer,
+// offset, bytes) binds a range. An id that no included shared header defines fails to compile.
 #define S4D_BIND(ID, ...) \
   ::s4d::engine::Binding { S4D_B_##ID, "S4D_B_" #ID, ::s4d::engine::BufferRange(__VA_ARGS__) }
 
