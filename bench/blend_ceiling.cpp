@@ -67,7 +67,9 @@ CeilingTiming bench_blend_ceiling(engine::Context& ctx, uint32_t width, uint32_t
     rec.reset_queries(q);
     rec.timestamp(q, 0);
     rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::blend_ceiling),
-                 {xy, conic_opacity, color_depth, rgb, state}, p, t.tiles);
+                 {S4D_BIND(CEIL_XY, xy), S4D_BIND(CEIL_CONIC_OPACITY, conic_opacity),
+                  S4D_BIND(CEIL_COLOR_DEPTH, color_depth), S4D_BIND(CEIL_RGB, rgb), S4D_BIND(CEIL_STATE, state)},
+                 p, t.tiles);
     rec.timestamp(q, 1);
     ctx.run(std::move(rec));
     if (r >= 0) ms.push_back(q.elapsed_ms(0, 1));

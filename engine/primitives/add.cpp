@@ -13,8 +13,8 @@ void cmd_add(engine::Recorder& rec, const engine::Buffer& dst, const engine::Buf
     if (b->size() < size_t{n} * 4)
       throw std::invalid_argument("grad_add: buffer '" + b->name() + "' holds fewer than " + std::to_string(n) + " floats");
   const gpu::AddParams p{.n = n, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
-  rec.dispatch(primitives::shader_pipeline(rec.context(), shaders::Id::grad_add), {dst, src}, p,
-               primitives::ceil_div(n, S4D_ADD_WG));
+  rec.dispatch(primitives::shader_pipeline(rec.context(), shaders::Id::grad_add),
+               {S4D_BIND(ADD_DST, dst), S4D_BIND(ADD_SRC, src)}, p, primitives::ceil_div(n, S4D_ADD_WG));
 }
 
 }  // namespace s4d::primitives

@@ -11,7 +11,8 @@ void cmd_iota(engine::Recorder& rec, const engine::Buffer& out, uint32_t n, uint
   if (out.size() < size_t{n} * 4)
     throw std::invalid_argument("iota: buffer '" + out.name() + "' holds fewer than " + std::to_string(n) + " u32");
   const gpu::IotaParams params{.n = n, .first = first, ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::iota), {out}, params, ceil_div(n, S4D_IOTA_WG));
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::iota), {S4D_BIND(IOTA_OUT, out)}, params,
+               ceil_div(n, S4D_IOTA_WG));
 }
 
 }  // namespace s4d::primitives

@@ -56,11 +56,16 @@ void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const eng
     const uint32_t shift = pass * S4D_RADIX_BITS;
     const uint32_t digit_bits = std::min<uint32_t>(S4D_RADIX_BITS, key_bits - shift);
     const gpu::RadixParams params{.n = n, .shift = shift, .num_blocks = blocks, .digit_mask = (1u << digit_bits) - 1};
-    rec.dispatch(count, {*src_k, scratch.histogram}, params, blocks);
+    rec.dispatch(count, {S4D_BIND(RADIX_COUNT_KEYS, *src_k), S4D_BIND(RADIX_COUNT_HIST, scratch.histogram)}, params,
+                 blocks);
     rec.barrier();
     cmd_exclusive_scan(rec, scratch.histogram, hist_entries, scratch.scan_scratch);
     rec.barrier();
-    rec.dispatch(scatter, {*src_k, *src_v, scratch.histogram, *dst_k, *dst_v}, params, blocks);
+    rec.dispatch(
+        scatter,
+        {S4D_BIND(RADIX_KEYS_IN, *src_k), S4D_BIND(RADIX_VALUES_IN, *src_v), S4D_BIND(RADIX_HIST, scratch.histogram),
+         S4D_BIND(RADIX_KEYS_OUT, *dst_k), S4D_BIND(RADIX_VALUES_OUT, *dst_v)},
+        params, blocks);
     rec.barrier();
     std::swap(src_k, dst_k);
     std::swap(src_v, dst_v);

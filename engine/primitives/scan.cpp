@@ -27,15 +27,18 @@ void scan_level(engine::Recorder& rec, const engine::Buffer& data, size_t data_o
   const gpu::ScanParams params{.n = n, .num_blocks = blocks, ._pad0 = 0, ._pad1 = 0};
   const engine::BufferRange level(data, data_offset, size_t{n} * 4);
   if (blocks == 1) {
-    rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_downsweep), {level, scratch}, params, 1);
+    rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_downsweep),
+                 {S4D_BIND(SCAN_DATA, level), S4D_BIND(SCAN_PARTIALS, scratch)}, params, 1);
     return;
   }
   const engine::BufferRange partials(scratch, scratch_offset, size_t{blocks} * 4);
-  rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_reduce), {level, partials}, params, blocks);
+  rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_reduce),
+               {S4D_BIND(SCAN_DATA, level), S4D_BIND(SCAN_PARTIALS, partials)}, params, blocks);
   rec.barrier();
   scan_level(rec, scratch, scratch_offset, blocks, scratch, scratch_offset + aligned_words(blocks) * 4);
   rec.barrier();
-  rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_downsweep), {level, partials}, params, blocks);
+  rec.dispatch(shader_pipeline(ctx, shaders::Id::scan_downsweep),
+               {S4D_BIND(SCAN_DATA, level), S4D_BIND(SCAN_PARTIALS, partials)}, params, blocks);
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 #include "s4d/engine/recorder.h"
 
 #include <algorithm>
+#include <cctype>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -69,36 +71,97 @@ Groups Recorder::split_groups(uint32_t flat_groups) const {
   return {x, y, 1};
 }
 
-void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
-                            size_t params_bytes, uint32_t flat_groups) {
+namespace {
+
+// Lower case without underscores.
+std::string folded(std::string_view s) {
+  std::string out;
+  for (char c : s)
+    if (c != '_') out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  return out;
+}
+
+// bindings ordered by binding number, each checked against the pipeline's reflected layout.
+std::vector<const Binding*> by_binding(const Pipeline& pipeline, std::span<const Binding> bindings) {
+  const std::vector<DescriptorBinding>& layout = pipeline.reflection().bindings;
+  const auto who = [&] { return "dispatch of '" + pipeline.name() + "': "; };
+  std::vector<const Binding*> slots(layout.size(), nullptr);
+  for (const Binding& b : bindings) {
+    if (b.id >= layout.size())
+      throw std::invalid_argument(
+          who() + b.name + " is binding " + std::to_string(b.id) + ", but the shader declares " +
+          (layout.empty() ? "no bindings" : "bindings 0.." + std::to_string(layout.size() - 1)));
+    if (slots[b.id])
+      throw std::invalid_argument(who() + "binding " + std::to_string(b.id) + " is bound twice, as " +
+                                  slots[b.id]->name + " and as " + b.name);
+    if (!binding_name_agrees(b.name, layout[b.id].block))
+      throw std::invalid_argument(who() + b.name + " is binding " + std::to_string(b.id) +
+                                  ", where the shader declares block '" + layout[b.id].block +
+                                  "': an id of another kernel?");
+    slots[b.id] = &b;
+  }
+  for (size_t i = 0; i < slots.size(); ++i)
+    if (!slots[i])
+      throw std::invalid_argument(who() + "binding " + std::to_string(i) + " (block '" + layout[i].block +
+                                  "') is not bound");
+  return slots;
+}
+
+}  // namespace
+
+bool binding_name_agrees(std::string_view id_name, std::string_view block) {
+  const auto is_in_out = [](std::string_view w) { return w == "In" || w == "Out"; };
+  const auto word_end = [&](size_t i) {
+    do ++i;
+    while (i < block.size() && !std::isupper(static_cast<unsigned char>(block[i])));
+    return i;
+  };
+  if (!block.empty() && is_in_out(block.substr(0, word_end(0)))) block.remove_prefix(word_end(0));
+  size_t last = 0;
+  for (size_t i = 0; i < block.size(); i = word_end(i)) last = i;
+  if (is_in_out(block.substr(last))) block.remove_suffix(block.size() - last);
+  if (id_name.starts_with("S4D_B_")) id_name.remove_prefix(6);
+  return folded(id_name).find(folded(block)) != std::string::npos;
+}
+
+void Recorder::dispatch_positional(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
+                                   size_t params_bytes, uint32_t flat_groups) {
   if (buffers.size() != pipeline.binding_count())
     throw std::invalid_argument("dispatch of '" + pipeline.name() + "': " + std::to_string(buffers.size()) +
                                 " buffers given, the shader declares " + std::to_string(pipeline.binding_count()));
+  std::vector<Binding> bindings;
+  for (uint32_t i = 0; i < buffers.size(); ++i)
+    bindings.push_back({i, pipeline.reflection().bindings[i].block.c_str(), buffers[i]});
+  dispatch_raw(pipeline, bindings, params, params_bytes, flat_groups);
+}
+
+void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                            size_t params_bytes, uint32_t flat_groups) {
+  const std::vector<const Binding*> slots = by_binding(pipeline, bindings);
   if (params_bytes != pipeline.push_constant_bytes())
     throw std::invalid_argument("dispatch of '" + pipeline.name() + "': push constants are " + std::to_string(params_bytes) +
                                 " bytes, the shader declares " + std::to_string(pipeline.push_constant_bytes()));
   if (flat_groups == 0) return;
   const Groups g = split_groups(flat_groups);
 
-  std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-  std::vector<VkWriteDescriptorSet> writes(buffers.size());
-  for (size_t i = 0; i < buffers.size(); ++i) {
-    const BufferRange& r = buffers[i];
-    if (!r.buffer || !r.buffer->valid())
-      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': binding " + std::to_string(i) + " has no buffer");
+  std::vector<VkDescriptorBufferInfo> infos(slots.size());
+  std::vector<VkWriteDescriptorSet> writes(slots.size());
+  for (size_t i = 0; i < slots.size(); ++i) {
+    const BufferRange& r = slots[i]->range;
+    const auto who = [&] { return "dispatch of '" + pipeline.name() + "': " + slots[i]->name; };
+    if (!r.buffer || !r.buffer->valid()) throw std::invalid_argument(who() + " has no buffer");
     if (r.buffer->kind() != BufferKind::storage)
-      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': buffer '" + r.buffer->name() +
+      throw std::invalid_argument(who() + ": buffer '" + r.buffer->name() +
                                   "' is a staging buffer and cannot be bound to a shader");
     // An empty Buffer (size 0) still has a small allocation and binds whole at offset 0.
     const bool empty_whole = r.buffer->size() == 0 && r.offset == 0 && r.bytes == 0;
     if (!empty_whole && (r.offset >= r.buffer->size() || r.bytes > r.buffer->size() - r.offset))
-      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': range of binding " + std::to_string(i) +
-                                  " overruns buffer '" + r.buffer->name() + "'");
+      throw std::invalid_argument(who() + ": range overruns buffer '" + r.buffer->name() + "'");
     const uint64_t align = ctx_->info().min_storage_buffer_offset_alignment;
     if (align > 1 && r.offset % align != 0)
-      throw std::invalid_argument("dispatch of '" + pipeline.name() + "': binding " + std::to_string(i) + " of buffer '" +
-                                  r.buffer->name() + "' starts at offset " + std::to_string(r.offset) +
-                                  ", not a multiple of minStorageBufferOffsetAlignment (" + std::to_string(align) + ")");
+      throw std::invalid_argument(who() + ": buffer '" + r.buffer->name() + "' starts at offset " +
+                                  std::to_string(r.offset) + ", not a multiple of minStorageBufferOffsetAlignment (" +
+                                  std::to_string(align) + ")");
     infos[i] = {.buffer = r.buffer->handle(), .offset = r.offset, .range = r.bytes ? r.bytes : VK_WHOLE_SIZE};
     writes[i] = {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
                  .dstBinding = static_cast<uint32_t>(i),

@@ -204,8 +204,9 @@ class Walker {
         out_.push_constant_bytes = size_of(pointee);
       } else if (v.storage == kStorageStorageBuffer || v.storage == kStorageUniform) {
         if (!binding_.count(v.id)) fail("buffer variable " + std::to_string(v.id) + " has no Binding decoration");
-        DescriptorBinding b{set_.count(v.id) ? set_.at(v.id) : 0, binding_.at(v.id),
-                            v.storage == kStorageStorageBuffer};
+        auto block = names_.find(pointee);
+        DescriptorBinding b{set_.count(v.id) ? set_.at(v.id) : 0, binding_.at(v.id), v.storage == kStorageStorageBuffer,
+                            block != names_.end() ? block->second : ""};
         if (!seen.insert({b.set, b.binding}).second)
           fail("two variables share set " + std::to_string(b.set) + " binding " + std::to_string(b.binding));
         out_.bindings.push_back(b);

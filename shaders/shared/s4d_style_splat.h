@@ -52,7 +52,7 @@
 #define S4D_B_SQUAD_MEANS 0         // [N*3]
 #define S4D_B_SQUAD_LOG_SCALES 1    // [N*3]
 #define S4D_B_SQUAD_QUATS 2         // [N*4]
-#define S4D_B_SQUAD_OUT 3           // [N*S4D_STYLE_QUADRIC_STRIDE]; zeros for culled Gaussians
+#define S4D_B_SQUAD_QUADRIC 3       // [N*S4D_STYLE_QUADRIC_STRIDE]; zeros for culled Gaussians
 
 #define S4D_B_STYLE_RANGES 0
 #define S4D_B_STYLE_GAUSSIAN_IDS 1

@@ -14,7 +14,7 @@ layout(push_constant) uniform Push { ProjectParams p; };
 layout(std430, binding = S4D_B_SQUAD_MEANS) readonly buffer Means { float means[]; };
 layout(std430, binding = S4D_B_SQUAD_LOG_SCALES) readonly buffer LogScales { float log_scales[]; };
 layout(std430, binding = S4D_B_SQUAD_QUATS) readonly buffer Quats { float quats[]; };
-layout(std430, binding = S4D_B_SQUAD_OUT) writeonly buffer Quadric { vec4 quadric[]; };  // [N*3] vec4
+layout(std430, binding = S4D_B_SQUAD_QUADRIC) writeonly buffer Quadric { vec4 quadric[]; };  // [N*3] vec4
 
 void main() {
   uint i = flat_group_id() * S4D_SPLAT_WG + gl_LocalInvocationIndex;

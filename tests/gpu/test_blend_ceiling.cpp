@@ -52,7 +52,10 @@ TEST_CASE("blend_ceiling blends every tile like the twin blends one tile") {
   params.background = {bg[0], bg[1], bg[2], 0.0f};
   params.list_length = L;
   engine::Recorder rec(ctx, "blend_ceiling");
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::blend_ceiling), {bxy, bco, bcd, rgb, state}, params, 6);
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::blend_ceiling),
+               {S4D_BIND(CEIL_XY, bxy), S4D_BIND(CEIL_CONIC_OPACITY, bco), S4D_BIND(CEIL_COLOR_DEPTH, bcd),
+                S4D_BIND(CEIL_RGB, rgb), S4D_BIND(CEIL_STATE, state)},
+               params, 6);
   ctx.run(std::move(rec));
   const auto got_rgb = ctx.download<float>(rgb, size_t{width} * height * 3);
   const auto got_state = ctx.download<uint32_t>(state, size_t{width} * height * 4);

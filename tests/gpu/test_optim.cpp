@@ -203,13 +203,22 @@ TEST_CASE("each loss kernel matches its twin on the same inputs: ssim_hpass, ssi
   gpu::LossParams p{.width = 29, .height = 17, .channels = 3, .n = static_cast<uint32_t>(n), .ssim_weight = 0.2f,
                     .inv_count = 1.0f / static_cast<float>(n), .mode = 0, ._pad0 = 0};
   engine::Recorder rec(ctx, "loss kernels");
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_hpass), {bx, by, stats_h}, p, groups);
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_hpass),
+               {S4D_BIND(SSIM_H_IN_A, bx), S4D_BIND(SSIM_H_IN_B, by), S4D_BIND(SSIM_H_OUT, stats_h)}, p, groups);
   rec.barrier();
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_vpass), {bx, by, stats_h, dmaps, partials}, p, groups);
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_vpass),
+               {S4D_BIND(SSIM_V_IMAGE, bx), S4D_BIND(SSIM_V_TARGET, by), S4D_BIND(SSIM_V_STATS_H, stats_h),
+                S4D_BIND(SSIM_V_DMAPS, dmaps), S4D_BIND(SSIM_V_PARTIALS, partials)},
+               p, groups);
   p.mode = 1;
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_hpass), {bdmaps_in, bdmaps_in, dmaps_h}, p, groups);
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::ssim_hpass),
+               {S4D_BIND(SSIM_H_IN_A, bdmaps_in), S4D_BIND(SSIM_H_IN_B, bdmaps_in), S4D_BIND(SSIM_H_OUT, dmaps_h)}, p,
+               groups);
   rec.barrier();
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::loss_grad), {bx, by, dmaps_h, grad}, p, groups);
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::loss_grad),
+               {S4D_BIND(LOSS_GRAD_IMAGE, bx), S4D_BIND(LOSS_GRAD_TARGET, by), S4D_BIND(LOSS_GRAD_DMAPS_H, dmaps_h),
+                S4D_BIND(LOSS_GRAD_OUT, grad)},
+               p, groups);
   ctx.run(std::move(rec));
 
   // Each twin is fed the GPU's own input to that kernel, so only float rounding in an 11-tap

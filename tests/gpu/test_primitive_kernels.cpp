@@ -48,7 +48,8 @@ TEST_CASE("scan_reduce writes the sum of every block") {
     engine::Buffer d(ctx, "reduce data", size_t{n} * 4), partials(ctx, "reduce partials", size_t{blocks} * 4);
     ctx.upload(d, std::span<const uint32_t>(data));
     engine::Recorder rec(ctx, "scan_reduce");
-    rec.dispatch(kernel(shaders::Id::scan_reduce), {d, partials}, gpu::ScanParams{.n = n, .num_blocks = blocks}, blocks);
+    rec.dispatch(kernel(shaders::Id::scan_reduce), {S4D_BIND(SCAN_DATA, d), S4D_BIND(SCAN_PARTIALS, partials)},
+                 gpu::ScanParams{.n = n, .num_blocks = blocks}, blocks);
     ctx.run(std::move(rec));
     test::expect_equal_arrays(ctx.download<uint32_t>(partials, blocks),
                               ref::block_sums(std::span<const uint32_t>(data), S4D_SCAN_BLOCK), "block sums");
@@ -63,7 +64,8 @@ TEST_CASE("scan_downsweep scans a single block without partials") {
     engine::Buffer d(ctx, "downsweep data", size_t{n} * 4), unused(ctx, "unused partials", 16);
     ctx.upload(d, std::span<const uint32_t>(data));
     engine::Recorder rec(ctx, "scan_downsweep");
-    rec.dispatch(kernel(shaders::Id::scan_downsweep), {d, unused}, gpu::ScanParams{.n = n, .num_blocks = 1}, 1);
+    rec.dispatch(kernel(shaders::Id::scan_downsweep), {S4D_BIND(SCAN_DATA, d), S4D_BIND(SCAN_PARTIALS, unused)},
+                 gpu::ScanParams{.n = n, .num_blocks = 1}, 1);
     ctx.run(std::move(rec));
     ref::exclusive_scan(std::span(data));
     test::expect_equal_arrays(ctx.download<uint32_t>(d, n), data, "single-block scan");
@@ -80,7 +82,7 @@ TEST_CASE("radix_count writes digit-major per-block histograms, with a narrow la
     engine::Buffer k(ctx, "count keys", size_t{n} * 4), hist(ctx, "count hist", size_t{blocks} * S4D_RADIX_BINS * 4);
     ctx.upload(k, std::span<const uint32_t>(keys));
     engine::Recorder rec(ctx, "radix_count");
-    rec.dispatch(kernel(shaders::Id::radix_count), {k, hist},
+    rec.dispatch(kernel(shaders::Id::radix_count), {S4D_BIND(RADIX_COUNT_KEYS, k), S4D_BIND(RADIX_COUNT_HIST, hist)},
                  gpu::RadixParams{.n = n, .shift = shift, .num_blocks = blocks, .digit_mask = mask}, blocks);
     ctx.run(std::move(rec));
     test::expect_equal_arrays(ctx.download<uint32_t>(hist, size_t{blocks} * S4D_RADIX_BINS),
@@ -106,7 +108,9 @@ TEST_CASE("radix_scatter performs one stable pass given the scanned histogram") 
   ctx.upload(v, std::span<const uint32_t>(values));
   ctx.upload(h, std::span<const uint32_t>(hist));
   engine::Recorder rec(ctx, "radix_scatter");
-  rec.dispatch(kernel(shaders::Id::radix_scatter), {k, v, h, ko, vo},
+  rec.dispatch(kernel(shaders::Id::radix_scatter),
+               {S4D_BIND(RADIX_KEYS_IN, k), S4D_BIND(RADIX_VALUES_IN, v), S4D_BIND(RADIX_HIST, h),
+                S4D_BIND(RADIX_KEYS_OUT, ko), S4D_BIND(RADIX_VALUES_OUT, vo)},
                gpu::RadixParams{.n = n, .shift = shift, .num_blocks = blocks, .digit_mask = mask}, blocks);
   ctx.run(std::move(rec));
 

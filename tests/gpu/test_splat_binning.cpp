@@ -72,8 +72,11 @@ TEST_CASE("count_tiles gathers tiles touched in depth order and counts instances
     engine::Buffer bids = engine::buffer_from(test::context(), "ids", ids), btouched = engine::buffer_from(test::context(), "touched", touched);
     engine::Buffer offsets = engine::buffer_from(test::context(), "offsets", std::vector<uint32_t>(n + 1, 7)), totals = engine::buffer_from(test::context(), "totals", std::vector<uint32_t>{0, 0, 0});
     engine::Recorder rec(test::context(), "count_tiles");
-    rec.dispatch(primitives::shader_pipeline(test::context(), shaders::Id::count_tiles), {bids, btouched, offsets, totals},
-                 gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = 1, ._pad0 = 0, ._pad1 = 0}, groups(n + 1));
+    rec.dispatch(primitives::shader_pipeline(test::context(), shaders::Id::count_tiles),
+                 {S4D_BIND(COUNT_SORTED_IDS, bids), S4D_BIND(COUNT_TILES_TOUCHED, btouched),
+                  S4D_BIND(COUNT_OFFSETS, offsets), S4D_BIND(COUNT_TOTALS, totals)},
+                 gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = 1, ._pad0 = 0, ._pad1 = 0},
+                 groups(n + 1));
     test::context().run(std::move(rec));
     const ref::CountTiles want = ref::count_tiles(ids, touched);
     test::expect_equal_arrays(test::context().download<uint32_t>(offsets, n + 1), want.offsets, "offsets");
@@ -100,8 +103,11 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   engine::Buffer keys = engine::buffer_from(test::context(), "keys", std::vector<uint32_t>(instances, 0xDEAD));
   engine::Buffer values = engine::buffer_from(test::context(), "values", std::vector<uint32_t>(instances, 0xDEAD));
   engine::Recorder rec(ctx, "emit_instances");
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::emit_instances), {bids, boffsets, binfo, keys, values},
-               gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(n));
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::emit_instances),
+               {S4D_BIND(EMIT_SORTED_IDS, bids), S4D_BIND(EMIT_OFFSETS, boffsets), S4D_BIND(EMIT_INFO, binfo),
+                S4D_BIND(EMIT_TILE_KEYS, keys), S4D_BIND(EMIT_GAUSSIAN_IDS, values)},
+               gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0},
+               groups(n));
   ctx.run(std::move(rec));
   const ref::Instances want = ref::emit_instances(ids, offsets, info, tiles_x);
   test::expect_equal_arrays(ctx.download<uint32_t>(keys, instances), want.tile_keys, "tile keys");
@@ -118,10 +124,12 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   engine::Buffer longest = engine::buffer_from(test::context(), "longest", std::vector<uint32_t>{0});
   const uint32_t m = static_cast<uint32_t>(sorted_keys.size());
   engine::Recorder rec2(ctx, "tile_ranges");
-  rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_ranges), {bsorted, ranges},
+  rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_ranges),
+                {S4D_BIND(RANGES_TILE_KEYS, bsorted), S4D_BIND(RANGES_OUT, ranges)},
                 gpu::BinningParams{.n = m, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(m));
   rec2.barrier();
-  rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_list_stats), {ranges, longest},
+  rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_list_stats),
+                {S4D_BIND(LIST_STATS_RANGES, ranges), S4D_BIND(LIST_STATS_OUT, longest)},
                 gpu::BinningParams{.n = tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(tiles));
   ctx.run(std::move(rec2));
   const std::vector<uint32_t> want_ranges = ref::tile_ranges(sorted_keys, tiles);

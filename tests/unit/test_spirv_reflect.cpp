@@ -1,5 +1,5 @@
-// The SPIR-V walker: reflection of real embedded modules, and proof that the layout comparison
-// catches each kind of mismatch it is meant to catch.
+// The SPIR-V walker: reflection of real embedded modules (block names included), and proof that
+// the layout comparison catches each kind of mismatch it is meant to catch.
 #include <doctest/doctest.h>
 
 #include <stdexcept>
@@ -46,10 +46,18 @@ TEST_CASE("reflection reads workgroup size, bindings and push-constant size") {
 
   const auto scatter = reflect(s4d::shaders::Id::radix_scatter);
   REQUIRE(scatter.bindings.size() == 5);
+  const char* blocks[] = {"KeysIn", "ValuesIn", "Hist", "KeysOut", "ValuesOut"};
   for (uint32_t i = 0; i < 5; ++i) {
     CHECK(scatter.bindings[i].binding == i);
     CHECK(scatter.bindings[i].storage_buffer);
+    CHECK(scatter.bindings[i].block == blocks[i]);
   }
+}
+
+TEST_CASE("every buffer block of every shader keeps its name, which dispatch checks binding ids against") {
+  for (const auto& entry : s4d::shaders::all())
+    for (const DescriptorBinding& b : reflect_spirv(entry.spirv(), entry.name).bindings)
+      CHECK_MESSAGE(!b.block.empty(), entry.name << " binding " << b.binding << " has no block name");
 }
 
 TEST_CASE("layout comparison accepts the real layout") {

@@ -93,7 +93,9 @@ void Densifier::record_accumulate(engine::Recorder& rec, model::TrainableGaussia
   const uint32_t n = g.size();
   const engine::Buffer& accum = g.stat(model::kGradAccum);
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::densify_accumulate),
-               {r.grad2d(), r.info(), accum, g.stat(model::kGradCount), g.stat(model::kMaxRadius), accum},  // no scratch
+               {S4D_BIND(ACCUM_GRAD2D, r.grad2d()), S4D_BIND(ACCUM_INFO, r.info()), S4D_BIND(ACCUM_GRAD_ACCUM, accum),
+                S4D_BIND(ACCUM_GRAD_COUNT, g.stat(model::kGradCount)),
+                S4D_BIND(ACCUM_MAX_RADIUS, g.stat(model::kMaxRadius)), S4D_BIND(ACCUM_SCRATCH, accum)},  // no scratch
                accumulate_params(n, S4D_ACCUM_VIEW, r.camera()), groups(n));
 }
 
@@ -112,7 +114,9 @@ void Densifier::record_accumulate_batch_add(engine::Recorder& rec, const model::
   if (scratch.size() < size_t{n} * S4D_ACCUM_SCRATCH_STRIDE * 4)
     throw std::invalid_argument("densify: batch scratch '" + scratch.name() + "' is smaller than " + std::to_string(n) + " Gaussians need");
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::densify_accumulate),
-               {r.grad2d(), r.info(), scratch, scratch, scratch, scratch},  // the statistics are not touched
+               {S4D_BIND(ACCUM_GRAD2D, r.grad2d()), S4D_BIND(ACCUM_INFO, r.info()),
+                S4D_BIND(ACCUM_GRAD_ACCUM, scratch), S4D_BIND(ACCUM_GRAD_COUNT, scratch),
+                S4D_BIND(ACCUM_MAX_RADIUS, scratch), S4D_BIND(ACCUM_SCRATCH, scratch)},  // the statistics are not touched
                accumulate_params(n, S4D_ACCUM_BATCH_ADD, r.camera()), groups(n));
 }
 
@@ -122,9 +126,12 @@ void Densifier::record_accumulate_batch_end(engine::Recorder& rec, model::Traina
   if (scratch.size() < size_t{n} * S4D_ACCUM_SCRATCH_STRIDE * 4)
     throw std::invalid_argument("densify: batch scratch '" + scratch.name() + "' is smaller than " + std::to_string(n) + " Gaussians need");
   const gpu::AccumulateParams p{.n = n, .mode = S4D_ACCUM_BATCH_END, .half_width = 0, .half_height = 0};
-  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::densify_accumulate),
-               {scratch, scratch, g.stat(model::kGradAccum), g.stat(model::kGradCount), g.stat(model::kMaxRadius), scratch},
-               p, groups(n));
+  rec.dispatch(
+      primitives::shader_pipeline(*ctx_, shaders::Id::densify_accumulate),
+      {S4D_BIND(ACCUM_GRAD2D, scratch), S4D_BIND(ACCUM_INFO, scratch),
+       S4D_BIND(ACCUM_GRAD_ACCUM, g.stat(model::kGradAccum)), S4D_BIND(ACCUM_GRAD_COUNT, g.stat(model::kGradCount)),
+       S4D_BIND(ACCUM_MAX_RADIUS, g.stat(model::kMaxRadius)), S4D_BIND(ACCUM_SCRATCH, scratch)},
+      p, groups(n));
 }
 
 DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRules& rules) {
@@ -143,10 +150,15 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
     engine::Recorder rec(ctx, name_ + " classify");
     rec.begin_label("densify classify");
     rec.fill(tally_, 0);
-    rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_classify),
-                 {g.param(model::kLogScales), g.param(model::kOpacity), g.stat(model::kGradAccum), g.stat(model::kGradCount),
-                  g.stat(model::kMaxRadius), flags_, counts_, keys_, values_, reduction_},
-                 cp, groups(n));
+    rec.dispatch(
+        primitives::shader_pipeline(ctx, shaders::Id::densify_classify),
+        {S4D_BIND(CLASSIFY_LOG_SCALES, g.param(model::kLogScales)),
+         S4D_BIND(CLASSIFY_OPACITY, g.param(model::kOpacity)), S4D_BIND(CLASSIFY_GRAD_ACCUM, g.stat(model::kGradAccum)),
+         S4D_BIND(CLASSIFY_GRAD_COUNT, g.stat(model::kGradCount)),
+         S4D_BIND(CLASSIFY_MAX_RADIUS, g.stat(model::kMaxRadius)), S4D_BIND(CLASSIFY_FLAGS, flags_),
+         S4D_BIND(CLASSIFY_COUNTS, counts_), S4D_BIND(CLASSIFY_KEYS, keys_), S4D_BIND(CLASSIFY_VALUES, values_),
+         S4D_BIND(CLASSIFY_REDUCTION, reduction_)},
+        cp, groups(n));
     rec.barrier();
     primitives::cmd_exclusive_scan(rec, counts_, n + 1, scan_scratch_);
     rec.end_label();
@@ -162,14 +174,19 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
     primitives::cmd_radix_sort(rec, keys_, values_, n, 32, sort_);
     rec.barrier();
     const gpu::SlotParams gather{.n = n, .width = 1, .zero_new = 0, .value = 0};  // source indices are slot words of kind 0
-    rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_gather), {values_, reduction_, sorted_reduction_},
-                 gather, groups(n));
+    rec.dispatch(
+        primitives::shader_pipeline(ctx, shaders::Id::densify_gather),
+        {S4D_BIND(GATHER_SLOTS, values_), S4D_BIND(GATHER_SRC, reduction_), S4D_BIND(GATHER_DST, sorted_reduction_)},
+        gather, groups(n));
     rec.barrier();
     primitives::cmd_exclusive_scan(rec, sorted_reduction_, n, scan_scratch_);
     rec.barrier();
     const gpu::DemoteParams dp{.n = n, .excess = total - rules.budget, ._pad0 = 0, ._pad1 = 0};
     rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_demote),
-                 {values_, sorted_reduction_, reduction_, flags_, counts_, tally_}, dp, groups(n));
+                 {S4D_BIND(DEMOTE_VALUES, values_), S4D_BIND(DEMOTE_PREFIX, sorted_reduction_),
+                  S4D_BIND(DEMOTE_REDUCTION, reduction_), S4D_BIND(DEMOTE_FLAGS, flags_),
+                  S4D_BIND(DEMOTE_COUNTS, counts_), S4D_BIND(DEMOTE_TALLY, tally_)},
+                 dp, groups(n));
     rec.barrier();
     primitives::cmd_exclusive_scan(rec, counts_, n + 1, scan_scratch_);
     rec.end_label();
@@ -185,7 +202,10 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
     engine::Recorder rec(ctx, name_ + " compact");
     rec.begin_label("densify compact");
     const gpu::SlotParams mp{.n = n, .width = 0, .zero_new = 0, .value = 0};
-    rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_map), {flags_, counts_, slots, tally_}, mp, groups(n));
+    rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_map),
+                 {S4D_BIND(MAP_FLAGS, flags_), S4D_BIND(MAP_OFFSETS, counts_), S4D_BIND(MAP_SLOTS, slots),
+                  S4D_BIND(MAP_TALLY, tally_)},
+                 mp, groups(n));
     if (rules.reset_statistics)
       for (engine::Buffer& s : next.stat) rec.fill(s, 0);
     if (m > 0) {
@@ -193,8 +213,10 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
       const engine::Pipeline& gather = primitives::shader_pipeline(ctx, shaders::Id::densify_gather);
       if (!rules.reset_statistics)
         for (uint32_t k = 0; k < model::kStatCount; ++k)
-          rec.dispatch(gather, {slots, g.stat(Stat(k)), next.stat[k]}, gpu::SlotParams{.n = m, .width = 1, .zero_new = 1, .value = 0},
-                       groups(m));
+          rec.dispatch(gather,
+                       {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.stat(Stat(k))),
+                        S4D_BIND(GATHER_DST, next.stat[k])},
+                       gpu::SlotParams{.n = m, .width = 1, .zero_new = 1, .value = 0}, groups(m));
       for (uint32_t a = 0; a < model::kAttrCount; ++a) {
         const uint32_t w = g.width(Attr(a));
         if (uint64_t{m} * w >= (uint64_t{1} << 32))
@@ -202,15 +224,26 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
                                       " Gaussians exceeds 2^32 words");
         const gpu::SlotParams copy{.n = m, .width = w, .zero_new = 0, .value = 0};
         const gpu::SlotParams fresh_zero{.n = m, .width = w, .zero_new = 1, .value = 0};
-        rec.dispatch(gather, {slots, g.param(Attr(a)), next.param[a]}, copy, groups(uint64_t{m} * w));
-        rec.dispatch(gather, {slots, g.moment1(Attr(a)), next.m[a]}, fresh_zero, groups(uint64_t{m} * w));
-        rec.dispatch(gather, {slots, g.moment2(Attr(a)), next.v[a]}, fresh_zero, groups(uint64_t{m} * w));
+        rec.dispatch(gather,
+                     {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.param(Attr(a))),
+                      S4D_BIND(GATHER_DST, next.param[a])},
+                     copy, groups(uint64_t{m} * w));
+        rec.dispatch(
+            gather,
+            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment1(Attr(a))), S4D_BIND(GATHER_DST, next.m[a])},
+            fresh_zero, groups(uint64_t{m} * w));
+        rec.dispatch(
+            gather,
+            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment2(Attr(a))), S4D_BIND(GATHER_DST, next.v[a])},
+            fresh_zero, groups(uint64_t{m} * w));
       }
       rec.barrier();
       const gpu::SplitParams sp{.n = m, .seed = rules.seed, .log_split_shrink = cp.log_split_shrink, ._pad0 = 0};
       rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_split),
-                   {slots, g.param(model::kMeans), g.param(model::kLogScales), g.param(model::kQuats),
-                    next.param[model::kMeans], next.param[model::kLogScales]},
+                   {S4D_BIND(SPLIT_SLOTS, slots), S4D_BIND(SPLIT_MEANS, g.param(model::kMeans)),
+                    S4D_BIND(SPLIT_LOG_SCALES, g.param(model::kLogScales)),
+                    S4D_BIND(SPLIT_QUATS, g.param(model::kQuats)), S4D_BIND(SPLIT_OUT_MEANS, next.param[model::kMeans]),
+                    S4D_BIND(SPLIT_OUT_LOG_SCALES, next.param[model::kLogScales])},
                    sp, groups(m));
     }
     rec.end_label();
@@ -234,7 +267,9 @@ void Densifier::reset_opacity(model::TrainableGaussians& g, float max_opacity) {
   engine::Recorder rec(*ctx_, name_ + " reset opacity");
   const gpu::SlotParams p{.n = n, .width = 1, .zero_new = 0, .value = gpu::densify_reset_logit(max_opacity)};
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::densify_reset_opacity),
-               {g.param(model::kOpacity), g.moment1(model::kOpacity), g.moment2(model::kOpacity)}, p, groups(n));
+               {S4D_BIND(RESET_OPACITY, g.param(model::kOpacity)), S4D_BIND(RESET_M, g.moment1(model::kOpacity)),
+                S4D_BIND(RESET_V, g.moment2(model::kOpacity))},
+               p, groups(n));
   ctx_->run(std::move(rec));
 }
 

@@ -47,7 +47,8 @@ Tensor attention_scores(engine::Recorder& rec, const Tensor& q, const Tensor& k,
   check_loop(q.c, "key channels");
   Tensor s = make_tensor(rec.context(), "attention scores", 1, rows, static_cast<uint32_t>(k.plane()));
   const auto p = params(q.c, q.plane(), k.plane(), first, rows);
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_scores), {q.buffer, k.buffer, s.buffer}, p,
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_scores),
+               {S4D_BIND(ATTN_Q, q.buffer), S4D_BIND(ATTN_K, k.buffer), S4D_BIND(ATTN_SCORES, s.buffer)}, p,
                ceil_div(s.count(), S4D_NN_WG));
   rec.barrier();
   return s;
@@ -57,7 +58,8 @@ void softmax_rows(engine::Recorder& rec, Tensor& scores) {
   if (scores.c != 1) fail("softmax expects [1, rows, n], got " + scores.shape());
   check_loop(3 * uint64_t{ceil_div(scores.w, S4D_NN_SOFTMAX_WG)}, "softmax row passes");
   const auto p = params(0, 0, scores.w, 0, scores.h);
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_softmax_rows), {scores.buffer}, p, scores.h);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_softmax_rows), {S4D_BIND(SOFTMAX_DATA, scores.buffer)}, p,
+               scores.h);
   rec.barrier();
 }
 
@@ -71,7 +73,9 @@ void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, co
   check_loop(p.w, "style positions");
   const auto pc = params(v.c, content.plane(), v.plane(), first, p.h);
   rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_apply),
-               {p.buffer, v.buffer, content.buffer, out.buffer}, pc, ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
+               {S4D_BIND(ATTN_P, p.buffer), S4D_BIND(ATTN_V, v.buffer), S4D_BIND(ATTN_CONTENT, content.buffer),
+                S4D_BIND(ATTN_OUT, out.buffer)},
+               pc, ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
   rec.barrier();
 }
 

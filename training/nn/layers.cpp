@@ -53,8 +53,10 @@ Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32
                             .tiles_y = ceil_div(x.h, S4D_NN_CONV_WG_Y),
                             .flags = flags,
                             ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), id), {x.buffer, w.weight, w.bias, y.buffer}, p,
-               p.tiles_x * p.tiles_y * ceil_div(w.cout, S4D_NN_CONV_COUT));
+  rec.dispatch(shader_pipeline(rec.context(), id),
+               {S4D_BIND(CONV_IN, x.buffer), S4D_BIND(CONV_WEIGHT, w.weight), S4D_BIND(CONV_BIAS, w.bias),
+                S4D_BIND(CONV_OUT, y.buffer)},
+               p, p.tiles_x * p.tiles_y * ceil_div(w.cout, S4D_NN_CONV_COUT));
   rec.barrier();
   return out;
 }
@@ -70,7 +72,8 @@ Tensor resize(engine::Recorder& rec, const Tensor& x, shaders::Id id, uint32_t o
                               .n_out = static_cast<uint32_t>(y.count()),
                               ._pad0 = 0,
                               ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), id), {x.buffer, y.buffer}, p, ceil_div(y.count(), S4D_NN_WG));
+  rec.dispatch(shader_pipeline(rec.context(), id), {S4D_BIND(RESIZE_IN, x.buffer), S4D_BIND(RESIZE_OUT, y.buffer)}, p,
+               ceil_div(y.count(), S4D_NN_WG));
   rec.barrier();
   return y;
 }
@@ -82,7 +85,9 @@ Tensor adain_mode(engine::Recorder& rec, const Tensor& x, const engine::Buffer& 
   check_stats(layer, x, style_stats);
   Tensor y = make_tensor(rec.context(), layer, x.c, x.h, x.w);
   const gpu::NnAdainParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .alpha = alpha, .mode = mode};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_adain), {x.buffer, content_stats, style_stats, y.buffer},
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_adain),
+               {S4D_BIND(ADAIN_IN, x.buffer), S4D_BIND(ADAIN_CONTENT_STATS, content_stats),
+                S4D_BIND(ADAIN_STYLE_STATS, style_stats), S4D_BIND(ADAIN_OUT, y.buffer)},
                p, ceil_div(y.count(), S4D_NN_WG));
   rec.barrier();
   return y;
@@ -93,7 +98,8 @@ Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, flo
   if (a.c != b.c || a.h != b.h || a.w != b.w) fail(layer, "shapes " + a.shape() + " and " + b.shape() + " differ");
   Tensor y = make_tensor(rec.context(), layer, a.c, a.h, a.w);
   const gpu::NnBlendParams p{.n = static_cast<uint32_t>(a.count()), .alpha = alpha, .beta = beta, ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend), {a.buffer, b.buffer, y.buffer}, p,
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_blend),
+               {S4D_BIND(BLEND_A, a.buffer), S4D_BIND(BLEND_B, b.buffer), S4D_BIND(BLEND_OUT, y.buffer)}, p,
                ceil_div(a.count(), S4D_NN_WG));
   rec.barrier();
   return y;
@@ -145,8 +151,10 @@ Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w
                                    .flags = relu ? S4D_NN_FLAG_RELU : 0u,
                                    .n_out = static_cast<uint32_t>(y.count()),
                                    ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv_strided), {x.buffer, w.weight, w.bias, y.buffer}, p,
-               ceil_div(y.count(), S4D_NN_WG));
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv_strided),
+               {S4D_BIND(CONV_IN, x.buffer), S4D_BIND(CONV_WEIGHT, w.weight), S4D_BIND(CONV_BIAS, w.bias),
+                S4D_BIND(CONV_OUT, y.buffer)},
+               p, ceil_div(y.count(), S4D_NN_WG));
   rec.barrier();
   return y;
 }
@@ -163,7 +171,8 @@ void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeight
 
 void relu_inplace(engine::Recorder& rec, Tensor& x) {
   const gpu::NnEltParams p{.n = static_cast<uint32_t>(x.count()), .count = 0, ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_relu), {x.buffer}, p, ceil_div(x.count(), S4D_NN_WG));
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_relu), {S4D_BIND(RELU_DATA, x.buffer)}, p,
+               ceil_div(x.count(), S4D_NN_WG));
   rec.barrier();
 }
 
@@ -194,7 +203,8 @@ engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps) {
   check_stats_input("mean_std", x);
   engine::Buffer stats(rec.context(), "mean_std", 2 * size_t{x.c} * sizeof(float));
   const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = eps, ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats), {x.buffer, stats}, p, x.c);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats),
+               {S4D_BIND(STATS_IN, x.buffer), S4D_BIND(STATS_OUT, stats)}, p, x.c);
   rec.barrier();
   return stats;
 }
@@ -203,7 +213,8 @@ Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x) {
   check_stats_input("squares_over_sum", x);
   Tensor a = make_tensor(rec.context(), "squares_over_sum", x.c, 1, 1);
   const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = 0.0f, ._pad0 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats_mcc), {x.buffer, a.buffer}, p, x.c);
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_stats_mcc),
+               {S4D_BIND(STATS_IN, x.buffer), S4D_BIND(STATS_OUT, a.buffer)}, p, x.c);
   rec.barrier();
   return a;
 }
@@ -222,8 +233,8 @@ void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& fact
     fail("scale_channels", "factors '" + factors.name() + "' hold fewer than " + std::to_string(x.c) + " values");
   const gpu::NnEltParams p{
       .n = static_cast<uint32_t>(x.count()), .count = static_cast<uint32_t>(x.plane()), ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_scale_channels), {x.buffer, factors}, p,
-               ceil_div(x.count(), S4D_NN_WG));
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_scale_channels),
+               {S4D_BIND(SCALE_DATA, x.buffer), S4D_BIND(SCALE_FACTORS, factors)}, p, ceil_div(x.count(), S4D_NN_WG));
   rec.barrier();
 }
 

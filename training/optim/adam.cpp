@@ -50,8 +50,10 @@ void Adam::record_rows(engine::Recorder& rec, uint32_t group, uint32_t tail_grou
       throw std::invalid_argument(name_ + ": buffer '" + b->name() + "' holds fewer than " + std::to_string(n) + " floats");
   const gpu::AdamParams p{
       .n = n, .group = group, .tail_group = tail_group, .row = row, .head = head, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
-  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::adam_step), {buffer_, params, grads, m, v}, p,
-               primitives::ceil_div(n, S4D_ADAM_WG));
+  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::adam_step),
+               {S4D_BIND(ADAM_GROUPS, buffer_), S4D_BIND(ADAM_PARAMS, params), S4D_BIND(ADAM_GRADS, grads),
+                S4D_BIND(ADAM_M, m), S4D_BIND(ADAM_V, v)},
+               p, primitives::ceil_div(n, S4D_ADAM_WG));
 }
 
 }  // namespace s4d::optim

@@ -38,14 +38,22 @@ void ImageLoss::record(engine::Recorder& rec, const engine::Buffer& image, const
   gpu::LossParams p{.width = width, .height = height, .channels = channels, .n = n, .ssim_weight = ssim_weight,
                     .inv_count = 1.0f / static_cast<float>(n), .mode = 0, ._pad0 = 0};
   const engine::Pipeline& hpass = shader_pipeline(*ctx_, shaders::Id::ssim_hpass);
-  rec.dispatch(hpass, {image, target, stats_h_}, p, groups);
+  rec.dispatch(hpass, {S4D_BIND(SSIM_H_IN_A, image), S4D_BIND(SSIM_H_IN_B, target), S4D_BIND(SSIM_H_OUT, stats_h_)}, p,
+               groups);
   rec.barrier();
-  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::ssim_vpass), {image, target, stats_h_, dmaps_, partials_}, p, groups);
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::ssim_vpass),
+               {S4D_BIND(SSIM_V_IMAGE, image), S4D_BIND(SSIM_V_TARGET, target), S4D_BIND(SSIM_V_STATS_H, stats_h_),
+                S4D_BIND(SSIM_V_DMAPS, dmaps_), S4D_BIND(SSIM_V_PARTIALS, partials_)},
+               p, groups);
   rec.barrier();
   p.mode = 1;
-  rec.dispatch(hpass, {dmaps_, dmaps_, dmaps_h_}, p, groups);
+  rec.dispatch(hpass, {S4D_BIND(SSIM_H_IN_A, dmaps_), S4D_BIND(SSIM_H_IN_B, dmaps_), S4D_BIND(SSIM_H_OUT, dmaps_h_)}, p,
+               groups);
   rec.barrier();
-  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::loss_grad), {image, target, dmaps_h_, grad}, p, groups);
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::loss_grad),
+               {S4D_BIND(LOSS_GRAD_IMAGE, image), S4D_BIND(LOSS_GRAD_TARGET, target),
+                S4D_BIND(LOSS_GRAD_DMAPS_H, dmaps_h_), S4D_BIND(LOSS_GRAD_OUT, grad)},
+               p, groups);
   last_n_ = n;
   last_weight_ = ssim_weight;
 }

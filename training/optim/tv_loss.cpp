@@ -30,7 +30,8 @@ void TvLoss::record(engine::Recorder& rec, const engine::Buffer& image, uint32_t
   const double pairs = double(channels) * (double(width - 1) * height + double(width) * (height - 1));
   const gpu::TvParams p{.width = width, .height = height, .channels = channels, .n = n, .weight = weight,
                         .inv_pairs = static_cast<float>(1.0 / pairs), ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::tv_grad), {image, grad, partials_}, p, groups);
+  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::tv_grad),
+               {S4D_BIND(TV_IMAGE, image), S4D_BIND(TV_GRAD, grad), S4D_BIND(TV_PARTIALS, partials_)}, p, groups);
   last_groups_ = groups;
   last_scale_ = weight / pairs;
 }

@@ -32,7 +32,8 @@ void project_means(engine::Context& ctx, const GaussianParams& g, const Camera& 
   if (g.count == 0) return;
   const gpu::FlowProjectParams p{.cam = gpu_camera(cam), .n = g.count, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
   engine::Recorder rec(ctx, "flow project");
-  rec.dispatch(shader_pipeline(ctx, shaders::Id::flow_project), {*g.means, screen}, p, ceil_div(g.count, S4D_FLOW_WG));
+  rec.dispatch(shader_pipeline(ctx, shaders::Id::flow_project),
+               {S4D_BIND(FLOWP_MEANS, *g.means), S4D_BIND(FLOWP_SCREEN, screen)}, p, ceil_div(g.count, S4D_FLOW_WG));
   ctx.run(std::move(rec));
 }
 
@@ -44,7 +45,9 @@ void screen_displacement(engine::Context& ctx, const engine::Buffer& from, const
   if (n == 0) return;
   const gpu::FlowDisplaceParams p{.n = n, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
   engine::Recorder rec(ctx, "flow displace");
-  rec.dispatch(shader_pipeline(ctx, shaders::Id::flow_displace), {from, to, colors}, p, ceil_div(n, S4D_FLOW_WG));
+  rec.dispatch(shader_pipeline(ctx, shaders::Id::flow_displace),
+               {S4D_BIND(FLOWD_FROM, from), S4D_BIND(FLOWD_TO, to), S4D_BIND(FLOWD_COLORS, colors)}, p,
+               ceil_div(n, S4D_FLOW_WG));
   ctx.run(std::move(rec));
 }
 

@@ -189,12 +189,18 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   // Submission 1: project, sort by depth, count tiles in depth order, scan to offsets.
   {
     engine::Recorder rec(*ctx_, name_ + " project");
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_fwd),
-                 {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, xy_,
-                  conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_},
-                 pp, ceil_div(n, S4D_SPLAT_WG));
+    rec.dispatch(
+        shader_pipeline(*ctx_, shaders::Id::project_fwd),
+        {S4D_BIND(PROJ_MEANS, *g.means), S4D_BIND(PROJ_LOG_SCALES, *g.log_scales), S4D_BIND(PROJ_QUATS, *g.quats),
+         S4D_BIND(PROJ_OPACITY_LOGITS, *g.opacity_logits), S4D_BIND(PROJ_SH, g.sh ? *g.sh : colors),
+         S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
+         S4D_BIND(PROJ_COLOR_DEPTH, color_depth_), S4D_BIND(PROJ_INFO, info_), S4D_BIND(PROJ_DEPTH_KEYS, depth_keys_),
+         S4D_BIND(PROJ_TILES_TOUCHED, tiles_touched_)},
+        pp, ceil_div(n, S4D_SPLAT_WG));
     if (g.style != nullptr)
-      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric), {*g.means, *g.log_scales, *g.quats, quadric_},
+      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric),
+                   {S4D_BIND(SQUAD_MEANS, *g.means), S4D_BIND(SQUAD_LOG_SCALES, *g.log_scales),
+                    S4D_BIND(SQUAD_QUATS, *g.quats), S4D_BIND(SQUAD_QUADRIC, quadric_)},
                    pp, ceil_div(n, S4D_SPLAT_WG));
     primitives::cmd_iota(rec, sorted_ids_, n);
     rec.barrier();
@@ -202,7 +208,9 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     rec.fill(totals_, 0);
     rec.barrier();
     const gpu::BinningParams bp{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles), {sorted_ids_, tiles_touched_, offsets_, totals_},
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles),
+                 {S4D_BIND(COUNT_SORTED_IDS, sorted_ids_), S4D_BIND(COUNT_TILES_TOUCHED, tiles_touched_),
+                  S4D_BIND(COUNT_OFFSETS, offsets_), S4D_BIND(COUNT_TOTALS, totals_)},
                  bp, ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
     rec.barrier();
     primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
@@ -229,34 +237,45 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     rec.fill(ranges_, 0, size_t{num_tiles} * 8);
     const gpu::BinningParams ep{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::emit_instances),
-                 {sorted_ids_, offsets_, info_, tile_keys_, gaussian_ids_}, ep, ceil_div(n, S4D_SPLAT_WG));
+                 {S4D_BIND(EMIT_SORTED_IDS, sorted_ids_), S4D_BIND(EMIT_OFFSETS, offsets_), S4D_BIND(EMIT_INFO, info_),
+                  S4D_BIND(EMIT_TILE_KEYS, tile_keys_), S4D_BIND(EMIT_GAUSSIAN_IDS, gaussian_ids_)},
+                 ep, ceil_div(n, S4D_SPLAT_WG));
     rec.barrier();
     const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(num_tiles - 1)));
     primitives::cmd_radix_sort(rec, tile_keys_, gaussian_ids_, instances, tile_bits,
                                tile_sort_);
     rec.barrier();
     const gpu::BinningParams rp{.n = instances, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_ranges), {tile_keys_, ranges_}, rp,
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_ranges),
+                 {S4D_BIND(RANGES_TILE_KEYS, tile_keys_), S4D_BIND(RANGES_OUT, ranges_)}, rp,
                  ceil_div(instances, S4D_SPLAT_WG));
     rec.barrier();
     rec.fill(list_stats_, 0);
     rec.barrier();
     const gpu::BinningParams sp{.n = num_tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats), {ranges_, list_stats_}, sp,
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats),
+                 {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
                  ceil_div(num_tiles, S4D_SPLAT_WG));
     if (g.style != nullptr) {
-      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_raster_fwd),
-                   {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, quadric_, *g.style->weights, rgb_,
-                    alpha_, depth_, count_, last_, final_t_},
-                   style_raster_params(*g.style, pp.cam, background, 0u), num_tiles);
+      rec.dispatch(
+          shader_pipeline(*ctx_, shaders::Id::style_raster_fwd),
+          {S4D_BIND(STYLE_RANGES, ranges_), S4D_BIND(STYLE_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(STYLE_XY, xy_),
+           S4D_BIND(STYLE_CONIC_OPACITY, conic_opacity_), S4D_BIND(STYLE_COLOR_DEPTH, color_depth_),
+           S4D_BIND(STYLE_QUADRIC, quadric_), S4D_BIND(STYLE_MLP, *g.style->weights), S4D_BIND(SRAST_RGB, rgb_),
+           S4D_BIND(SRAST_ALPHA, alpha_), S4D_BIND(SRAST_DEPTH, depth_), S4D_BIND(SRAST_COUNT, count_),
+           S4D_BIND(SRAST_LAST, last_), S4D_BIND(SRAST_FINAL_T, final_t_)},
+          style_raster_params(*g.style, pp.cam, background, 0u), num_tiles);
     } else {
       gpu::RasterParams raster{};
       raster.size = pp.cam.size;
       raster.background = {background[0], background[1], background[2], 0.0f};
-      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::raster_fwd),
-                   {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, rgb_, alpha_, depth_, count_, last_,
-                    final_t_},
-                   raster, num_tiles);
+      rec.dispatch(
+          shader_pipeline(*ctx_, shaders::Id::raster_fwd),
+          {S4D_BIND(RASTER_RANGES, ranges_), S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(RASTER_XY, xy_),
+           S4D_BIND(RASTER_CONIC_OPACITY, conic_opacity_), S4D_BIND(RASTER_COLOR_DEPTH, color_depth_),
+           S4D_BIND(RASTER_RGB, rgb_), S4D_BIND(RASTER_ALPHA, alpha_), S4D_BIND(RASTER_DEPTH, depth_),
+           S4D_BIND(RASTER_COUNT, count_), S4D_BIND(RASTER_LAST, last_), S4D_BIND(RASTER_FINAL_T, final_t_)},
+          raster, num_tiles);
     }
     ctx_->run(std::move(rec));
   }
@@ -315,21 +334,32 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   if (style_last_) {
     const shaders::Id id = float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas;
     rec.dispatch(shader_pipeline(*ctx_, id),
-                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, quadric_, *g.style->weights, final_t_,
-                  last_, *v.v_rgb, v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_,
-                  *out.v_style_mlp},
+                 {S4D_BIND(STYLE_RANGES, ranges_), S4D_BIND(STYLE_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(STYLE_XY, xy_),
+                  S4D_BIND(STYLE_CONIC_OPACITY, conic_opacity_), S4D_BIND(STYLE_COLOR_DEPTH, color_depth_),
+                  S4D_BIND(STYLE_QUADRIC, quadric_), S4D_BIND(STYLE_MLP, *g.style->weights),
+                  S4D_BIND(SRBWD_FINAL_T, final_t_), S4D_BIND(SRBWD_LAST, last_), S4D_BIND(SRBWD_V_RGB, *v.v_rgb),
+                  S4D_BIND(SRBWD_V_ALPHA, v.v_alpha ? *v.v_alpha : *v.v_rgb),
+                  S4D_BIND(SRBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(SRBWD_GRAD2D, grad2d_),
+                  S4D_BIND(SRBWD_V_MLP, *out.v_style_mlp)},
                  style_raster_params(*g.style, pp.cam, background_, raster.flags), num_tiles);
   } else {
     rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas),
-                 {ranges_, gaussian_ids_, xy_, conic_opacity_, color_depth_, final_t_, last_, *v.v_rgb,
-                  v.v_alpha ? *v.v_alpha : *v.v_rgb, v.v_depth ? *v.v_depth : *v.v_rgb, grad2d_},
+                 {S4D_BIND(RBWD_RANGES, ranges_), S4D_BIND(RBWD_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(RBWD_XY, xy_),
+                  S4D_BIND(RBWD_CONIC_OPACITY, conic_opacity_), S4D_BIND(RBWD_COLOR_DEPTH, color_depth_),
+                  S4D_BIND(RBWD_FINAL_T, final_t_), S4D_BIND(RBWD_LAST, last_), S4D_BIND(RBWD_V_RGB, *v.v_rgb),
+                  S4D_BIND(RBWD_V_ALPHA, v.v_alpha ? *v.v_alpha : *v.v_rgb),
+                  S4D_BIND(RBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(RBWD_GRAD2D, grad2d_)},
                  raster, num_tiles);
   }
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
-               {*g.means, *g.log_scales, *g.quats, *g.opacity_logits, g.sh ? *g.sh : colors, colors, info_,
-                conic_opacity_, grad2d_, *out.v_means, *out.v_log_scales, *out.v_quats, *out.v_opacity_logits,
-                out.v_sh ? *out.v_sh : v_colors, v_colors},
+               {S4D_BIND(PBWD_MEANS, *g.means), S4D_BIND(PBWD_LOG_SCALES, *g.log_scales),
+                S4D_BIND(PBWD_QUATS, *g.quats), S4D_BIND(PBWD_OPACITY_LOGITS, *g.opacity_logits),
+                S4D_BIND(PBWD_SH, g.sh ? *g.sh : colors), S4D_BIND(PBWD_COLORS, colors), S4D_BIND(PBWD_INFO, info_),
+                S4D_BIND(PBWD_CONIC_OPACITY, conic_opacity_), S4D_BIND(PBWD_GRAD2D, grad2d_),
+                S4D_BIND(PBWD_V_MEANS, *out.v_means), S4D_BIND(PBWD_V_LOG_SCALES, *out.v_log_scales),
+                S4D_BIND(PBWD_V_QUATS, *out.v_quats), S4D_BIND(PBWD_V_OPACITY_LOGITS, *out.v_opacity_logits),
+                S4D_BIND(PBWD_V_SH, out.v_sh ? *out.v_sh : v_colors), S4D_BIND(PBWD_V_COLORS, v_colors)},
                pp, ceil_div(n, S4D_SPLAT_WG));
   ctx_->run(std::move(rec));
 }

@@ -17,8 +17,8 @@ splat::RenderStats FrameRenderer::render(scene::SceneSource& source, const splat
   const gpu::PackParams params{.pixels = pixels, .swap_rb = order == PixelOrder::bgra ? 1u : 0u, ._pad0 = 0, ._pad1 = 0};
   rec.begin_label("present_pack");
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::present_pack),
-               {engine::BufferRange(rasterizer_.rgb(), 0, size_t{pixels} * 12),
-                engine::BufferRange(pixels_, 0, size_t{pixels} * 4)},
+               {S4D_BIND(PACK_RGB, rasterizer_.rgb(), 0, size_t{pixels} * 12),
+                S4D_BIND(PACK_PIXELS, pixels_, 0, size_t{pixels} * 4)},
                params, primitives::ceil_div(pixels, S4D_PACK_WG));
   rec.end_label();
   return stats;

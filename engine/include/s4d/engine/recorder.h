@@ -1,7 +1,7 @@
 // Records compute work into one command buffer; the context submits it. Every dispatch goes
-// through dispatch(), which checks the buffers and push constants against the pipeline's reflected
-// layout and splits group counts past the device limit into a 2-D grid (kernels recover the flat
-// group index with flat_group_id() from shaders/include/flat_group.glsl).
+// through dispatch(), which binds buffers by their S4D_B_* ids, checks them and the push constants
+// against the pipeline's reflected layout and splits group counts past the device limit into a 2-D
+// grid (kernels recover the flat group index with flat_group_id() from shaders/include/flat_group.glsl).
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <string_view>
 #include <type_traits>
 
 namespace s4d::engine {
@@ -27,6 +28,26 @@ struct BufferRange {
       : buffer(&b), offset(offset_bytes), bytes(size_bytes) {}
 };
 
+// A buffer bound to a binding id of a kernel's shared header, with the id's name for messages
+// and for the check against the shader's block name. Write it with S4D_BIND.
+struct Binding {
+  uint32_t id;
+  const char* name;  // "S4D_B_ADAM_PARAMS"
+  BufferRange range;
+};
+
+// S4D_BIND(ADAM_PARAMS, params) binds `params` to S4D_B_ADAM_PARAMS; S4D_BIND(SCAN_DATA, buffer,
+// offset, bytes) binds a range. An id that no included shared header defines fails to compile.
+#define S4D_BIND(ID, ...) \
+  ::s4d::engine::Binding { S4D_B_##ID, "S4D_B_" #ID, ::s4d::engine::BufferRange(__VA_ARGS__) }
+
+// Whether an id's name agrees with the shader's block at that binding: the block's name less a
+// first and a last word In or Out (words start at upper-case letters), in lower case, is part of
+// the id's name less S4D_B_ and underscores (S4D_B_ADAM_PARAMS: block Params; S4D_B_RASTER_RGB:
+// block OutRgb). An id of another kernel's header fails it. A block without a name (a module
+// stripped of names) agrees with any id.
+bool binding_name_agrees(std::string_view id_name, std::string_view block);
+
 struct Groups {
   uint32_t x = 1, y = 1, z = 1;
 };
@@ -40,17 +61,28 @@ class Recorder {
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
 
-  // Dispatches `flat_groups` workgroups of `pipeline`; 0 records nothing. `buffers` bind to
-  // bindings 0..n-1 of set 0 in order and must match the pipeline's binding count exactly;
-  // `params` must match its push-constant size exactly. Throws std::invalid_argument otherwise.
+  // Dispatches `flat_groups` workgroups of `pipeline`; 0 records nothing. `bindings` come in any
+  // order and must bind each binding of the shader exactly once, each by an id whose name agrees
+  // with the shader's block there (binding_name_agrees). `params` must match the push-constant
+  // size exactly. Throws std::invalid_argument naming the pipeline and the binding otherwise.
+  template <class Params>
+  void dispatch(const Pipeline& pipeline, std::initializer_list<Binding> bindings, const Params& params,
+                uint32_t flat_groups) {
+    static_assert(std::is_trivially_copyable_v<Params>);
+    dispatch_raw(pipeline, std::span(bindings.begin(), bindings.size()), &params, sizeof(Params), flat_groups);
+  }
+  void dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                    size_t params_bytes, uint32_t flat_groups);
+
+  // Binding by position: buffers[i] to binding i. Kept only for
+  // training/deform/deformation_field_record.cpp, whose kernels are being rewritten; it goes once
+  // that file binds by name.
   template <class Params>
   void dispatch(const Pipeline& pipeline, std::initializer_list<BufferRange> buffers, const Params& params,
                 uint32_t flat_groups) {
     static_assert(std::is_trivially_copyable_v<Params>);
-    dispatch_raw(pipeline, std::span(buffers.begin(), buffers.size()), &params, sizeof(Params), flat_groups);
+    dispatch_positional(pipeline, std::span(buffers.begin(), buffers.size()), &params, sizeof(Params), flat_groups);
   }
-  void dispatch_raw(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
-                    size_t params_bytes, uint32_t flat_groups);
 
   // The grid a flat group count is split into under the device's limits.
   Groups split_groups(uint32_t flat_groups) const;
@@ -70,6 +102,9 @@ class Recorder {
   VkCommandBuffer finish();
 
  private:
+  void dispatch_positional(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
+                           size_t params_bytes, uint32_t flat_groups);
+
   Context* ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   bool finished_ = false;

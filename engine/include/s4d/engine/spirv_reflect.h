@@ -1,5 +1,5 @@
 // A small SPIR-V word walker: what the engine needs to build a pipeline from a module (workgroup
-// size, descriptor bindings, push-constant size) and what the layout tests need to compare shared
+// size, descriptor bindings and their block names, push-constant size) and what the layout tests need to compare shared
 // GLSL/C++ structs (member names and offsets of every named struct type).
 #pragma once
 #include <cstdint>
@@ -26,6 +26,7 @@ struct DescriptorBinding {
   uint32_t set = 0;
   uint32_t binding = 0;
   bool storage_buffer = true;  // false: uniform buffer
+  std::string block;           // OpName of the buffer's block type ("" when the module has no names)
 };
 
 struct ModuleReflection {
