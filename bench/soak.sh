@@ -33,8 +33,9 @@ while kill -0 $pid 2>/dev/null; do
   [ -n "$line" ] || continue
   stage=$(sed -E 's/^\[([a-z]+)\].*/\1/' <<< "$line")
   iter=$(sed -E 's/^\[[a-z]+\] ([0-9]+)\/.*/\1/' <<< "$line")
-  device=$(grep -oE 'device_mib=[0-9.e+]+' <<< "$line" | cut -d= -f2)
-  gaussians=$(grep -oE 'gaussians=[0-9]+' <<< "$line" | cut -d= -f2)
+  device=$(grep -oE 'device_mib=[0-9.e+]+' <<< "$line" | cut -d= -f2 || true)
+  gaussians=$(grep -oE 'gaussians=[0-9]+' <<< "$line" | cut -d= -f2 || true)
+  [ -n "$device" ] && [ -n "$gaussians" ] || continue  # a stage's closing line carries its results instead
   echo "$(( $(date +%s) - start )),$stage,$iter,$(awk -v k="$rss_kib" 'BEGIN {printf "%.1f", k / 1024}'),$device,$gaussians" >> "$out/soak.csv"
 done
 wait $pid || { tail -5 "$out/train.log"; echo "soak: training failed" >&2; exit 1; }
