@@ -30,7 +30,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
   const std::string where = o.weights_dir ? "add " + list + " to " + o.weights_dir->string() + " (--metric-weights)"
                                           : "pass --metric-weights DIR holding " + list;
   return "needs weights: " + where + ", converted from " + published +
-         " with their state-dict names (docs/bench.md, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
+         " by tools/convert_weights.py (docs/bench.md, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
 }
 
 bool all_present(const NativeLearnedOptions& o, const std::vector<std::string>& files) {
@@ -51,7 +51,8 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
   const bool vgg = options.lpips == metrics::LpipsNet::vgg;
   const std::vector<std::string> lpips_files = {vgg ? kVgg16 : kAlexnet, vgg ? kLpipsVgg : kLpipsAlex};
   const std::vector<std::string> dists_files = {kVgg16, kDists};
-  // vgg16.safetensors (about 528 MB with torchvision's classifier) is read once for LPIPS and DISTS.
+  // vgg16.safetensors (59 MB from tools/convert_weights.py, 528 MB if the classifier was kept) is read
+  // once for LPIPS and DISTS.
   std::optional<io::SafetensorsFile> vgg16;
   if ((vgg && all_present(options, lpips_files)) || all_present(options, dists_files))
     vgg16.emplace(*options.weights_dir / kVgg16);
