@@ -115,14 +115,17 @@ TEST_CASE("the bridge's numbers flow from pyiqa's calls into results and report.
   r.means = {{"uiqm", 1}, {"content_ssim", 1}, {"warp_loss", 0}, {"psnr", 30}};
   b::apply_bridge(out, "seq0", b::bridge_keys(), r);
   b::FramesOptions o;
-  for (const auto& k : b::bridge_keys()) o.bridged[k] = b::bridge_impl(s.options, out);
+  for (const auto& k : b::bridge_keys()) o.bridged[k] = b::bridge_impl(s.options, out, k);
   const auto report = b::report_json({r}, {"scene", "style", s.root / "style.png", o});
   const auto& row = report.at("results")[0];
   double expected = 0;
   for (const auto& f : s.videos[0]) expected += fake_pyiqa_score("musiq", f) / 3;
   CHECK(std::abs(row.at("musiq").get<double>() - expected) <= 1e-6 * expected);
   CHECK(row.at("per_frame").at("dists").size() == 2);
-  CHECK(report.at("metrics_info").at("musiq").at("impl").get<std::string>().find("pyiqa bridge: python3") == 0);
+  const std::string impl = report.at("metrics_info").at("musiq").at("impl").get<std::string>();
+  CHECK(impl.find("pyiqa bridge: python3") == 0);
+  CHECK(has(impl, ", pyiqa musiq (lower_better False, score range ~0, ~100) {\"pyiqa\":\"0.0-fake\""));
+  CHECK(!has(impl, "dists"));  // only its own key's line
   CHECK(has(report.at("metrics_info").at("dino_score").at("convention").get<std::string>(), "mean over pairs"));
   CHECK(has(row.at("content_lpips").at("unavailable").get<std::string>(), "--metric-weights"));
   fs::remove_all(s.root);

@@ -218,7 +218,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::cerr << "bench: running the pyiqa bridge (" << bridge->python.string() << ") on " << seqs.size() << " method(s)\n";
     const bench::BridgeOutcome outcome = bench::run_bridge(*bridge, seqs);
     for (size_t i = 0; i < frames.size(); ++i) bench::apply_bridge(outcome, seqs[i].id, bridge->metrics, results[i]);
-    for (const std::string& k : bridge->metrics) context.options.bridged[k] = bench::bridge_impl(*bridge, outcome);
+    for (const std::string& k : bridge->metrics) context.options.bridged[k] = bench::bridge_impl(*bridge, outcome, k);
   }
   bench::write_frames_report(out, results, context);
   std::cerr << "bench: wrote " << (out / "report.json").string() << ", report.md, report.csv, plots/, contact_sheet.png\n";
