@@ -118,21 +118,28 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   // Without the folder: the keys say which files to supply.
   const auto none = run_bench(f, "", "none").at("results")[0];
   CHECK(none.at("content_lpips").at("unavailable").get<std::string>().find("--metric-weights DIR") != std::string::npos);
-  // A folder without the LPIPS files: named.
   // A folder with only dists.safetensors (nothing loads: every network lacks a file): each key names
-  // what its network is missing, and --lpips-net alex asks for the AlexNet files instead.
+  // what its network is missing.
   const fs::path partial_dir = f.root / "partial_weights";
   fs::create_directories(partial_dir);
   fs::copy_file(weights / "dists.safetensors", partial_dir / "dists.safetensors");
   const auto partial = run_bench(f, "--metric-weights " + partial_dir.string(), "partial").at("results")[0];
   CHECK(partial.at("style_lpips").at("unavailable").get<std::string>().find("vgg16.safetensors and lpips_vgg.safetensors") !=
         std::string::npos);
-  CHECK(partial.at("dists").at("unavailable").get<std::string>().find("add vgg16.safetensors and dists.safetensors to") !=
+  // Only the absent file is asked for; the present one is named as there.
+  const std::string dists_why = partial.at("dists").at("unavailable").get<std::string>();
+  CHECK(dists_why.find("add vgg16.safetensors to " + partial_dir.string() + " (--metric-weights; dists.safetensors is there)") !=
         std::string::npos);
   CHECK(partial.at("style_loss_gram").at("unavailable").get<std::string>().find("vgg_normalised.safetensors") != std::string::npos);
-  const auto alex = run_bench(f, "--metric-weights " + partial_dir.string() + " --lpips-net alex", "alex").at("results")[0];
-  CHECK(alex.at("content_lpips").at("unavailable").get<std::string>().find("alexnet.safetensors and lpips_alex.safetensors") !=
-        std::string::npos);
+  // A folder holding the other network's files: --lpips-net alex asks for the AlexNet files and points
+  // at the VGG ones there; --gram-vgg torchvision likewise at vgg_normalised.
+  const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex --gram-vgg torchvision", "alex")
+                        .at("results")[0];
+  const std::string alex_why = alex.at("content_lpips").at("unavailable").get<std::string>();
+  CHECK(alex_why.find("add alexnet.safetensors and lpips_alex.safetensors to") != std::string::npos);
+  CHECK(alex_why.find("or pass --lpips-net vgg to use the vgg16.safetensors and lpips_vgg.safetensors there") != std::string::npos);
+  CHECK(alex.at("style_loss_gram").at("unavailable").get<std::string>().find(
+            "or pass --gram-vgg normalised to use the vgg_normalised.safetensors there") != std::string::npos);
   fs::remove_all(f.root);
 }
 
