@@ -79,7 +79,8 @@ def _read_png(path):
 
 def _image(name, what, value):
     if not isinstance(value, (str, os.PathLike)):
-        raise TypeError("fake pyiqa %s: %s must be an image file path (or an N,3,H,W tensor in [0, 1]), got %s" %
+        raise TypeError("fake pyiqa %s: %s must be an image file path (pyiqa also takes N,3,H,W tensors in [0, 1]; "
+                        "the bridge passes paths), got %s" %
                         (name, what, type(value).__name__))
     if any(m.startswith("unreadable=") and m[len("unreadable="):] in str(value) for m in _MODES):
         raise OSError("fake pyiqa %s: cannot read %s" % (name, value))
@@ -116,13 +117,13 @@ class InferenceModel:
                 raise TypeError("fake pyiqa qalign: takes task_='quality' or 'aesthetic', got %r" % kwargs)
         elif kwargs:
             raise TypeError("fake pyiqa %s: unexpected keyword arguments %s" % (name, sorted(kwargs)))
-        x, size = _image(name, "target", target)
-        if self.metric_mode == "FR":
-            if ref is None:
-                raise AssertionError("Please specify reference image for Full Reference metric")
-            y, ref_size = _image(name, "ref", ref)
-        elif ref is not None:
+        if self.metric_mode == "FR" and ref is None:
+            raise AssertionError("Please specify reference image for Full Reference metric")
+        if self.metric_mode == "NR" and ref is not None:
             raise TypeError("fake pyiqa %s: a no-reference metric got ref=%r (pyiqa would ignore it)" % (name, ref))
+        x, size = _image(name, "target", target)
+        if ref is not None:
+            y, ref_size = _image(name, "ref", ref)
         if name == "dists":
             if ref_size != size:
                 raise ValueError("fake pyiqa dists: target %s and ref %s differ in size" % (size, ref_size))
