@@ -76,6 +76,33 @@ def taps(features, x, indices):
     raise AssertionError("tap past the end of the network")
 
 
+def imagenet(x):
+    """torchvision's ImageNet normalisation of a [0, 1] image."""
+    mean = torch.tensor(IMAGENET_MEAN, dtype=x.dtype).view(1, 3, 1, 1)
+    return (x - mean) / torch.tensor(IMAGENET_STD, dtype=x.dtype).view(1, 3, 1, 1)
+
+
+class NetLinLayer(nn.Module):
+    """LPIPS's head of one tap: Dropout, then a 1x1 convolution to one channel without bias."""
+
+    def __init__(self, channels, gen):
+        super().__init__()
+        self.model = nn.Sequential(nn.Dropout(), nn.Conv2d(channels, 1, 1, bias=False))
+        self.model[1].weight.data = torch.rand((1, channels, 1, 1), generator=gen) * 0.1  # LPIPS's are >= 0
+
+
+class LpipsHeads(nn.Module):
+    """The heads lin0 .. lin4, named as in LPIPS's weights/v0.1/*.pth."""
+
+    def __init__(self, widths, gen):
+        super().__init__()
+        for l, c in enumerate(widths):
+            setattr(self, "lin%d" % l, NetLinLayer(c, gen))
+
+    def convs(self):
+        return [getattr(self, "lin%d" % l).model[1] for l in range(5)]
+
+
 class L2Pool(nn.Module):
     """DISTS's L2 pooling: sqrt(depthwise conv(x^2, hanning(5)[1:-1] outer product / sum, stride 2, pad 1) + 1e-12)."""
 
@@ -102,10 +129,8 @@ def lpips(net, lins, a, b, signed):
 def dists(features, alpha, beta, x, y):
     """DISTS (Ding et al. 2020): stage 0 the image, then relu1_2 .. relu5_3 of VGG16 with L2 pooling."""
     l2 = nn.Sequential(*[L2Pool() if isinstance(m, nn.MaxPool2d) else m for m in features])
-    norm = lambda t: (t - torch.tensor(IMAGENET_MEAN, dtype=t.dtype).view(1, 3, 1, 1)) / torch.tensor(
-        IMAGENET_STD, dtype=t.dtype).view(1, 3, 1, 1)
-    fx = [x] + taps(l2, norm(x), [3, 8, 15, 22, 29])
-    fy = [y] + taps(l2, norm(y), [3, 8, 15, 22, 29])
+    fx = [x] + taps(l2, imagenet(x), [3, 8, 15, 22, 29])
+    fy = [y] + taps(l2, imagenet(y), [3, 8, 15, 22, 29])
     w = alpha.sum() + beta.sum()
     a, b, k, s = alpha.flatten() / w, beta.flatten() / w, 0, 0.0
     for p, q in zip(fx, fy):
@@ -162,14 +187,7 @@ def main():
     vgg19 = randomise(Features(make_layers(cfgs["E"])), gen)
     alex = randomise(Features(torchvision.models.AlexNet().features), gen)
     adain = randomise(adain_vgg(), gen)
-    heads = {}
-    for kind, widths in (("lpips_vgg", [64, 128, 256, 512, 512]), ("lpips_alex", [64, 192, 384, 256, 256])):
-        m = nn.Module()
-        for l, c in enumerate(widths):  # LPIPS's NetLinLayer: Dropout, then a 1x1 convolution without bias
-            setattr(m, "lin%d" % l, nn.Module())
-            getattr(m, "lin%d" % l).model = nn.Sequential(nn.Dropout(), nn.Conv2d(c, 1, 1, bias=False))
-            getattr(m, "lin%d" % l).model[1].weight.data = torch.rand((1, c, 1, 1), generator=gen) * 0.1
-        heads[kind] = m
+    heads = {"lpips_vgg": LpipsHeads([64, 128, 256, 512, 512], gen), "lpips_alex": LpipsHeads([64, 192, 384, 256, 256], gen)}
     n = 3 + 64 + 128 + 256 + 512 + 512
     alpha, beta = torch.rand((1, n, 1, 1), generator=gen) * 0.02 + 0.01, torch.rand((1, n, 1, 1), generator=gen) * 0.02
     checkpoints = [("a", "vgg16", vgg16.state_dict()), ("a", "lpips_vgg", heads["lpips_vgg"].state_dict()),
@@ -195,11 +213,9 @@ def main():
     o = [as_input(f) for f in frames["original"]]
     st = as_input(style)
     st_small = F.avg_pool2d(st, 2)  # OpenCV INTER_AREA at an exact factor 2
-    imagenet = lambda x: (x - torch.tensor(IMAGENET_MEAN, dtype=x.dtype).view(1, 3, 1, 1)) / torch.tensor(
-        IMAGENET_STD, dtype=x.dtype).view(1, 3, 1, 1)
     vgg_taps = lambda x: taps(vgg16.features, x, [3, 8, 15, 22, 29])
     alex_taps = lambda x: taps(alex.features, x, [1, 4, 7, 9, 11])
-    lins = lambda kind: [getattr(heads[kind], "lin%d" % l).model[1] for l in range(5)]
+    lins = lambda kind: heads[kind].convs()
     with torch.no_grad():
         expected = {
             "a": {"content_lpips": [lpips(vgg_taps, lins("lpips_vgg"), a, b, True) for a, b in zip(s, o)],
