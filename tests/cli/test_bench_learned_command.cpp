@@ -150,7 +150,7 @@ TEST_CASE("bench --python runs the bridge script; its numbers reach report.json,
   const auto& r = report.at("results")[0];
   double expected = 0;
   for (const auto& im : f.s) expected += s4d::test::fake_pyiqa_score("musiq", im) / 3;
-  CHECK(std::abs(r.at("musiq").get<double>() - expected) <= 1e-6 * expected);  // measured 1.8e-8 (test_pyiqa_bridge)
+  CHECK(std::abs(r.at("musiq").get<double>() - expected) <= 1e-6 * expected);  // measured 4.5e-8 relative at worst (test_pyiqa_bridge)
   CHECK(r.at("per_frame").at("dists").size() == 2);
   CHECK(r.at("qalign").is_object());  // not asked for
   CHECK(report.at("metrics_info").at("musiq").at("impl").get<std::string>().find("pyiqa bridge: python3") == 0);
