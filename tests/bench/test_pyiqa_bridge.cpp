@@ -3,11 +3,15 @@
 // the pixels: the numbers reach the result and report.json; pyiqa missing, a metric that cannot be
 // created, a failing call on one sequence, a score outside pyiqa's range and an inverted direction
 // each make only the affected keys unavailable with the reason. Scripts the test writes check the
-// protocol's own failures: a crash, invalid JSON, a short list, a missing interpreter. No torch needed.
+// protocol's own failures: a crash, invalid JSON, a short list, a missing interpreter. dino_score
+// through torch.hub on a fake DINO (tests/bench/fake_dino) needs torch; the rest does not.
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -198,6 +202,51 @@ TEST_CASE("a broken bridge process makes every key asked for unavailable with th
   CHECK(reason(o, "seq0", "dists") == "needs at least 2 frames");
   CHECK(reason(o, "seq0", "musiq") == "(no reason)");
   fs::remove_all(s.root);
+}
+
+TEST_CASE("dino_score: VBench's subject consistency through torch.hub, on a fake DINO of channel means") {
+  // torch comes from the system Python (python3-torch); without it there is nothing to run.
+  if (std::system((std::string(S4D_TEST_PYTHON) + " -c 'import torch, torchvision' 2>/dev/null").c_str()) != 0) {
+    MESSAGE("skipped: " S4D_TEST_PYTHON " cannot import torch and torchvision (tools/run-tests.sh installs them)");
+    return;
+  }
+  const fs::path root = fs::temp_directory_path() / numbered("s4d_bridge_dino_", int(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "frames");
+  // 230x224: the bridge's shorter-side-224 resize keeps the size. Red, greyish, then blue frames: after
+  // ImageNet normalisation the blue one points away from the red one (cos -0.82, clipped to 0) but not
+  // from the grey one (cos 0.05).
+  const float colours[3][3] = {{0.9f, 0.2f, 0.2f}, {0.6f, 0.45f, 0.5f}, {0.1f, 0.5f, 0.9f}};
+  b::BridgeSequence seq{"seq0", {}, "", {"dino_score"}};
+  std::vector<std::array<double, 3>> f;  // unit "CLS features": per-channel means of the normalised frame
+  for (int t = 0; t < 3; ++t) {
+    seq.frames.push_back(root / "frames" / numbered("f", t).append(".png"));
+    s4d::io::write_png(seq.frames.back(), s4d::test::constant_image(230, 224, colours[t][0], colours[t][1], colours[t][2]));
+    const s4d::io::ImageF im = s4d::io::read_png(seq.frames.back());
+    const double mean[3] = {0.485, 0.456, 0.406}, std[3] = {0.229, 0.224, 0.225};
+    std::array<double, 3> v{};
+    double norm = 0;
+    for (int c = 0; c < 3; ++c) {
+      v[c] = (s4d::test::channel_mean(im, c) - mean[c]) / std[c];
+      norm += v[c] * v[c];
+    }
+    for (double& x : v) x /= std::sqrt(norm);
+    f.push_back(v);
+  }
+  const auto cos = [&](size_t i, size_t j) { return f[i][0] * f[j][0] + f[i][1] * f[j][1] + f[i][2] * f[j][2]; };
+  const s4d::test::ScopedEnv repo("S4D_DINO_REPO", (fs::path(S4D_SOURCE_DIR) / "tests" / "bench" / "fake_dino").string());
+  const auto out = b::run_bridge({S4D_TEST_PYTHON, std::nullopt, root / "bridge", {"dino_score"}}, {seq});
+  REQUIRE_MESSAGE(out.errors.empty(), reason(out, "seq0", "dino_score"));
+  const std::vector<double>& s = out.values.at("seq0").at("dino_score");
+  REQUIRE(s.size() == 2);
+  CHECK((cos(0, 2) < 0 && cos(1, 2) > 0));  // s_2 has a clipped and an unclipped term
+  // s_i = (max(0, cos(f_i-1, f_i)) + max(0, cos(f_0, f_i))) / 2; float32 features in torch against
+  // double here: measured 2.5e-7 absolute.
+  for (size_t i = 1; i < 3; ++i) {
+    const double expected = (std::max(0.0, cos(i - 1, i)) + std::max(0.0, cos(0, i))) / 2;
+    CHECK(std::abs(s[i - 1] - expected) < 1e-6);
+  }
+  fs::remove_all(root);
 }
 
 TEST_CASE("the embedded bridge script is tools/pyiqa_bridge.py") {
