@@ -194,11 +194,16 @@ def main():
                    ("a", "dists", {"alpha": alpha, "beta": beta}), ("a", "vgg_normalised", adain.state_dict()),
                    ("b", "alexnet", alex.state_dict()), ("b", "lpips_alex", heads["lpips_alex"].state_dict()),
                    ("b", "vgg19", vgg19.state_dict())]
+    # The converter's main() in this process: a new interpreter per file would import torch again
+    # (~2 s each); test_convert_weights.py runs it as a program.
+    sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
+    import convert_weights
     for folder, kind, state in checkpoints:
         pth = os.path.join(work, kind + ".pth")
         # LPIPS's released heads and DISTS's weights.pt use torch's legacy (non-zip) format.
         torch.save(state, pth, _use_new_zipfile_serialization=kind not in ("lpips_alex", "dists"))
-        run([sys.executable, converter, kind, pth, os.path.join(work, "weights_" + folder)])
+        if convert_weights.main(["convert_weights.py", kind, pth, os.path.join(work, "weights_" + folder)]) != 0:
+            sys.exit("FAILED: convert_weights.py %s %s" % (kind, pth))
     for m in (vgg16, vgg19, alex, adain, heads["lpips_vgg"], heads["lpips_alex"]):
         m.double().eval()
 
