@@ -69,6 +69,12 @@ def main():
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
     import convert_weights
 
+    def run_converter(kind, path, out):
+        stdout, stderr = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            code = convert_weights.main(["convert_weights.py", kind, path, out])
+        return subprocess.CompletedProcess([], code, stdout.getvalue(), stderr.getvalue())
+
     def convert(kind, state, legacy=False, name=None):
         path = os.path.join(work, name or kind + ".pth")
         torch.save(state, path, _use_new_zipfile_serialization=not legacy)
@@ -76,10 +82,7 @@ def main():
         if kind == "vgg16" and name is None:
             return subprocess.run([sys.executable, converter, kind, path, out], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                   text=True), path, out
-        stdout, stderr = io.StringIO(), io.StringIO()
-        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
-            code = convert_weights.main(["convert_weights.py", kind, path, out])
-        return subprocess.CompletedProcess([], code, stdout.getvalue(), stderr.getvalue()), path, out
+        return run_converter(kind, path, out), path, out
 
     def same(path, expected, what):
         got, meta = read_safetensors(path)
@@ -184,8 +187,7 @@ def main():
     refused("dists", nan, ["beta", "not finite"], "a NaN")
     with open(os.path.join(work, "not_a_checkpoint.pth"), "w") as f:
         f.write("hello")
-    p = subprocess.run([sys.executable, converter, "vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x")],
-                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = run_converter("vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x"))
     check(p.returncode == 1 and "not_a_checkpoint.pth: not a PyTorch checkpoint" in p.stderr, "a text file is refused: " + p.stderr.strip())
     if FAILURES:
         sys.exit("%d check(s) failed; the files are in %s" % (len(FAILURES), work))
