@@ -5,8 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Test-only packages: a single-node Slurm for the sweep's Slurm back end (tests/sweep/slurm_cluster.sh);
-# clang-14 with its sanitizer runtimes and libFuzzer for the readers' fuzz smoke run (tests/fuzz/build_and_smoke.sh).
-test_packages=(slurm-wlm munge clang-14 libclang-rt-14-dev libfuzzer-14-dev)
+# clang-14 with its sanitizer runtimes and libFuzzer for the readers' fuzz smoke run (tests/fuzz/build_and_smoke.sh);
+# PyTorch for the learned metrics' references and the weight converter's test (tests/metrics_nn/torch_reference.py).
+test_packages=(slurm-wlm munge clang-14 libclang-rt-14-dev libfuzzer-14-dev python3-torch python3-torchvision)
 missing=()
 for p in "${test_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,7 +13,7 @@ std::string needs(const std::string& native_files, const std::string& published)
   const std::string bridge = "pass --python PY, a Python with pyiqa, to compute it through the pyiqa bridge";
   if (native_files.empty()) return "needs " + published + ": " + bridge + " (no native implementation)";
   return "needs weights: pass --metric-weights DIR holding " + native_files + " (converted from " + published +
-         " with their state-dict names; docs/bench.md, \"Learned metrics\"), or " + bridge;
+         " by tools/convert_weights.py; docs/bench.md, \"Learned metrics\"), or " + bridge;
 }
 
 std::vector<MetricEntry> build() {

@@ -24,18 +24,34 @@ bool wanted(const std::vector<std::string>& keys, const char* key) {
   return keys.empty() || std::find(keys.begin(), keys.end(), key) != keys.end();
 }
 
-std::string missing(const NativeLearnedOptions& o, const std::vector<std::string>& files, const std::string& published) {
-  std::string list;
-  for (const std::string& f : files) list += (list.empty() ? "" : " and ") + f;
-  const std::string where = o.weights_dir ? "add " + list + " to " + o.weights_dir->string() + " (--metric-weights)"
-                                          : "pass --metric-weights DIR holding " + list;
-  return "needs weights: " + where + ", converted from " + published +
-         " with their state-dict names (docs/bench.md, \"Learned metrics\"), or pass --python PY for the pyiqa bridge";
+bool present(const NativeLearnedOptions& o, const std::string& file) {
+  return o.weights_dir && fs::is_regular_file(*o.weights_dir / file);
 }
 
 bool all_present(const NativeLearnedOptions& o, const std::vector<std::string>& files) {
-  if (!o.weights_dir) return false;
-  return std::all_of(files.begin(), files.end(), [&](const std::string& f) { return fs::is_regular_file(*o.weights_dir / f); });
+  return std::all_of(files.begin(), files.end(), [&](const std::string& f) { return present(o, f); });
+}
+
+std::string joined(const std::vector<std::string>& files) {
+  std::string list;
+  for (const std::string& f : files) list += (list.empty() ? "" : " and ") + f;
+  return list;
+}
+
+// Why a key is unavailable: the files of `files` absent from the folder (those present said so), and
+// `switch_hint` when the folder holds what another choice of network needs (e.g. "--lpips-net alex").
+std::string missing(const NativeLearnedOptions& o, const std::vector<std::string>& files, const std::string& published,
+                    const std::string& switch_hint = "") {
+  std::string where = "pass --metric-weights DIR holding " + joined(files);
+  if (o.weights_dir) {
+    std::vector<std::string> absent, there;
+    for (const std::string& f : files) (present(o, f) ? there : absent).push_back(f);
+    where = "add " + joined(absent) + " to " + o.weights_dir->string() + " (--metric-weights" +
+            (there.empty() ? "" : "; " + joined(there) + (there.size() == 1 ? " is" : " are") + " there") + ")";
+  }
+  return "needs weights: " + where + ", converted from " + published +
+         " by tools/convert_weights.py (docs/bench.md, \"Learned metrics\")" + switch_hint +
+         ", or pass --python PY for the pyiqa bridge";
 }
 
 }  // namespace
@@ -51,7 +67,8 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
   const bool vgg = options.lpips == metrics::LpipsNet::vgg;
   const std::vector<std::string> lpips_files = {vgg ? kVgg16 : kAlexnet, vgg ? kLpipsVgg : kLpipsAlex};
   const std::vector<std::string> dists_files = {kVgg16, kDists};
-  // vgg16.safetensors (about 528 MB with torchvision's classifier) is read once for LPIPS and DISTS.
+  // vgg16.safetensors (59 MB from tools/convert_weights.py, 528 MB if the classifier was kept) is read
+  // once for LPIPS and DISTS.
   std::optional<io::SafetensorsFile> vgg16;
   if ((vgg && all_present(options, lpips_files)) || all_present(options, dists_files))
     vgg16.emplace(*options.weights_dir / kVgg16);
@@ -63,9 +80,14 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
       lpips_ = std::make_unique<metrics::Lpips>(ctx, io::SafetensorsFile(*options.weights_dir / kAlexnet), heads, options.lpips,
                                                 std::nullopt, options.lpips_input);
   } else {
+    const std::vector<std::string> other = {vgg ? kAlexnet : kVgg16, vgg ? kLpipsAlex : kLpipsVgg};
+    const std::string hint = all_present(options, other) ? std::string(", or pass --lpips-net ") + (vgg ? "alex" : "vgg") +
+                                                               " to use the " + joined(other) + " there"
+                                                         : "";
     const std::string why = missing(options, lpips_files,
                                     vgg ? "torchvision vgg16-397923af.pth and LPIPS weights/v0.1/vgg.pth"
-                                        : "torchvision alexnet-owt-7be5be79.pth and LPIPS weights/v0.1/alex.pth");
+                                        : "torchvision alexnet-owt-7be5be79.pth and LPIPS weights/v0.1/alex.pth",
+                                    hint);
     unavailable_["content_lpips"] = unavailable_["style_lpips"] = why;
   }
   if (all_present(options, dists_files))
@@ -78,7 +100,11 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
     gram_ = std::make_unique<metrics::GramStyleLoss>(ctx, io::SafetensorsFile(*options.weights_dir / gram_file), options.gram);
   else
     unavailable_["style_loss_gram"] =
-        missing(options, {gram_file}, normalised ? "AdaIN's vgg_normalised.pth" : "torchvision vgg19-dcbb9e9d.pth");
+        missing(options, {gram_file}, normalised ? "AdaIN's vgg_normalised.pth" : "torchvision vgg19-dcbb9e9d.pth",
+                present(options, normalised ? kVgg19 : kVggNormalised)
+                    ? std::string(", or pass --gram-vgg ") + (normalised ? "torchvision to use the vgg19.safetensors there"
+                                                                         : "normalised to use the vgg_normalised.safetensors there")
+                    : "");
 }
 
 bool NativeLearned::computes(const std::string& key) const {

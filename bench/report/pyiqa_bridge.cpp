@@ -104,10 +104,15 @@ void apply_bridge(const BridgeOutcome& outcome, const std::string& id, const std
   }
 }
 
-std::string bridge_impl(const BridgeOptions& options, const BridgeOutcome& outcome) {
+std::string bridge_impl(const BridgeOptions& options, const BridgeOutcome& outcome, const std::string& key) {
   std::string text = "pyiqa bridge: " + options.python.string() + " " +
                      (options.script ? options.script->string() : std::string("pyiqa_bridge.py (embedded)"));
-  if (!outcome.versions.empty()) text += " " + outcome.versions.dump();
+  const nlohmann::json& v = outcome.versions;
+  if (v.contains(key) && v[key].is_string()) text += ", " + v[key].get<std::string>();
+  nlohmann::json shared = nlohmann::json::object();  // the script's own versions, not another key's
+  for (const auto& [name, value] : v.items())
+    if (std::find(bridge_keys().begin(), bridge_keys().end(), name) == bridge_keys().end()) shared[name] = value;
+  if (!shared.empty()) text += " " + shared.dump();
   return text;
 }
 

@@ -1,6 +1,6 @@
 // `style4d bench` frames mode with the learned metrics: --metric-weights (random LPIPS-VGG, DISTS
 // and vgg_normalised weights the test writes, the values checked against the library on the same
-// frames), --python with a stand-in bridge script (each frame's mean value), the reasons reported
+// frames), --python with the bridge against a fake pyiqa (fake_pyiqa.h), the reasons reported
 // without weights or with a broken interpreter, and the option errors.
 #include <doctest/doctest.h>
 
@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "../bench/bridge_stand_in.h"
+#include "../bench/fake_pyiqa.h"
 #include "cli_run.h"
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/gram_loss.h"
@@ -118,37 +118,39 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   // Without the folder: the keys say which files to supply.
   const auto none = run_bench(f, "", "none").at("results")[0];
   CHECK(none.at("content_lpips").at("unavailable").get<std::string>().find("--metric-weights DIR") != std::string::npos);
-  // A folder without the LPIPS files: named.
   // A folder with only dists.safetensors (nothing loads: every network lacks a file): each key names
-  // what its network is missing, and --lpips-net alex asks for the AlexNet files instead.
+  // what its network is missing.
   const fs::path partial_dir = f.root / "partial_weights";
   fs::create_directories(partial_dir);
   fs::copy_file(weights / "dists.safetensors", partial_dir / "dists.safetensors");
   const auto partial = run_bench(f, "--metric-weights " + partial_dir.string(), "partial").at("results")[0];
   CHECK(partial.at("style_lpips").at("unavailable").get<std::string>().find("vgg16.safetensors and lpips_vgg.safetensors") !=
         std::string::npos);
-  CHECK(partial.at("dists").at("unavailable").get<std::string>().find("add vgg16.safetensors and dists.safetensors to") !=
+  // Only the absent file is asked for; the present one is named as there.
+  const std::string dists_why = partial.at("dists").at("unavailable").get<std::string>();
+  CHECK(dists_why.find("add vgg16.safetensors to " + partial_dir.string() + " (--metric-weights; dists.safetensors is there)") !=
         std::string::npos);
   CHECK(partial.at("style_loss_gram").at("unavailable").get<std::string>().find("vgg_normalised.safetensors") != std::string::npos);
-  const auto alex = run_bench(f, "--metric-weights " + partial_dir.string() + " --lpips-net alex", "alex").at("results")[0];
-  CHECK(alex.at("content_lpips").at("unavailable").get<std::string>().find("alexnet.safetensors and lpips_alex.safetensors") !=
-        std::string::npos);
+  // A folder holding the other network's files: --lpips-net alex asks for the AlexNet files and points
+  // at the VGG ones there; --gram-vgg torchvision likewise at vgg_normalised.
+  const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex --gram-vgg torchvision", "alex")
+                        .at("results")[0];
+  const std::string alex_why = alex.at("content_lpips").at("unavailable").get<std::string>();
+  CHECK(alex_why.find("add alexnet.safetensors and lpips_alex.safetensors to") != std::string::npos);
+  CHECK(alex_why.find("or pass --lpips-net vgg to use the vgg16.safetensors and lpips_vgg.safetensors there") != std::string::npos);
+  CHECK(alex.at("style_loss_gram").at("unavailable").get<std::string>().find(
+            "or pass --gram-vgg normalised to use the vgg_normalised.safetensors there") != std::string::npos);
   fs::remove_all(f.root);
 }
 
 TEST_CASE("bench --python runs the bridge script; its numbers reach report.json, a failure gives the reason") {
   const Frames f = make_frames("bench_bridge");
-  std::ofstream(f.root / "stand_in.py") << s4d::test::kBridgeStandIn;
-  const auto report = run_bench(f, "--python python3 --bridge-script " + (f.root / "stand_in.py").string() +
-                                       " --bridge-metrics musiq,dists", "bridge");
+  const s4d::test::FakePyiqa fake;  // the embedded bridge script against the fake pyiqa
+  const auto report = run_bench(f, "--python python3 --bridge-metrics musiq,dists", "bridge");
   const auto& r = report.at("results")[0];
   double expected = 0;
-  for (const auto& im : f.s) {
-    double s = 0;
-    for (float v : im.data) s += v;
-    expected += s / double(im.data.size()) / 3;
-  }
-  CHECK(std::abs(r.at("musiq").get<double>() - expected) < 1e-6);  // measured 1.8e-8 (test_pyiqa_bridge)
+  for (const auto& im : f.s) expected += s4d::test::fake_pyiqa_score("musiq", im) / 3;
+  CHECK(std::abs(r.at("musiq").get<double>() - expected) <= 1e-6 * expected);  // measured 4.5e-8 relative at worst (test_pyiqa_bridge)
   CHECK(r.at("per_frame").at("dists").size() == 2);
   CHECK(r.at("qalign").is_object());  // not asked for
   CHECK(report.at("metrics_info").at("musiq").at("impl").get<std::string>().find("pyiqa bridge: python3") == 0);

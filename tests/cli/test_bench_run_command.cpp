@@ -1,7 +1,7 @@
 // style4d bench --run on the shared 4DGS run (run4d_fixture.h) with a style trained as
 // test_stylize_command.cpp trains it: both protocols rendered for the original scene and the style,
 // the report's key contract (every METRICS.md key a number or {"unavailable": why}, each weight-free
-// one from its protocol), the pyiqa bridge with a stand-in script (bridge_stand_in.h) on each
+// one from its protocol), the pyiqa bridge against a fake pyiqa (fake_pyiqa.h) on each
 // protocol, the report files, the merge of reports, and the refusals.
 #include <doctest/doctest.h>
 
@@ -13,7 +13,7 @@
 
 #include "s4d/io/image_io.h"
 
-#include "../bench/bridge_stand_in.h"
+#include "../bench/fake_pyiqa.h"
 #include "run4d_fixture.h"
 
 namespace {
@@ -58,13 +58,6 @@ double mean_over_test_frames(const fs::path& test_dir, F f) {
   return sum / n;
 }
 
-double mean_value(const io::ImageF& im) {
-  double s = 0;
-  for (size_t i = 0; i < im.data.size(); ++i)
-    if (im.channels != 4 || i % 4 != 3) s += im.data[i];
-  return s / double(im.data.size() / size_t(im.channels) * 3);
-}
-
 // The style "full" with test_stylize_command.cpp's settings: trained once, reused by the other file.
 void train_style() {
   const test::Run4d& r = test::run4d();
@@ -81,11 +74,10 @@ TEST_CASE("bench --run renders both protocols for the original scene and a style
   const test::Run4d& r = test::run4d();
   const fs::path out = r.root / "bench_run";
   fs::remove_all(out);
-  const fs::path log = r.root / "bench_run.log", stand_in = r.root / "bridge_stand_in.py";
-  std::ofstream(stand_in) << test::kBridgeStandIn;
+  const fs::path log = r.root / "bench_run.log";
+  const test::FakePyiqa fake;  // the embedded bridge script against the fake pyiqa
   REQUIRE_MESSAGE(test::run_style4d("bench", "--run " + r.run.string() + " --style full --style original --spiral-frames 4 --out " +
-                                                 out.string() + " --python python3 --bridge-script " + stand_in.string() +
-                                                 " --bridge-metrics musiq,dists,ckdn",
+                                                 out.string() + " --python python3 --bridge-metrics musiq,dists,ckdn",
                                     log) == 0,
                   test::read_text(log));
   for (const char* f : {"report.json", "report.md", "report.csv", "contact_sheet.png", "plots/warp_loss.png", "plots/uiqm.png",
@@ -139,14 +131,15 @@ TEST_CASE("bench --run renders both protocols for the original scene and a style
   const std::string line = md.substr(row, md.find('\n', row) - row);
   CHECK(line.substr(line.size() - 5) == "| - |");  // psnr, the last column
   CHECK(test::read_text(out / "report.md").find("| full |") != std::string::npos);
-  // The bridge (stand-in: each frame's mean value; mean |difference| of consecutive frames): musiq
-  // and ckdn from the test cameras' videos, dists from the spiral; the original has no style image,
-  // so no ckdn.
+  // The bridge (fake pyiqa: musiq is 100 x each frame's red mean): musiq and ckdn from the test
+  // cameras' videos, dists from the spiral; the original has no style image, so no ckdn.
   for (const nlohmann::json* m : {&full, &original}) {
-    // The stand-in's musiq is each frame's mean value, recomputed from the rendered test frames (pooled
-    // over cameras); both decode the same 8-bit PNGs: measured 1.8e-8 apart in test_pyiqa_bridge.
+    // The fake's musiq recomputed from the rendered test frames (pooled over cameras); both decode the
+    // same 8-bit PNGs: at worst 4.5e-8 relative apart in test_pyiqa_bridge.
     const double musiq = mean_over_test_frames(out / "renders" / m->at("method").get<std::string>() / "test",
-                                               [](const io::ImageF& im, const std::string&, size_t) { return mean_value(im); });
+                                               [](const io::ImageF& im, const std::string&, size_t) {
+                                                 return test::fake_pyiqa_score("musiq", im);
+                                               });
     CHECK(m->at("musiq").get<double>() == doctest::Approx(musiq).epsilon(1e-6));
     CHECK(m->at("per_frame").at("musiq").size() == m->at("protocols").at("test").at("frames"));
     CHECK(m->at("per_frame").at("dists").size() == 3);  // the 4-frame spiral's pairs

@@ -191,7 +191,7 @@ int bench_run(const Args& args, bench::FramesOptions options) {
         bench::apply_bridge(outcome, methods[i].name + "/test/" + test[c].name, test_keys, cameras[i][c]);
       bench::apply_bridge(outcome, methods[i].name + "/spiral", spiral_keys, spirals[i]);
     }
-    for (const std::string& k : bridge->metrics) options.bridged[k] = bench::bridge_impl(*bridge, outcome);
+    for (const std::string& k : bridge->metrics) options.bridged[k] = bench::bridge_impl(*bridge, outcome, k);
   }
   std::vector<bench::RunMethodResult> results;
   for (size_t i = 0; i < methods.size(); ++i) {

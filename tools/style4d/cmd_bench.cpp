@@ -38,7 +38,8 @@ const std::vector<OptionSpec> kSpecs = {
     {"raft-inputs", "the ONNX graph's two input names (default image1,image2)", true, "A,B"},
     {"flow-dir", "exact flow: fw_NNNN.exr and bw_NNNN.exr (channels u, v in pixels) per pair", true, "DIR"},
     {"metric-weights", "folder of safetensors weights for the native learned metrics: vgg16, lpips_vgg (content_lpips, "
-                       "style_lpips), vgg_normalised or vgg19 (style_loss_gram); docs/bench.md, \"Learned metrics\"", true, "DIR"},
+                       "style_lpips), dists, vgg_normalised or vgg19 (style_loss_gram), written from the published "
+                       "checkpoints by tools/convert_weights.py; docs/bench.md, \"Learned metrics\"", true, "DIR"},
     {"gram-vgg", "VGG19 of style_loss_gram: normalised (AdaIN vgg_normalised.safetensors, default) or torchvision "
                  "(vgg19.safetensors)", true, "WHICH"},
     {"lpips-net", "backbone of content_lpips and style_lpips: vgg (vgg16 + lpips_vgg, default) or alex (alexnet + "
@@ -218,7 +219,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::cerr << "bench: running the pyiqa bridge (" << bridge->python.string() << ") on " << seqs.size() << " method(s)\n";
     const bench::BridgeOutcome outcome = bench::run_bridge(*bridge, seqs);
     for (size_t i = 0; i < frames.size(); ++i) bench::apply_bridge(outcome, seqs[i].id, bridge->metrics, results[i]);
-    for (const std::string& k : bridge->metrics) context.options.bridged[k] = bench::bridge_impl(*bridge, outcome);
+    for (const std::string& k : bridge->metrics) context.options.bridged[k] = bench::bridge_impl(*bridge, outcome, k);
   }
   bench::write_frames_report(out, results, context);
   std::cerr << "bench: wrote " << (out / "report.json").string() << ", report.md, report.csv, plots/, contact_sheet.png\n";

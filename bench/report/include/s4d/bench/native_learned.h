@@ -2,7 +2,8 @@
 // content_lpips (stylised vs original frame) and style_lpips (frame vs the style image resized to
 // the frame) with LPIPS-VGG, dists (consecutive stylised frames, DISTS(f_t+1, f_t)) and
 // style_loss_gram (frame vs style image) with VGG19. Each network loads once per call; a key whose
-// files are absent from DIR (or with no DIR) gets the reason and the file names. Files, in DIR:
+// files are absent from DIR (or with no DIR) gets the reason and the file names. Files, in DIR, as
+// tools/convert_weights.py writes them from:
 //   vgg16.safetensors           torchvision vgg16-397923af.pth    ("features.<i>.weight/bias")
 //   lpips_vgg.safetensors       LPIPS weights/v0.1/vgg.pth        ("lin<l>.model.1.weight")
 //   alexnet.safetensors         torchvision alexnet-owt-7be5be79.pth  ("features.<i>"; --lpips-net alex)

@@ -70,7 +70,8 @@ std::vector<std::filesystem::path> frame_files(const std::filesystem::path& fram
 void apply_bridge(const BridgeOutcome& outcome, const std::string& id, const std::vector<std::string>& keys,
                   MethodResult& result);
 
-// metrics_info's impl text of a bridged key.
-std::string bridge_impl(const BridgeOptions& options, const BridgeOutcome& outcome);
+// metrics_info's impl text of a bridged key: the interpreter and script, what the script reports of
+// that key (pyiqa's metric, direction and score range) and of itself (versions).
+std::string bridge_impl(const BridgeOptions& options, const BridgeOutcome& outcome, const std::string& key);
 
 }  // namespace s4d::bench

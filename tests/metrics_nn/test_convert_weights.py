@@ -1,0 +1,198 @@
+#!/usr/bin/env python3
+"""tools/convert_weights.py on random-weight checkpoints torch writes (ctest convert_weights).
+
+    test_convert_weights.py CONVERT_WEIGHTS_PY WORK_DIR
+
+The names come from torchvision's own modules (make_layers of cfgs "D"/"E", AlexNet().features) and
+from the published layouts of LPIPS's heads, DISTS's weights.pt, AdaIN's vgg_normalised.pth and
+pyiqa's LPIPS/DISTS files (backbone under net.slice<s>.<i> / stage<s>.<i>, buffers beside it). Each
+converted file is read back here and must hold exactly the expected tensors, bit for bit; the sha256
+printed must be the input's; wrong shapes, missing, unknown and non-finite tensors and a file that is
+not a checkpoint must fail naming the file and the tensor. Exit 77 (skipped) without torch.
+"""
+import contextlib
+import hashlib
+import io
+import json
+import os
+import shutil
+import struct
+import subprocess
+import sys
+
+try:
+    import torch
+    import torch.nn as nn
+    import torchvision
+    from torchvision.models.vgg import cfgs, make_layers
+except ImportError as e:
+    print("SKIP: needs python3-torch and python3-torchvision (%s); tools/run-tests.sh installs them" % e)
+    sys.exit(77)
+
+FAILURES = []
+
+
+def check(ok, what):
+    print("%s %s" % ("ok  " if ok else "FAIL", what))
+    if not ok:
+        FAILURES.append(what)
+
+
+def read_safetensors(path):
+    """{name: float32 tensor} of a safetensors file, read independently of the converter."""
+    with open(path, "rb") as f:
+        data = f.read()
+    n = struct.unpack("<Q", data[:8])[0]
+    header = json.loads(data[8:8 + n])
+    out = {}
+    for name, e in header.items():
+        if name == "__metadata__":
+            continue
+        assert e["dtype"] == "F32", (path, name, e["dtype"])
+        begin, end = e["data_offsets"]
+        out[name] = torch.frombuffer(bytearray(data[8 + n + begin:8 + n + end]), dtype=torch.float32).reshape(e["shape"])
+    return out, header.get("__metadata__", {})
+
+
+def features_only(state):
+    return {k: v for k, v in state.items() if k.startswith("features.")}
+
+
+def main():
+    converter, work = sys.argv[1:3]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    torch.manual_seed(5)
+
+    # The first conversion runs the script as users do; the others call its main() in this process
+    # (each new interpreter would import torch again, ~2 s).
+    sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
+    import convert_weights
+
+    def run_converter(kind, path, out):
+        stdout, stderr = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            code = convert_weights.main(["convert_weights.py", kind, path, out])
+        return subprocess.CompletedProcess([], code, stdout.getvalue(), stderr.getvalue())
+
+    def convert(kind, state, legacy=False, name=None):
+        path = os.path.join(work, name or kind + ".pth")
+        torch.save(state, path, _use_new_zipfile_serialization=not legacy)
+        out = os.path.join(work, "out_" + os.path.basename(path))
+        if kind == "vgg16" and name is None:
+            return subprocess.run([sys.executable, converter, kind, path, out], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                  text=True), path, out
+        return run_converter(kind, path, out), path, out
+
+    def same(path, expected, what):
+        got, meta = read_safetensors(path)
+        ok = sorted(got) == sorted(expected) and all(torch.equal(got[k], expected[k].float()) for k in expected)
+        check(ok, "%s: %d tensors, names, shapes and values as the checkpoint's" % (what, len(expected)))
+        return meta
+
+    class Holder(nn.Module):
+        def __init__(self, features):
+            super().__init__()
+            self.features = features
+
+    vgg16 = Holder(make_layers(cfgs["D"])).state_dict()
+    # torchvision's files also hold the classifier, which the bench never reads.
+    vgg16_published = dict(vgg16, **{"classifier.0.weight": torch.randn(8, 4), "classifier.0.bias": torch.randn(8)})
+    p, pth, out = convert("vgg16", vgg16_published)
+    check(p.returncode == 0, "vgg16 converts (%s)" % p.stderr.strip())
+    with open(pth, "rb") as f:
+        digest = hashlib.sha256(f.read()).hexdigest()
+    check(("sha256 %s  %s" % (digest, pth)) in p.stdout, "the input's sha256 is printed")
+    meta = same(os.path.join(out, "vgg16.safetensors"), vgg16, "vgg16 (classifier dropped)")
+    check(meta.get("source_sha256") == digest, "the sha256 is recorded in the file's metadata")
+
+    vgg19 = Holder(make_layers(cfgs["E"])).state_dict()
+    p, _, out = convert("vgg19", vgg19)
+    same(os.path.join(out, "vgg19.safetensors"), vgg19, "vgg19")
+    alex = features_only(torchvision.models.AlexNet().state_dict())
+    p, _, out = convert("alexnet", alex)
+    same(os.path.join(out, "alexnet.safetensors"), alex, "alexnet")
+
+    # LPIPS's released heads: legacy torch.save format, NetLinLayer = Dropout + bias-free 1x1 conv.
+    heads = {"lin%d.model.1.weight" % l: torch.rand(1, c, 1, 1) for l, c in enumerate([64, 128, 256, 512, 512])}
+    p, _, out = convert("lpips_vgg", heads, legacy=True)
+    same(os.path.join(out, "lpips_vgg.safetensors"), heads, "lpips_vgg heads (legacy format)")
+    check(not os.path.exists(os.path.join(out, "vgg16.safetensors")), "richzhang's heads alone give no backbone file")
+
+    # pyiqa's LPIPS file: the module's whole state, the backbone split into slices that keep features' indices.
+    slices = [range(0, 4), range(4, 9), range(9, 16), range(16, 23), range(23, 30)]
+    pyiqa_lpips = dict(heads, **{"scaling_layer.shift": torch.tensor([-.030, -.088, -.188]).view(1, 3, 1, 1),
+                                 "scaling_layer.scale": torch.tensor([.458, .448, .450]).view(1, 3, 1, 1)})
+    for s, r in enumerate(slices, 1):
+        for k, v in vgg16.items():
+            i = int(k.split(".")[1])
+            if i in r:
+                pyiqa_lpips["net.slice%d.%d.%s" % (s, i, k.split(".")[2])] = v
+    p, _, out = convert("lpips_vgg", {"params": pyiqa_lpips}, name="LPIPS_v0.1_vgg-pyiqa.pth")
+    check(p.returncode == 0, "pyiqa's LPIPS file converts (%s)" % p.stderr.strip())
+    same(os.path.join(out, "lpips_vgg.safetensors"), heads, "pyiqa LPIPS heads")
+    same(os.path.join(out, "vgg16.safetensors"), vgg16, "pyiqa LPIPS backbone as torchvision's features.<i>")
+
+    # DISTS: weights.pt (legacy) and pyiqa's file with the VGG16 in stages and the L2 pools' filters.
+    ab = {"alpha": torch.rand(1, 1475, 1, 1), "beta": torch.rand(1, 1475, 1, 1)}
+    p, _, out = convert("dists", ab, legacy=True)
+    same(os.path.join(out, "dists.safetensors"), ab, "dists alpha/beta (legacy format)")
+    stages = [range(0, 4), range(4, 9), range(9, 16), range(16, 23), range(23, 30)]
+    pyiqa_dists = dict(ab, mean=torch.zeros(1, 3, 1, 1), std=torch.ones(1, 3, 1, 1))
+    for s, r in enumerate(stages, 1):
+        if s > 1:
+            pyiqa_dists["stage%d.%d.filter" % (s, r[0])] = torch.ones(4, 1, 3, 3)
+        for k, v in vgg16.items():
+            i = int(k.split(".")[1])
+            if i in r:
+                pyiqa_dists["stage%d.%d.%s" % (s, i, k.split(".")[2])] = v
+    p, _, out = convert("dists", {("module." + k): v for k, v in pyiqa_dists.items()}, name="DISTS_weights-pyiqa.pth")
+    same(os.path.join(out, "dists.safetensors"), ab, "pyiqa DISTS alpha/beta (module. prefixes)")
+    same(os.path.join(out, "vgg16.safetensors"), vgg16, "pyiqa DISTS backbone as torchvision's features.<i>")
+
+    # AdaIN's vgg_normalised: nn.Sequential of 1x1 conv, then (ReflectionPad2d, Conv2d, ReLU) per layer
+    # with ceil-mode max pools, up to relu5_4.
+    layers, cin = [nn.Conv2d(3, 3, 1)], 3
+    for v in cfgs["E"][:-1]:
+        if v == "M":
+            layers.append(nn.MaxPool2d(2, 2, 0, ceil_mode=True))
+        else:
+            layers += [nn.ReflectionPad2d(1), nn.Conv2d(cin, v, 3), nn.ReLU()]
+            cin = v
+    adain = nn.Sequential(*layers).state_dict()
+    p, _, out = convert("vgg_normalised", adain)
+    same(os.path.join(out, "vgg_normalised.safetensors"), adain, "AdaIN vgg_normalised")
+
+    # Errors: one line naming the file and the tensor, exit code 1, nothing written.
+    bad_files = []
+
+    def refused(kind, state, parts, what):
+        bad_files.append(what)
+        p, path, out = convert(kind, state, name="bad_%d.pth" % len(bad_files))
+        line = p.stderr.strip()
+        ok = p.returncode == 1 and all(x in line for x in [os.path.basename(path)] + parts) and not os.path.exists(out)
+        check(ok, "%s is refused: %s" % (what, line))
+
+    bad = dict(heads)
+    bad["lin2.model.1.weight"] = torch.rand(1, 255, 1, 1)
+    refused("lpips_vgg", bad, ["lin2.model.1.weight", "[1, 255, 1, 1]", "[1, 256, 1, 1]"], "a head of the wrong width")
+    refused("lpips_alex", heads, ["lin1.model.1.weight", "[1, 128, 1, 1]", "[1, 192, 1, 1]"], "VGG heads as AlexNet's")
+    refused("vgg19", vgg16, ["missing features.16.weight"], "a VGG16 as VGG19")  # VGG19's third block has 4 convolutions
+    missing = {k: v for k, v in vgg16.items() if k != "features.28.bias"}
+    refused("vgg16", missing, ["missing features.28.bias"], "a missing bias")
+    refused("dists", dict(ab, gamma=torch.rand(3)), ["unexpected tensor 'gamma'"], "an unknown tensor")
+    nan = dict(ab)
+    nan["beta"] = ab["beta"].clone()
+    nan["beta"][0, 7, 0, 0] = float("nan")
+    refused("dists", nan, ["beta", "not finite"], "a NaN")
+    with open(os.path.join(work, "not_a_checkpoint.pth"), "w") as f:
+        f.write("hello")
+    p = run_converter("vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x"))
+    check(p.returncode == 1 and "not_a_checkpoint.pth: not a PyTorch checkpoint" in p.stderr, "a text file is refused: " + p.stderr.strip())
+    if FAILURES:
+        sys.exit("%d check(s) failed; the files are in %s" % (len(FAILURES), work))
+    shutil.rmtree(work)  # about 770 MB of checkpoints and conversions
+
+
+if __name__ == "__main__":
+    main()

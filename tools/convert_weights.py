@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""Published metric checkpoints -> the safetensors files `style4d bench --metric-weights DIR` reads.
+
+    python3 tools/convert_weights.py KIND CHECKPOINT DIR
+
+KIND (docs/bench.md, "Learned metrics", has the table of files):
+  vgg16, vgg19, alexnet  torchvision vgg16-397923af.pth, vgg19-dcbb9e9d.pth, alexnet-owt-7be5be79.pth
+                         -> vgg16/vgg19/alexnet.safetensors ("features.<i>" only; the classifier is dropped)
+  lpips_vgg, lpips_alex  LPIPS weights/v0.1/vgg.pth, alex.pth ("lin<l>.model.1.weight"), or pyiqa's
+                         LPIPS_v0.1_vgg-a78928a0.pth / LPIPS_v0.1_alex-df73285e.pth, whose backbone
+                         ("net.slice<s>.<i>") also becomes vgg16/alexnet.safetensors
+  dists                  DISTS_pytorch/weights.pt ("alpha", "beta"), or pyiqa's DISTS_weights-f5e65c96.pth,
+                         whose VGG16 ("stage<s>.<i>") also becomes vgg16.safetensors
+  vgg_normalised         AdaIN's vgg_normalised.pth (nn.Sequential names "0", "2", ...)
+Every tensor's name and shape is checked against the network's definition; the state-dict names are
+kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 to compare with
+the publisher's (torchvision and pyiqa file names end in a prefix of it). Needs torch to read .pth.
+"""
+import hashlib
+import json
+import os
+import re
+import struct
+import sys
+
+# torchvision's cfgs "D" (VGG16) and "E" (VGG19): channels of each 3x3 convolution, 0 for a max pool.
+VGG_CFGS = {
+    "vgg16": [64, 64, 0, 128, 128, 0, 256, 256, 256, 0, 512, 512, 512, 0, 512, 512, 512, 0],
+    "vgg19": [64, 64, 0, 128, 128, 0, 256, 256, 256, 256, 0, 512, 512, 512, 512, 0, 512, 512, 512, 512, 0],
+}
+# Channels of the five LPIPS taps, per backbone.
+LPIPS_WIDTHS = {"lpips_vgg": [64, 128, 256, 512, 512], "lpips_alex": [64, 192, 384, 256, 256]}
+DISTS_CHANNELS = 3 + 64 + 128 + 256 + 512 + 512  # stage 0 (the image) and relu1_2 .. relu5_3
+
+
+class ConvertError(Exception):
+    pass
+
+
+def conv(prefix, cout, cin, k):
+    return {prefix + ".weight": [cout, cin, k, k], prefix + ".bias": [cout]}
+
+
+def torchvision_vgg(depth):
+    """features.<i>.weight/bias of every convolution, i the module index in `features`."""
+    spec, index, cin = {}, 0, 3
+    for v in VGG_CFGS[depth]:
+        if v == 0:
+            index += 1
+            continue
+        spec.update(conv("features.%d" % index, v, cin, 3))
+        cin, index = v, index + 2
+    return spec
+
+
+def torchvision_alexnet():
+    spec = {}
+    for index, cout, cin, k in [(0, 64, 3, 11), (3, 192, 64, 5), (6, 384, 192, 3), (8, 256, 384, 3), (10, 256, 256, 3)]:
+        spec.update(conv("features.%d" % index, cout, cin, k))
+    return spec
+
+
+def adain_vgg_normalised():
+    """AdaIN net.py's `vgg`: a 1x1 convolution, then VGG19's 16 3x3 convolutions, each after a
+    ReflectionPad2d and before a ReLU, with max pools after relu1_2, relu2_2, relu3_4, relu4_4."""
+    spec = conv("0", 3, 3, 1)
+    index, cin = 2, 3
+    for v in VGG_CFGS["vgg19"][:-1]:
+        if v == 0:
+            index += 1
+            continue
+        spec.update(conv(str(index), v, cin, 3))
+        cin, index = v, index + 3
+    return spec
+
+
+def lpips_heads(kind):
+    return {"lin%d.model.1.weight" % l: [1, c, 1, 1] for l, c in enumerate(LPIPS_WIDTHS[kind])}
+
+
+def sha256(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def load_state_dict(path):
+    try:
+        import torch
+    except ImportError as e:
+        raise ConvertError("reading %s needs torch (Debian: apt-get install python3-torch): %s" % (path, e))
+    try:
+        state = torch.load(path, map_location="cpu")
+    except Exception as e:
+        raise ConvertError("%s: not a PyTorch checkpoint (%s: %s)" % (path, type(e).__name__, e))
+    # pyiqa's and training scripts' wrappers around the state dict.
+    for key in ("params", "state_dict"):
+        if isinstance(state, dict) and key in state and isinstance(state[key], dict):
+            state = state[key]
+    if not isinstance(state, dict):
+        raise ConvertError("%s: holds a %s, not a state dict" % (path, type(state).__name__))
+    out = {}
+    for name, value in state.items():
+        if not torch.is_tensor(value):
+            raise ConvertError("%s: entry '%s' is a %s, not a tensor" % (path, name, type(value).__name__))
+        out[name[len("module."):] if name.startswith("module.") else name] = value
+    return out
+
+
+def check(path, tensors, spec, what):
+    """The spec's tensors from `tensors` as float32, each present and of its shape."""
+    import torch
+    out = {}
+    for name, shape in spec.items():
+        if name not in tensors:
+            raise ConvertError("%s: missing %s (%s)" % (path, name, what))
+        t = tensors[name]
+        if list(t.shape) != shape:
+            raise ConvertError("%s: %s has shape %s, %s needs %s" % (path, name, list(t.shape), what, shape))
+        if not t.is_floating_point():
+            raise ConvertError("%s: %s is %s, not floating point" % (path, name, t.dtype))
+        t = t.detach().to(torch.float32)
+        if not bool(torch.isfinite(t).all()):
+            raise ConvertError("%s: %s holds a value that is not finite" % (path, name))
+        out[name] = t
+    return out
+
+
+def renamed(tensors, pattern, template):
+    """The tensors whose names match `pattern`, renamed by `template` (pyiqa's module paths to
+    torchvision's "features.<i>": pyiqa keeps features' module indices inside its slices)."""
+    return {re.sub(pattern, template, n): t for n, t in tensors.items() if re.match(pattern, n)}
+
+
+def refuse_unknown(path, tensors, known_patterns, kind):
+    for name in tensors:
+        if not any(re.fullmatch(p, name) for p in known_patterns):
+            raise ConvertError("%s: unexpected tensor '%s' for %s (is this the right KIND?)" % (path, name, kind))
+
+
+def write_safetensors(path, tensors, metadata):
+    """The safetensors layout: u64 header length, JSON header (names, dtype, shape, byte offsets),
+    then the raw little-endian float32 data; the header is padded with spaces to 8 bytes."""
+    header, blobs, offset = {"__metadata__": metadata}, [], 0
+    for name in sorted(tensors):
+        data = tensors[name].contiguous().numpy().astype("<f4").tobytes()
+        header[name] = {"dtype": "F32", "shape": list(tensors[name].shape), "data_offsets": [offset, offset + len(data)]}
+        blobs.append(data)
+        offset += len(data)
+    text = json.dumps(header, separators=(",", ":")).encode()
+    text += b" " * (-len(text) % 8)
+    tmp = path + ".tmp"
+    with open(tmp, "wb") as f:
+        f.write(struct.pack("<Q", len(text)))
+        f.write(text)
+        for b in blobs:
+            f.write(b)
+    os.replace(tmp, path)
+
+
+def convert(kind, path):
+    """{output file name: {tensor name: float32 tensor}} for a checkpoint of `kind`."""
+    t = load_state_dict(path)
+    if kind in ("vgg16", "vgg19"):
+        refuse_unknown(path, t, [r"features\.\d+\.(weight|bias)", r"classifier\..*"], kind)
+        return {kind + ".safetensors": check(path, t, torchvision_vgg(kind), "torchvision " + kind)}
+    if kind == "alexnet":
+        refuse_unknown(path, t, [r"features\.\d+\.(weight|bias)", r"classifier\..*"], kind)
+        return {"alexnet.safetensors": check(path, t, torchvision_alexnet(), "torchvision alexnet")}
+    if kind == "vgg_normalised":
+        refuse_unknown(path, t, [r"\d+\.(weight|bias)"], kind)
+        return {"vgg_normalised.safetensors": check(path, t, adain_vgg_normalised(), "AdaIN vgg_normalised")}
+    if kind in LPIPS_WIDTHS:
+        refuse_unknown(path, t, [r"lin\d\.model\.1\.weight", r"net\.slice\d\.\d+\.(weight|bias)", r"scaling_layer\.(shift|scale)"],
+                       kind)
+        out = {kind + ".safetensors": check(path, t, lpips_heads(kind), "LPIPS v0.1 " + kind[6:] + " heads")}
+        backbone = renamed(t, r"^net\.slice\d\.(\d+)\.", r"features.\1.")
+        if backbone:  # pyiqa's file: the backbone too
+            if kind == "lpips_vgg":
+                out["vgg16.safetensors"] = check(path, backbone, torchvision_vgg("vgg16"), "LPIPS's VGG16 (net.slice*)")
+            else:
+                out["alexnet.safetensors"] = check(path, backbone, torchvision_alexnet(), "LPIPS's AlexNet (net.slice*)")
+        return out
+    if kind == "dists":
+        # pyiqa's file also holds the L2 pools' fixed filters and the ImageNet mean/std buffers.
+        refuse_unknown(path, t, [r"alpha", r"beta", r"stage\d\.\d+\.(weight|bias|filter)", r"mean", r"std"], kind)
+        ab = {"alpha": [1, DISTS_CHANNELS, 1, 1], "beta": [1, DISTS_CHANNELS, 1, 1]}
+        out = {"dists.safetensors": check(path, t, ab, "DISTS alpha/beta")}
+        backbone = renamed(t, r"^stage\d\.(\d+)\.(weight|bias)$", r"features.\1.\2")
+        if backbone:
+            out["vgg16.safetensors"] = check(path, backbone, torchvision_vgg("vgg16"), "DISTS's VGG16 (stage*)")
+        return out
+    raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised)" % kind)
+
+
+def main(argv):
+    if len(argv) != 4 or argv[1] in ("-h", "--help"):
+        sys.stderr.write(__doc__)
+        return 2
+    kind, path, out_dir = argv[1:]
+    try:
+        digest = sha256(path)
+        print("sha256 %s  %s" % (digest, path))
+        files = convert(kind, path)
+        os.makedirs(out_dir, exist_ok=True)
+        for name, tensors in files.items():
+            target = os.path.join(out_dir, name)
+            write_safetensors(target, tensors, {"format": "pt", "source": os.path.basename(path), "source_sha256": digest})
+            print("wrote %s (%d tensors)" % (target, len(tensors)))
+    except (ConvertError, OSError) as e:
+        sys.stderr.write("convert_weights: %s\n" % e)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
