@@ -36,6 +36,7 @@ set(S4D_SHADER_VARIANTS
   "blend_ceiling|bench/blend_ceiling.comp"
   "deform_feat|deform/deform_feat.comp"
   "deform_fwd|deform/deform_fwd.comp"
+  "deform_cot|deform/deform_cot.comp"
   "deform_bwd|deform/deform_bwd.comp"
   "deform_feat_bwd|deform/deform_feat_bwd.comp|S4D_FLOAT_ATOMICS=1"
   "deform_feat_bwd_cas|deform/deform_feat_bwd.comp|S4D_FLOAT_ATOMICS=0"

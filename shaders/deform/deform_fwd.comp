@@ -1,6 +1,6 @@
 // deform_fwd: the forward of one layer set of the deformation MLP (ALGORITHMS.md 3.1; sets and the
 // scratch row layout in s4d_deform.h) over the Gaussians p.first .. p.n - 1 of the moving prefix.
-// An invocation is one Gaussian (scratch row) x S4D_DEFORM_BLOCK outputs of one Linear layer:
+// An invocation is S4D_DEFORM_ROWS Gaussians (scratch rows) x S4D_DEFORM_BLOCK outputs of one Linear layer:
 // out[o] = bias[o] + sum_i weight[o][i] x[i] with x the layer's input columns (stored after their
 // ReLU), summed from the bias in input order. The trunk's and the heads' hidden layers store
 // ReLU(out) in their activation columns; a head's output layer adds out to the canonical raw
@@ -38,28 +38,36 @@ void write_head(uint h, uint i, uint k, float d) {
 }
 
 void main() {
-  uint row, layer, block;
-  bool live;
-  if (!deform_block(false, false, row, live, layer, block)) return;
+  uvec4 rows;
+  bvec4 live;
+  uint layer, block;
+  if (!deform_block(false, false, rows, live, layer, block)) return;
   uint in_dim = deform_layer_in(p.shape, layer), out_dim = deform_layer_out(p.shape, layer);
   uint o0 = block * uint(S4D_DEFORM_BLOCK), w = deform_layer_offset(p.shape, layer);
   uvec4 o = deform_quad(o0, out_dim);
   uvec4 bias = w + out_dim * in_dim + o, weight = w + o * in_dim;
-  vec4 acc = vec4(mlp[bias.x], mlp[bias.y], mlp[bias.z], mlp[bias.w]);
-  uint base = row * deform_scratch_floats(p.shape), x_at = base + deform_in_col(p.shape, layer);
+  uint row_floats = deform_scratch_floats(p.shape);
+  uvec4 base = rows * row_floats, x_at = base + deform_in_col(p.shape, layer);
+  mat4 acc;  // acc[r][k]: row r, output o0 + k
+  acc[0] = vec4(mlp[bias.x], mlp[bias.y], mlp[bias.z], mlp[bias.w]);
+  acc[1] = acc[0];
+  acc[2] = acc[0];
+  acc[3] = acc[0];
   for (uint i = 0u; i < in_dim; ++i) {
-    float x = scratch[x_at + i];
-    acc.x += mlp[weight.x + i] * x;
-    acc.y += mlp[weight.y + i] * x;
-    acc.z += mlp[weight.z + i] * x;
-    acc.w += mlp[weight.w + i] * x;
+    vec4 wi = vec4(mlp[weight.x + i], mlp[weight.y + i], mlp[weight.z + i], mlp[weight.w + i]);
+    acc[0] += wi * scratch[x_at.x + i];
+    acc[1] += wi * scratch[x_at.y + i];
+    acc[2] += wi * scratch[x_at.z + i];
+    acc[3] += wi * scratch[x_at.w + i];
   }
-  if (!live) return;
   bool head_out = deform_layer_is_head_out(p.shape, layer);
   uint h = head_out ? deform_layer_head(p.shape, layer) : 0u;
-  uint at = head_out ? 0u : base + deform_act_col(p.shape, deform_out_slot(p.shape, layer));
-  for (uint k = 0u; k < uint(S4D_DEFORM_BLOCK) && o0 + k < out_dim; ++k) {
-    if (head_out) write_head(h, p.first + row, o0 + k, acc[k]);
-    else scratch[at + o0 + k] = max(acc[k], 0.0);
+  uint col = head_out ? 0u : deform_act_col(p.shape, deform_out_slot(p.shape, layer)) + o0;
+  for (uint r = 0u; r < uint(S4D_DEFORM_ROWS); ++r) {
+    if (!live[r]) break;  // rows past the pass come last
+    for (uint k = 0u; k < uint(S4D_DEFORM_BLOCK) && o0 + k < out_dim; ++k) {
+      if (head_out) write_head(h, p.first + rows[r], o0 + k, acc[r][k]);
+      else scratch[base[r] + col + k] = max(acc[r][k], 0.0);
+    }
   }
 }

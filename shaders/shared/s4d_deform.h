@@ -72,10 +72,12 @@
 // The MLP runs one Linear layer set per dispatch over a pass of up to scratch-rows Gaussians, whose
 // activations and cotangents live in the scratch rows (deform_scratch_col below):
 //   deform_feat      one invocation per Gaussian: the HexPlane features;
-//   deform_fwd       a layer set's outputs: a workgroup is S4D_DEFORM_WG Gaussians (one per
-//                    invocation) x S4D_DEFORM_BLOCK outputs of one layer, so the weights it reads
-//                    are the same for the whole workgroup; the heads' output layers write the
-//                    deformed parameters;
+//   deform_fwd       a layer set's outputs: a workgroup is S4D_DEFORM_TILE Gaussians (S4D_DEFORM_ROWS
+//                    per invocation) x S4D_DEFORM_BLOCK outputs of one layer, so the weights it
+//                    reads are the same for the whole workgroup, and each weight and input read
+//                    serves 4 multiply-adds (on llvmpipe a storage-buffer read inside a loop costs
+//                    one scalar load per lane); the heads' output layers write the deformed parameters;
+//   deform_cot       one invocation per Gaussian: the heads' output cotangents into the rows;
 //   deform_bwd       a layer set's input cotangents, blocks of S4D_DEFORM_BLOCK inputs;
 //   deform_feat_bwd  one invocation per Gaussian: plane gradients (atomic scatter) and dL/d mean;
 //   deform_wgrad     the weight gradients from the rows: one invocation per 4x4 weight block and
@@ -84,8 +86,10 @@
 // (which share the trunk output as input, so their input cotangents sum), or their output layers.
 // No kernel has a barrier: on lavapipe a barrier in a kernel with private state costs more than the
 // arithmetic; the host puts a pipeline barrier between dispatches.
-#define S4D_DEFORM_WG 64               // Gaussians per workgroup of deform_feat / _fwd / _bwd / _feat_bwd
+#define S4D_DEFORM_WG 64               // invocations per workgroup of deform_feat / _fwd / _bwd / _feat_bwd
 #define S4D_DEFORM_BLOCK 4             // outputs (deform_fwd) or inputs (deform_bwd) per invocation
+#define S4D_DEFORM_ROWS 4              // Gaussians per invocation of deform_fwd / deform_bwd
+#define S4D_DEFORM_TILE (S4D_DEFORM_WG * S4D_DEFORM_ROWS)  // Gaussians per workgroup of deform_fwd / deform_bwd
 #define S4D_DEFORM_REG_WG 256          // deform_reg: one invocation per plane element
 #define S4D_DEFORM_WGRAD_WG 64
 #define S4D_DEFORM_WGRAD_ROWS 256
@@ -113,14 +117,17 @@
 #define S4D_B_DFWD_OUT_OPACITY_LOGITS 10
 #define S4D_B_DFWD_OUT_SH 11
 
+// deform_cot bindings.
+#define S4D_B_DCOT_V_MEANS 0          // [N, 3] dL/d deformed means
+#define S4D_B_DCOT_V_LOG_SCALES 1     // [N, 3]
+#define S4D_B_DCOT_V_QUATS 2          // [N, 4]
+#define S4D_B_DCOT_V_OPACITY_LOGITS 3 // [N]
+#define S4D_B_DCOT_V_SH 4             // [N, K, 3]
+#define S4D_B_DCOT_SCRATCH 5          // [rows, deform_scratch_floats] out: the head-output cotangents
+
 // deform_bwd bindings.
 #define S4D_B_DBWD_MLP 0
 #define S4D_B_DBWD_SCRATCH 1          // [rows, deform_scratch_floats] in: activations, output cotangents; out: input cotangents
-#define S4D_B_DBWD_V_MEANS 2          // [N, 3] dL/d deformed means (read by the pos head's output layer)
-#define S4D_B_DBWD_V_LOG_SCALES 3     // [N, 3]
-#define S4D_B_DBWD_V_QUATS 4          // [N, 4]
-#define S4D_B_DBWD_V_OPACITY_LOGITS 5 // [N]
-#define S4D_B_DBWD_V_SH 6             // [N, K, 3]
 
 // deform_feat_bwd bindings.
 #define S4D_B_DFB_PLANES 0
@@ -288,7 +295,7 @@ S4D_DEFORM_FN uint deform_layer_offset(DeformShape s, uint l) {
 //   act slot 0..trunk_extra [W]   ReLU(z_e) of trunk layer e's output z_e (deform_fwd)
 //   act slot trunk_extra + 1 + k  ReLU(y_k) of the k-th head on's hidden output y_k (deform_fwd)
 //   cot slot 0.. [W]              dL/d z_e and dL/d y_k, same slots (deform_bwd)
-//   head outs                     dL/d each head on's output, packed in head order (deform_bwd)
+//   head outs                     dL/d each head on's output, packed in head order (deform_cot)
 //   v_feat [F]                    dL/d feat (deform_bwd), read by deform_feat_bwd
 // Every consumer of z_e or y_k goes through a ReLU, so the activations are stored after it, and a
 // pre-activation is positive exactly where its stored activation is: that is the ReLU's derivative.

@@ -17,7 +17,7 @@ TEST_CASE("train --preset default runs the paper's width-128, five-head field in
                             dir / "synth.log") == 0);
   const fs::path run = dir / "run";
   REQUIRE_MESSAGE(test::run_style4d("train", "--data " + (dir / "d").string() + " --out " + run.string() +
-                                                 " --preset default --iters ITERS --fine-iters FINE --batch 1",
+                                                 " --preset default --iters 60 --fine-iters 20 --batch 1",
                                     dir / "train.log") == 0,
                   test::read_text(dir / "train.log"));
   const nlohmann::json j = nlohmann::json::parse(test::read_text(run / "train.json"));
@@ -25,7 +25,7 @@ TEST_CASE("train --preset default runs the paper's width-128, five-head field in
   CHECK(j["settings"]["field_width"] == 128);
   CHECK(j["settings"]["field_heads"] == 31);
   // The field moves the Gaussians: the 4DGS stage beats the static fit it starts from. Measured TODO.
-  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + MARGIN);
+  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.0);
   const train::Checkpoint cp = train::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
   REQUIRE(cp.extra.size() >= 2);
 }

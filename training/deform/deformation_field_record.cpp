@@ -1,5 +1,5 @@
-// DeformationField: recording of deform_feat, deform_fwd, deform_bwd, deform_feat_bwd + deform_wgrad (or the _cas
-// variants) and deform_reg, with the host-side checks that run before anything is recorded.
+// DeformationField: recording of deform_feat, deform_fwd, deform_cot, deform_bwd, deform_feat_bwd + deform_wgrad (or
+// the _cas variants) and deform_reg, with the host-side checks that run before anything is recorded.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -88,7 +88,7 @@ void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformPara
                                           const engine::Buffer* const outputs[S4D_DEFORM_HEADS]) const {
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   const engine::Pipeline& fwd = shader_pipeline(*ctx_, shaders::Id::deform_fwd);
-  const uint32_t tiles = ceil_div(p.n - p.first, S4D_DEFORM_WG), te = shape_.trunk_extra;
+  const uint32_t tiles = ceil_div(p.n - p.first, S4D_DEFORM_TILE), te = shape_.trunk_extra;
   auto set = [&](uint32_t layer, uint32_t layers) {
     p.layer = layer;
     p.layers = layers;
@@ -161,9 +161,11 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
     p.first = first;
     p.n = std::min(moving - first, rows) + first;
     wp.rows = p.n - first;
-    const uint32_t tiles = ceil_div(wp.rows, S4D_DEFORM_WG);
+    const uint32_t groups = ceil_div(wp.rows, S4D_DEFORM_WG), tiles = ceil_div(wp.rows, S4D_DEFORM_TILE);
     rec.barrier();  // the scratch's previous readers are done
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p, tiles);
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p, groups);
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_cot),
+                 {*v.v_means, in(v.v_log_scales), in(v.v_quats), in(v.v_opacity_logits), in(v.v_sh), scratch_}, p, groups);
     record_mlp_forward(rec, p, g, nullptr);  // the activations: nothing is kept from the forward
     // Input cotangents, from the heads' outputs back to the features.
     auto set = [&](uint32_t layer, uint32_t layers, bool shared_input) {
@@ -171,15 +173,13 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       p.layers = layers;
       p.shared_input = shared_input ? 1 : 0;
       rec.barrier();
-      rec.dispatch(bwd,
-                   {mlp_, scratch_, *v.v_means, in(v.v_log_scales), in(v.v_quats), in(v.v_opacity_logits), in(v.v_sh)}, p,
-                   tiles * gpu::deform_set_blocks(shape_, layer, layers, true, shared_input));
+      rec.dispatch(bwd, {mlp_, scratch_}, p, tiles * gpu::deform_set_blocks(shape_, layer, layers, true, shared_input));
     };
     set(te + 2, heads_on(), false);
     set(te + 1, heads_on(), true);
     for (uint32_t e = te + 1; e-- > 0;) set(e, 1, false);
     rec.barrier();
-    rec.dispatch(feat_bwd, {planes_, *g.means, *v.v_means, v_planes_, scratch_}, p, tiles);
+    rec.dispatch(feat_bwd, {planes_, *g.means, *v.v_means, v_planes_, scratch_}, p, groups);
     rec.dispatch(wgrad, {scratch_, v_mlp_}, wp,
                  ceil_div(uint64_t{ceil_div(wp.rows, S4D_DEFORM_WGRAD_ROWS)} * wp.blocks, S4D_DEFORM_WGRAD_WG));
   }
