@@ -1,5 +1,7 @@
-// Deformation field kernels' speed on the chosen device (S4D_DEVICE to pick another): deform_fwd,
-// deform_bwd (or deform_bwd_cas with --cas) and deform_reg for a preset's field on N random Gaussians
+// Deformation field kernels' speed on the chosen device (S4D_DEVICE to pick another): the forward
+// (row "deform_fwd": deform_feat + deform_fwd's layer sets), the backward (row "deform_bwd", or
+// "deform_bwd_cas" with --cas: the recomputed activations, deform_cot, deform_bwd's layer sets,
+// deform_feat_bwd + deform_wgrad) and deform_reg for a preset's field on N random Gaussians
 // inside the field's AABB, the last --static fraction of them static (skipped by the field, as the
 // trainer's --static-motion puts them last). One JSON line per kernel on stdout, a human table on stderr.
 // Timings come from GPU timestamps around each kernel's recorded work, median of --repeats after a

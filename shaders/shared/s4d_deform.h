@@ -70,7 +70,7 @@
 #define S4D_DEFORM_SPEC_CHANNELS 0   // >= C
 
 // The MLP runs one Linear layer set per dispatch over a pass of up to scratch-rows Gaussians, whose
-// activations and cotangents live in the scratch rows (deform_scratch_col below):
+// activations and cotangents live in the scratch rows (layout below, "Scratch row"):
 //   deform_feat      one invocation per Gaussian: the HexPlane features;
 //   deform_fwd       a layer set's outputs: a workgroup is S4D_DEFORM_TILE Gaussians (S4D_DEFORM_ROWS
 //                    per invocation) x S4D_DEFORM_BLOCK outputs of one layer, so the weights it
@@ -86,7 +86,7 @@
 // (which share the trunk output as input, so their input cotangents sum), or their output layers.
 // No kernel has a barrier: on lavapipe a barrier in a kernel with private state costs more than the
 // arithmetic; the host puts a pipeline barrier between dispatches.
-#define S4D_DEFORM_WG 64               // invocations per workgroup of deform_feat / _fwd / _bwd / _feat_bwd
+#define S4D_DEFORM_WG 64               // invocations per workgroup of deform_feat / _fwd / _cot / _bwd / _feat_bwd
 #define S4D_DEFORM_BLOCK 4             // outputs (deform_fwd) or inputs (deform_bwd) per invocation
 #define S4D_DEFORM_ROWS 4              // Gaussians per invocation of deform_fwd / deform_bwd
 #define S4D_DEFORM_TILE (S4D_DEFORM_WG * S4D_DEFORM_ROWS)  // Gaussians per workgroup of deform_fwd / deform_bwd

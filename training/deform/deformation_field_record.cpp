@@ -113,7 +113,7 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
     if (gpu::deform_head_on(shape_, h))
       require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const uint32_t moving = g.count - g.static_count, rows = scratch_rows();
-  rec.begin_label(name_ + " deform_fwd");
+  rec.begin_label(name_ + " deform forward");
   for (uint32_t first = 0; first < moving; first += rows) {
     gpu::DeformParams p = params(g, time);
     p.first = first;
@@ -155,7 +155,7 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_feat_bwd : shaders::Id::deform_feat_bwd_cas, shape_);
   const engine::Pipeline& wgrad =
       shader_pipeline(*ctx_, float_atomics ? shaders::Id::deform_wgrad : shaders::Id::deform_wgrad_cas);
-  rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
+  rec.begin_label(name_ + (float_atomics ? " deform backward" : " deform backward (cas)"));
   for (uint32_t first = 0; first < moving; first += rows) {
     gpu::DeformParams p = params(g, time);
     p.first = first;
