@@ -27,7 +27,6 @@ constexpr uint64_t kLoopBound =
                        uint64_t{S4D_DEFORM_MAX_LEVELS} * S4D_DEFORM_PLANES * S4D_DEFORM_MAX_CHANNELS * (S4D_DEFORM_PLANES + 4)) +
     2000;
 static_assert(kLoopBound < kLoopBudget / 4,  // a quarter: margin for the estimate
-
               "raising S4D_DEFORM_MAX_* brings the deform kernels near llvmpipe's 65535 loop iterations per invocation");
 
 // deform_feat_bwd specialised to this field's C (its private samples' capacity).
