@@ -1,5 +1,7 @@
-// Deformation field kernels' speed on the chosen device (S4D_DEVICE to pick another): deform_fwd,
-// deform_bwd (or deform_bwd_cas with --cas) and deform_reg for a preset's field on N random Gaussians
+// Deformation field kernels' speed on the chosen device (S4D_DEVICE to pick another): the forward
+// (row "deform_fwd": deform_feat + deform_fwd's layer sets), the backward (row "deform_bwd", or
+// "deform_bwd_cas" with --cas: the recomputed activations, deform_cot, deform_bwd's layer sets,
+// deform_feat_bwd + deform_wgrad) and deform_reg for a preset's field on N random Gaussians
 // inside the field's AABB, the last --static fraction of them static (skipped by the field, as the
 // trainer's --static-motion puts them last). One JSON line per kernel on stdout, a human table on stderr.
 // Timings come from GPU timestamps around each kernel's recorded work, median of --repeats after a
@@ -64,9 +66,11 @@ struct Scene {
   engine::Buffer means, log_scales, quats, opacity, sh;
   engine::Buffer v_means, v_log_scales, v_quats, v_opacity, v_sh;
   engine::Buffer out_means, out_log_scales, out_quats, out_opacity, out_sh;
-  uint32_t n = 0, static_count = 0;
+  uint32_t n = 0, static_count = 0, sh_coeffs = 1;
 
-  deform::CanonicalGaussians canonical() const { return {&means, &log_scales, &quats, &opacity, &sh, n, static_count, 1}; }
+  deform::CanonicalGaussians canonical() const {
+    return {&means, &log_scales, &quats, &opacity, &sh, n, static_count, sh_coeffs};
+  }
   deform::DeformedGaussians deformed() { return {&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}; }
   deform::DeformedGrads grads() { return {&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}; }
 };
@@ -75,12 +79,14 @@ Scene make_scene(engine::Context& ctx, const deform::FieldConfig& c, uint32_t n,
   std::mt19937 rng(seed);
   Scene s;
   s.n = n;
-  s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, n, rng, {.margin = 0, .log_scale_lo = -4, .log_scale_hi = -2});
+  s.sh_coeffs = (c.heads & S4D_DEFORM_HEAD_SH) != 0 ? S4D_DEFORM_SH_COEFFS : 1;  // the sh head deforms degree 3
+  s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, n, rng,
+                                        {.margin = 0, .log_scale_lo = -4, .log_scale_hi = -2, .sh_coeffs = s.sh_coeffs});
   s.v_host.means = uniform(3 * size_t{n}, rng, -1, 1);
   s.v_host.log_scales = uniform(3 * size_t{n}, rng, -1, 1);
   s.v_host.quats = uniform(4 * size_t{n}, rng, -1, 1);
   s.v_host.opacity_logits = uniform(n, rng, -1, 1);
-  s.v_host.sh = uniform(3 * size_t{n}, rng, -1, 1);
+  s.v_host.sh = uniform(3 * size_t{n} * s.sh_coeffs, rng, -1, 1);
   s.means = engine::buffer_from(ctx, "means", s.host.means);
   s.log_scales = engine::buffer_from(ctx, "log_scales", s.host.log_scales);
   s.quats = engine::buffer_from(ctx, "quats", s.host.quats);
@@ -95,7 +101,7 @@ Scene make_scene(engine::Context& ctx, const deform::FieldConfig& c, uint32_t n,
   s.out_log_scales = engine::Buffer(ctx, "out log_scales", size_t{n} * 12);
   s.out_quats = engine::Buffer(ctx, "out quats", size_t{n} * 16);
   s.out_opacity = engine::Buffer(ctx, "out opacity", size_t{n} * 4);
-  s.out_sh = engine::Buffer(ctx, "out sh", size_t{n} * 12);
+  s.out_sh = engine::Buffer(ctx, "out sh", size_t{n} * 12 * s.sh_coeffs);
   return s;
 }
 

@@ -1,12 +1,11 @@
-// deform_fwd: the deformation field applied to canonical Gaussians at one time (ALGORITHMS.md 3.1).
-// One invocation per Gaussian: HexPlane features (6 bilinear samples multiplied per level, levels
-// concatenated), the MLP trunk, then each head that is on; the head's output is added to the raw
-// canonical parameter and written to the deformed output. It covers Gaussians 0 .. p.n - 1, the
-// moving prefix: the host copies the static ones after it unchanged (deformation_field_record.cpp),
-// so no invocation idles on a static Gaussian. Outputs of heads that are off are not written.
-// MLP weights are read from the storage buffer at uniform addresses (the same for every invocation).
-// Specialization constants S4D_DEFORM_SPEC_FEAT / _WIDTH / _TRUNK size the private activation array
-// (deform_mlp.glsl); they change capacity only, never results.
+// deform_fwd: the forward of one layer set of the deformation MLP (ALGORITHMS.md 3.1; sets and the
+// scratch row layout in s4d_deform.h) over the Gaussians p.first .. p.n - 1 of the moving prefix.
+// An invocation is S4D_DEFORM_ROWS Gaussians (scratch rows) x S4D_DEFORM_BLOCK outputs of one Linear layer:
+// out[o] = bias[o] + sum_i weight[o][i] x[i] with x the layer's input columns (stored after their
+// ReLU), summed from the bias in input order. The trunk's and the heads' hidden layers store
+// ReLU(out) in their activation columns; a head's output layer adds out to the canonical raw
+// parameter and writes the deformed one (only heads that are on). Every invocation of a workgroup
+// reads the same weights, so their addresses are uniform; the loop runs in_dim iterations.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_deform.h"
@@ -14,8 +13,8 @@
 
 layout(local_size_x = S4D_DEFORM_WG) in;
 layout(push_constant) uniform Push { DeformParams p; };
-layout(std430, binding = S4D_B_DFWD_PLANES) readonly buffer Planes { float planes[]; };
 layout(std430, binding = S4D_B_DFWD_MLP) readonly buffer Mlp { float mlp[]; };
+layout(std430, binding = S4D_B_DFWD_SCRATCH) buffer Scratch { float scratch[]; };                 // [rows, row floats]
 layout(std430, binding = S4D_B_DFWD_MEANS) readonly buffer Means { float means[]; };              // [N, 3]
 layout(std430, binding = S4D_B_DFWD_LOG_SCALES) readonly buffer LogScales { float log_scales[]; }; // [N, 3]
 layout(std430, binding = S4D_B_DFWD_QUATS) readonly buffer Quats { float quats[]; };              // [N, 4]
@@ -28,30 +27,47 @@ layout(std430, binding = S4D_B_DFWD_OUT_OPACITY_LOGITS) writeonly buffer OutOpac
 layout(std430, binding = S4D_B_DFWD_OUT_SH) writeonly buffer OutSh { float out_sh[]; };
 
 #include "deform_mlp.glsl"
-#include "deform_field.glsl"
 
-// deformed = canonical + delta for head h's `out` values of Gaussian i.
-void write_head(uint h, uint i) {
-  uint count = deform_head_out(h);
-  for (uint k = 0u; k < count; ++k) {
-    float d = g_act[ACT_Y2 + k];
-    if (h == 0u) out_means[3u * i + k] = means[3u * i + k] + d;
-    else if (h == 1u) out_log_scales[3u * i + k] = log_scales[3u * i + k] + d;
-    else if (h == 2u) out_quats[4u * i + k] = quats[4u * i + k] + d;
-    else if (h == 3u) out_opacity[i] = opacity[i] + d;
-    else out_sh[i * 3u * p.sh_coeffs + k] = sh[i * 3u * p.sh_coeffs + k] + d;
-  }
+// deformed = canonical + d for output k of head h of Gaussian i.
+void write_head(uint h, uint i, uint k, float d) {
+  if (h == 0u) out_means[3u * i + k] = means[3u * i + k] + d;
+  else if (h == 1u) out_log_scales[3u * i + k] = log_scales[3u * i + k] + d;
+  else if (h == 2u) out_quats[4u * i + k] = quats[4u * i + k] + d;
+  else if (h == 3u) out_opacity[i] = opacity[i] + d;
+  else out_sh[i * 3u * p.sh_coeffs + k] = sh[i * 3u * p.sh_coeffs + k] + d;
 }
 
 void main() {
-  uint i = flat_group_id() * S4D_DEFORM_WG + gl_LocalInvocationIndex;
-  if (i >= p.n) return;
-  deform_features(deform_coords(vec3(means[3u * i], means[3u * i + 1u], means[3u * i + 2u])));
-  trunk_fwd();
-  for (uint h = 0u; h < uint(S4D_DEFORM_HEADS); ++h) {
-    if (!deform_head_on(p.shape, h)) continue;
-    head_hidden_fwd(h);
-    head_out_fwd(h);
-    write_head(h, i);
+  uvec4 rows;
+  bvec4 live;
+  uint layer, block;
+  if (!deform_block(false, false, rows, live, layer, block)) return;
+  uint in_dim = deform_layer_in(p.shape, layer), out_dim = deform_layer_out(p.shape, layer);
+  uint o0 = block * uint(S4D_DEFORM_BLOCK), w = deform_layer_offset(p.shape, layer);
+  uvec4 o = deform_quad(o0, out_dim);
+  uvec4 bias = w + out_dim * in_dim + o, weight = w + o * in_dim;
+  uint row_floats = deform_scratch_floats(p.shape);
+  uvec4 base = rows * row_floats, x_at = base + deform_in_col(p.shape, layer);
+  mat4 acc;  // acc[r][k]: row r, output o0 + k
+  acc[0] = vec4(mlp[bias.x], mlp[bias.y], mlp[bias.z], mlp[bias.w]);
+  acc[1] = acc[0];
+  acc[2] = acc[0];
+  acc[3] = acc[0];
+  for (uint i = 0u; i < in_dim; ++i) {
+    vec4 wi = vec4(mlp[weight.x + i], mlp[weight.y + i], mlp[weight.z + i], mlp[weight.w + i]);
+    acc[0] += wi * scratch[x_at.x + i];
+    acc[1] += wi * scratch[x_at.y + i];
+    acc[2] += wi * scratch[x_at.z + i];
+    acc[3] += wi * scratch[x_at.w + i];
+  }
+  bool head_out = deform_layer_is_head_out(p.shape, layer);
+  uint h = head_out ? deform_layer_head(p.shape, layer) : 0u;
+  uint col = head_out ? 0u : deform_act_col(p.shape, deform_out_slot(p.shape, layer)) + o0;
+  for (uint r = 0u; r < uint(S4D_DEFORM_ROWS); ++r) {
+    if (!live[r]) break;  // rows past the pass come last
+    for (uint k = 0u; k < uint(S4D_DEFORM_BLOCK) && o0 + k < out_dim; ++k) {
+      if (head_out) write_head(h, p.first + rows[r], o0 + k, acc[r][k]);
+      else scratch[base[r] + col + k] = max(acc[r][k], 0.0);
+    }
   }
 }

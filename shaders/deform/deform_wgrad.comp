@@ -1,5 +1,6 @@
-// deform_wgrad: the MLP weight and bias gradients from deform_bwd's scratch rows (per Gaussian,
-// each Linear layer's input after its ReLU and its output cotangent; s4d_deform.h). For layer l,
+// deform_wgrad: the MLP weight and bias gradients from the scratch rows (per Gaussian, each Linear
+// layer's input after its ReLU, from deform_fwd, and its output cotangent, from deform_bwd; layout
+// in s4d_deform.h). For layer l,
 // dL/d weight[o][i] = sum over rows of v[o] x[i] and dL/d bias[o] = sum of v[o].
 // One invocation per (4x4 weight block, S4D_DEFORM_WGRAD_ROWS rows): it sums the block's 16 weights
 // (and, for blocks at input 0, their 4 biases) over its rows in registers, in row order, then adds
@@ -41,9 +42,8 @@ void main() {
   for (; b >= deform_layer_blocks(p.shape, l); ++l) b -= deform_layer_blocks(p.shape, l);
   uint in_dim = deform_layer_in(p.shape, l), out_dim = deform_layer_out(p.shape, l);
   uint i_blocks = (in_dim + 3u) / 4u, o0 = b / i_blocks * 4u, i0 = b % i_blocks * 4u;
-  uint col = deform_scratch_col(p.shape, l);
-  uvec4 xi = min(uvec4(i0) + uvec4(0u, 1u, 2u, 3u), uvec4(in_dim - 1u)) + col;
-  uvec4 vo = min(uvec4(o0) + uvec4(0u, 1u, 2u, 3u), uvec4(out_dim - 1u)) + col + in_dim;
+  uvec4 xi = min(uvec4(i0) + uvec4(0u, 1u, 2u, 3u), uvec4(in_dim - 1u)) + deform_in_col(p.shape, l);
+  uvec4 vo = min(uvec4(o0) + uvec4(0u, 1u, 2u, 3u), uvec4(out_dim - 1u)) + deform_v_out_col(p.shape, l);
   mat4 acc = mat4(0.0);  // acc[c][r]: input i0 + c, output o0 + r
   vec4 bias = vec4(0.0);
   uint end = min(first + uint(S4D_DEFORM_WGRAD_ROWS), p.rows);

@@ -1,5 +1,5 @@
-// HexPlane lookup for one point (mapping and layout in s4d_deform.h). Needs `p` (DeformParams), the
-// plane buffer `planes[]` and deform_mlp.glsl (features go to g_act[ACT_FEAT ..]) before the include.
+// HexPlane lookup for one point (mapping and layout in s4d_deform.h). Needs `p` (DeformParams) and
+// the plane buffer `planes[]` before the include.
 #ifndef DEFORM_FIELD_GLSL
 #define DEFORM_FIELD_GLSL
 
@@ -45,16 +45,11 @@ float tap_value(DeformTap t, uint c) {
   return (1.0 - t.wy) * top + t.wy * bottom;
 }
 
-// g_act[ACT_FEAT + l * C + c] = product over the 6 planes of level l of the sampled channel c.
-void deform_features(vec4 g) {
-  uint C = p.shape.channels, offset = 0u;
-  for (uint l = 0u; l < p.shape.levels; ++l) {
-    for (uint c = 0u; c < C; ++c) g_act[ACT_FEAT + l * C + c] = 1.0;
-    for (uint plane = 0u; plane < uint(S4D_DEFORM_PLANES); ++plane) {
-      DeformTap t = deform_tap(l, plane, g, offset);
-      for (uint c = 0u; c < C; ++c) g_act[ACT_FEAT + l * C + c] *= tap_value(t, c);
-      offset += deform_plane_floats(p.shape, l, plane);
-    }
+// The 6 taps of level l, whose planes start at float `offset` (advanced past them).
+void deform_level_taps(uint l, vec4 g, inout uint offset, out DeformTap taps[S4D_DEFORM_PLANES]) {
+  for (uint plane = 0u; plane < uint(S4D_DEFORM_PLANES); ++plane) {
+    taps[plane] = deform_tap(l, plane, g, offset);
+    offset += deform_plane_floats(p.shape, l, plane);
   }
 }
 

@@ -54,8 +54,10 @@
 #define S4D_DEFORM_HEADS_DYNERF 31u  // dx, ds, dr, do, dshs (the DyNeRF config)
 #define S4D_DEFORM_SH_COEFFS 16      // the sh head deforms all 16 degree-3 coefficients
 
-// Limits: the kernels keep per-Gaussian activations in private arrays of at most these sizes.
-// 4DGaussians uses C 16/32, 2 levels, W 64/128 and no extra trunk layer.
+// Limits of the field's shape. 4DGaussians uses C 16/32, 2 levels, W 64/128 and no extra trunk layer.
+// No kernel's loop count grows with the MLP's size past one layer (llvmpipe ends an invocation after
+// 65535 loop iterations in total): the widest loop is deform_bwd's sum over the heads' hidden
+// layers, S4D_DEFORM_HEADS x W iterations.
 #define S4D_DEFORM_MAX_LEVELS 4        // multires is a uvec4
 #define S4D_DEFORM_MAX_CHANNELS 32
 #define S4D_DEFORM_MAX_FEAT 128        // C * levels
@@ -63,55 +65,79 @@
 #define S4D_DEFORM_MAX_TRUNK_EXTRA 3
 #define S4D_DEFORM_MIN_RESOLUTION 3    // bilinear needs 2 texels, the second difference 3
 
-// Specialization constants of deform_fwd and deform_bwd: the private arrays' capacities, set by the
-// host to the field's own sizes (smaller arrays compile faster and spill less); defaults are the limits.
-#define S4D_DEFORM_SPEC_FEAT 0       // >= C * levels
-#define S4D_DEFORM_SPEC_WIDTH 1      // >= W
-#define S4D_DEFORM_SPEC_TRUNK 2      // >= trunk_extra + 1
-#define S4D_DEFORM_SPEC_CHANNELS 3   // >= C
+// Specialization constant of deform_feat_bwd: the capacity of its private plane samples, set by the
+// host to the field's C (a smaller array compiles faster and spills less); the default is the limit.
+#define S4D_DEFORM_SPEC_CHANNELS 0   // >= C
 
-#define S4D_DEFORM_WG 64               // deform_fwd / deform_bwd: one invocation per Gaussian
+// The MLP runs one Linear layer set per dispatch over a pass of up to scratch-rows Gaussians, whose
+// activations and cotangents live in the scratch rows (layout below, "Scratch row"):
+//   deform_feat      one invocation per Gaussian: the HexPlane features;
+//   deform_fwd       a layer set's outputs: a workgroup is S4D_DEFORM_TILE Gaussians (S4D_DEFORM_ROWS
+//                    per invocation) x S4D_DEFORM_BLOCK outputs of one layer, so the weights it
+//                    reads are the same for the whole workgroup, and each weight and input read
+//                    serves 4 multiply-adds (on llvmpipe a storage-buffer read inside a loop costs
+//                    one scalar load per lane); the heads' output layers write the deformed parameters;
+//   deform_cot       one invocation per Gaussian: the heads' output cotangents into the rows;
+//   deform_bwd       a layer set's input cotangents, blocks of S4D_DEFORM_BLOCK inputs;
+//   deform_feat_bwd  one invocation per Gaussian: plane gradients (atomic scatter) and dL/d mean;
+//   deform_wgrad     the weight gradients from the rows: one invocation per 4x4 weight block and
+//                    S4D_DEFORM_WGRAD_ROWS rows, one atomic add per weight and invocation.
+// Layer sets (deform_set_blocks): one trunk layer, or the hidden layers of all heads that are on
+// (which share the trunk output as input, so their input cotangents sum), or their output layers.
+// No kernel has a barrier: on lavapipe a barrier in a kernel with private state costs more than the
+// arithmetic; the host puts a pipeline barrier between dispatches.
+#define S4D_DEFORM_WG 64               // invocations per workgroup of deform_feat / _fwd / _cot / _bwd / _feat_bwd
+#define S4D_DEFORM_BLOCK 4             // outputs (deform_fwd) or inputs (deform_bwd) per invocation
+#define S4D_DEFORM_ROWS 4              // Gaussians per invocation of deform_fwd / deform_bwd
+#define S4D_DEFORM_TILE (S4D_DEFORM_WG * S4D_DEFORM_ROWS)  // Gaussians per workgroup of deform_fwd / deform_bwd
 #define S4D_DEFORM_REG_WG 256          // deform_reg: one invocation per plane element
-// MLP weight gradients take two kernels: deform_bwd writes, per Gaussian, each Linear layer's input
-// (after its ReLU) and output cotangent to a scratch row (no workgroup reductions, so no barriers:
-// on lavapipe a barrier in a kernel with this much private state costs more than the arithmetic);
-// deform_wgrad then sums them over Gaussians, one invocation per 4x4 weight block and
-// S4D_DEFORM_WGRAD_ROWS scratch rows, with one atomic add per weight and invocation.
 #define S4D_DEFORM_WGRAD_WG 64
 #define S4D_DEFORM_WGRAD_ROWS 256
-// Scratch rows (Gaussians) per deform_bwd + deform_wgrad pass: at most this many bytes of scratch,
-// a multiple of 256 rows, at most S4D_DEFORM_SCRATCH_MAX_ROWS; more Gaussians take more passes.
+// Scratch rows (Gaussians) per pass: at most this many bytes of scratch, a multiple of 256 rows, at
+// most S4D_DEFORM_SCRATCH_MAX_ROWS; more Gaussians take more passes.
 #define S4D_DEFORM_SCRATCH_BYTES (32u * 1024u * 1024u)
 #define S4D_DEFORM_SCRATCH_MAX_ROWS 65536u
 
+// deform_feat bindings.
+#define S4D_B_DFEAT_PLANES 0          // [plane floats] f32
+#define S4D_B_DFEAT_MEANS 1           // [N, 3] canonical
+#define S4D_B_DFEAT_SCRATCH 2         // [rows, deform_scratch_floats] f32 out: the features
+
 // deform_fwd bindings. Per-Gaussian arrays are flat floats (s4d_splat.h layouts).
-#define S4D_B_DFWD_PLANES 0           // [plane floats] f32
-#define S4D_B_DFWD_MLP 1              // [mlp floats] f32
+#define S4D_B_DFWD_MLP 0              // [mlp floats] f32
+#define S4D_B_DFWD_SCRATCH 1          // [rows, deform_scratch_floats] in: the set's inputs; out: its activations
 #define S4D_B_DFWD_MEANS 2            // [N, 3] canonical
 #define S4D_B_DFWD_LOG_SCALES 3       // [N, 3]
 #define S4D_B_DFWD_QUATS 4            // [N, 4] (w, x, y, z)
 #define S4D_B_DFWD_OPACITY_LOGITS 5   // [N]
 #define S4D_B_DFWD_SH 6               // [N, K, 3], K = sh_coeffs
-#define S4D_B_DFWD_OUT_MEANS 7        // deformed outputs, same layouts; written only for heads that are on
+#define S4D_B_DFWD_OUT_MEANS 7        // deformed outputs, same layouts; written by the heads' output layers
 #define S4D_B_DFWD_OUT_LOG_SCALES 8
 #define S4D_B_DFWD_OUT_QUATS 9
 #define S4D_B_DFWD_OUT_OPACITY_LOGITS 10
 #define S4D_B_DFWD_OUT_SH 11
 
+// deform_cot bindings.
+#define S4D_B_DCOT_V_MEANS 0          // [N, 3] dL/d deformed means
+#define S4D_B_DCOT_V_LOG_SCALES 1     // [N, 3]
+#define S4D_B_DCOT_V_QUATS 2          // [N, 4]
+#define S4D_B_DCOT_V_OPACITY_LOGITS 3 // [N]
+#define S4D_B_DCOT_V_SH 4             // [N, K, 3]
+#define S4D_B_DCOT_SCRATCH 5          // [rows, deform_scratch_floats] out: the head-output cotangents
+
 // deform_bwd bindings.
-#define S4D_B_DBWD_PLANES 0
-#define S4D_B_DBWD_MLP 1
-#define S4D_B_DBWD_MEANS 2            // [N, 3] canonical
-#define S4D_B_DBWD_V_MEANS 3          // [N, 3] in: dL/d deformed means; out: dL/d canonical means
-#define S4D_B_DBWD_V_LOG_SCALES 4     // [N, 3] dL/d deformed log-scales (read for the scales head)
-#define S4D_B_DBWD_V_QUATS 5          // [N, 4]
-#define S4D_B_DBWD_V_OPACITY_LOGITS 6 // [N]
-#define S4D_B_DBWD_V_SH 7             // [N, K, 3]
-#define S4D_B_DBWD_V_PLANES 8         // [plane floats] accumulated (+=) with atomics
-#define S4D_B_DBWD_SCRATCH 9          // [rows, deform_scratch_floats] f32 out: per Gaussian, each layer's [input | output cotangent]
+#define S4D_B_DBWD_MLP 0
+#define S4D_B_DBWD_SCRATCH 1          // [rows, deform_scratch_floats] in: activations, output cotangents; out: input cotangents
+
+// deform_feat_bwd bindings.
+#define S4D_B_DFB_PLANES 0
+#define S4D_B_DFB_MEANS 1             // [N, 3] canonical
+#define S4D_B_DFB_V_MEANS 2           // [N, 3] in: dL/d deformed means; out: dL/d canonical means
+#define S4D_B_DFB_V_PLANES 3          // [plane floats] accumulated (+=) with atomics
+#define S4D_B_DFB_SCRATCH 4           // [rows, deform_scratch_floats] in: dL/d features
 
 // deform_wgrad bindings.
-#define S4D_B_DWG_SCRATCH 0           // [rows, deform_scratch_floats] f32, written by deform_bwd
+#define S4D_B_DWG_SCRATCH 0           // [rows, deform_scratch_floats] f32, written by deform_fwd and deform_bwd
 #define S4D_B_DWG_V_MLP 1             // [mlp floats] accumulated (+=) with atomics
 
 // deform_reg bindings.
@@ -135,7 +161,7 @@ struct DeformShape {
   uint _pad2;
 };
 
-// Push constants of deform_fwd and deform_bwd.
+// Push constants of deform_feat, deform_fwd, deform_bwd and deform_feat_bwd.
 struct DeformParams {
   DeformShape shape;
   vec4 aabb_max;    // xyz: the AABB's max corner (4DGaussians' aabb[0]); w unused
@@ -143,7 +169,11 @@ struct DeformParams {
   uint n;           // end of the Gaussians deformed: the moving prefix (static ones follow; the host copies them)
   uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
   float time;       // raw time, used unnormalised as the fourth grid coordinate
-  uint first;       // deform_bwd: first Gaussian of this pass (scratch row 0); Gaussians first..n-1
+  uint first;       // first Gaussian of this pass (scratch row 0); the pass covers Gaussians first..n-1
+  uint layer;       // deform_fwd / deform_bwd: the set's first layer; the others follow every second layer
+  uint layers;      // layers in the set
+  uint shared_input;  // deform_bwd: 1 when the set's layers share their input (the heads' hidden layers)
+  uint _pad0;
 };
 
 // Push constants of deform_wgrad.
@@ -260,15 +290,69 @@ S4D_DEFORM_FN uint deform_layer_offset(DeformShape s, uint l) {
          (deform_layer_is_head_out(s, l) ? deform_linear_floats(s.width, s.width) : 0u);
 }
 
-// First float of layer l's [input | output cotangent] in a scratch row; l = deform_layer_count(s)
-// gives the row's length.
-S4D_DEFORM_FN uint deform_scratch_col(DeformShape s, uint l) {
-  uint col = 0u;
-  for (uint k = 0u; k < l; ++k) col += deform_layer_in(s, k) + deform_layer_out(s, k);
-  return col;
+// Scratch row of one Gaussian, in columns:
+//   feat [F]                      the HexPlane features (deform_feat)
+//   act slot 0..trunk_extra [W]   ReLU(z_e) of trunk layer e's output z_e (deform_fwd)
+//   act slot trunk_extra + 1 + k  ReLU(y_k) of the k-th head on's hidden output y_k (deform_fwd)
+//   cot slot 0.. [W]              dL/d z_e and dL/d y_k, same slots (deform_bwd)
+//   head outs                     dL/d each head on's output, packed in head order (deform_cot)
+//   v_feat [F]                    dL/d feat (deform_bwd), read by deform_feat_bwd
+// Every consumer of z_e or y_k goes through a ReLU, so the activations are stored after it, and a
+// pre-activation is positive exactly where its stored activation is: that is the ReLU's derivative.
+S4D_DEFORM_FN uint deform_slots(DeformShape s) { return deform_layer_count(s) - (deform_layer_count(s) - s.trunk_extra - 1u) / 2u; }
+
+S4D_DEFORM_FN uint deform_act_col(DeformShape s, uint slot) { return deform_feat_dim(s) + slot * s.width; }
+
+S4D_DEFORM_FN uint deform_cot_col(DeformShape s, uint slot) { return deform_act_col(s, deform_slots(s) + slot); }
+
+// Floats of the outputs of the heads that are on before head h (S4D_DEFORM_HEADS: all of them).
+S4D_DEFORM_FN uint deform_head_outs_before(DeformShape s, uint h) {
+  uint n = 0u;
+  for (uint k = 0u; k < h; ++k)
+    if (deform_head_on(s, k)) n += deform_head_out(k);
+  return n;
 }
 
-S4D_DEFORM_FN uint deform_scratch_floats(DeformShape s) { return deform_scratch_col(s, deform_layer_count(s)); }
+// First column of dL/d head output of layer l (a head's output layer).
+S4D_DEFORM_FN uint deform_head_out_col(DeformShape s, uint l) {
+  return deform_cot_col(s, deform_slots(s)) + deform_head_outs_before(s, deform_layer_head(s, l));
+}
+
+S4D_DEFORM_FN uint deform_v_feat_col(DeformShape s) {
+  return deform_cot_col(s, deform_slots(s)) + deform_head_outs_before(s, uint(S4D_DEFORM_HEADS));
+}
+
+// The slot of layer l's output (not for a head's output layer) and of its input (l > 0).
+S4D_DEFORM_FN uint deform_out_slot(DeformShape s, uint l) { return l <= s.trunk_extra ? l : s.trunk_extra + 1u + (l - s.trunk_extra - 1u) / 2u; }
+
+S4D_DEFORM_FN uint deform_in_slot(DeformShape s, uint l) {
+  return l <= s.trunk_extra ? l - 1u : deform_layer_is_head_out(s, l) ? deform_out_slot(s, l) : s.trunk_extra;
+}
+
+// Columns of layer l's input (after its ReLU), of dL/d its input's pre-activation, and of dL/d its output.
+S4D_DEFORM_FN uint deform_in_col(DeformShape s, uint l) { return l == 0u ? 0u : deform_act_col(s, deform_in_slot(s, l)); }
+
+S4D_DEFORM_FN uint deform_v_in_col(DeformShape s, uint l) {
+  return l == 0u ? deform_v_feat_col(s) : deform_cot_col(s, deform_in_slot(s, l));
+}
+
+S4D_DEFORM_FN uint deform_v_out_col(DeformShape s, uint l) {
+  return deform_layer_is_head_out(s, l) ? deform_head_out_col(s, l) : deform_cot_col(s, deform_out_slot(s, l));
+}
+
+S4D_DEFORM_FN uint deform_scratch_floats(DeformShape s) { return deform_v_feat_col(s) + deform_feat_dim(s); }
+
+// Blocks of S4D_DEFORM_BLOCK outputs (deform_fwd) or inputs (deform_bwd) of the layer set
+// {layer, layer + 2, ...} of `layers` layers; deform_bwd with shared_input covers the first
+// layer's input once.
+S4D_DEFORM_FN uint deform_set_blocks(DeformShape s, uint layer, uint layers, bool backward, bool shared_input) {
+  uint b = 0u;
+  for (uint k = 0u; k < (shared_input ? 1u : layers); ++k) {
+    uint l = layer + 2u * k;
+    b += ((backward ? deform_layer_in(s, l) : deform_layer_out(s, l)) + uint(S4D_DEFORM_BLOCK) - 1u) / uint(S4D_DEFORM_BLOCK);
+  }
+  return b;
+}
 
 // deform_wgrad's 4x4 weight blocks of layer l (outputs x inputs, partial blocks at the edges).
 S4D_DEFORM_FN uint deform_layer_blocks(DeformShape s, uint l) {

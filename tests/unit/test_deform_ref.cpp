@@ -112,6 +112,39 @@ TEST_CASE("deformation layouts: plane axes in 4DGaussians' order, contiguous pla
   CHECK(gpu::deform_head_offset(no_scales, 2) == gpu::deform_head_offset(no_scales, 1));  // a head that is off takes no room
 }
 
+TEST_CASE("scratch rows: features, activations, cotangents and head outputs tile the row, each layer reads its own") {
+  const gpu::DeformShape s = deform::deform_shape(small_config());  // F = W = 6, one extra trunk layer, five heads
+  gpu::DeformShape dnerf = s;
+  dnerf.heads = S4D_DEFORM_HEADS_DNERF;
+  dnerf.trunk_extra = 0;
+  CHECK(gpu::deform_scratch_floats(s) == 6 + 2 * 7 * 6 + 59 + 6);  // feat, 7 slots x (act, cot), head outs, v_feat
+  for (const gpu::DeformShape& shape : {s, dnerf}) {
+    const uint32_t F = gpu::deform_feat_dim(shape), W = shape.width, te = shape.trunk_extra;
+    std::vector<int> cover(gpu::deform_scratch_floats(shape), 0);
+    auto mark = [&](uint32_t col, uint32_t n) {
+      REQUIRE(col + n <= cover.size());
+      for (uint32_t k = 0; k < n; ++k) ++cover[col + k];
+    };
+    mark(0, F);
+    for (uint32_t slot = 0; slot < gpu::deform_slots(shape); ++slot) {
+      mark(gpu::deform_act_col(shape, slot), W);
+      mark(gpu::deform_cot_col(shape, slot), W);
+    }
+    for (uint32_t l = te + 2; l < gpu::deform_layer_count(shape); l += 2) mark(gpu::deform_v_out_col(shape, l), gpu::deform_layer_out(shape, l));
+    mark(gpu::deform_v_feat_col(shape), F);
+    CHECK(std::all_of(cover.begin(), cover.end(), [](int c) { return c == 1; }));
+    // A layer's input is its producer's activation, and dL/d input its producer's cotangent.
+    CHECK(gpu::deform_in_col(shape, 0) == 0);
+    CHECK(gpu::deform_v_in_col(shape, 0) == gpu::deform_v_feat_col(shape));
+    for (uint32_t l = 1; l < gpu::deform_layer_count(shape); ++l) {
+      CAPTURE(l);
+      const uint32_t producer = l <= te ? l - 1 : gpu::deform_layer_is_head_out(shape, l) ? l - 1 : te;
+      CHECK(gpu::deform_in_col(shape, l) == gpu::deform_act_col(shape, gpu::deform_out_slot(shape, producer)));
+      CHECK(gpu::deform_v_in_col(shape, l) == gpu::deform_v_out_col(shape, producer));
+    }
+  }
+}
+
 TEST_CASE("deformation config errors name the field") {
   auto message = [](deform::FieldConfig c) {
     try {

@@ -42,7 +42,7 @@ static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamP
 static_assert(sizeof(AddParams) == 16 && sizeof(MaskParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformShape) == 64);
-static_assert(sizeof(DeformParams) == 112 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(DeformParams) == 128 && sizeof(DeformParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformRegParams) == 80 && sizeof(DeformRegParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(DeformWgradParams) == 80 && sizeof(DeformWgradParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && sizeof(DemoteParams) == 16);
@@ -126,7 +126,8 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(DeformShape, _pad1), S4D_MEMBER(DeformShape, _pad2)),
       S4D_STRUCT(DeformParams, S4D_MEMBER(DeformParams, shape), S4D_MEMBER(DeformParams, aabb_max),
                  S4D_MEMBER(DeformParams, aabb_scale), S4D_MEMBER(DeformParams, n), S4D_MEMBER(DeformParams, sh_coeffs),
-                 S4D_MEMBER(DeformParams, time), S4D_MEMBER(DeformParams, first)),
+                 S4D_MEMBER(DeformParams, time), S4D_MEMBER(DeformParams, first), S4D_MEMBER(DeformParams, layer),
+                 S4D_MEMBER(DeformParams, layers), S4D_MEMBER(DeformParams, shared_input), S4D_MEMBER(DeformParams, _pad0)),
       S4D_STRUCT(DeformWgradParams, S4D_MEMBER(DeformWgradParams, shape), S4D_MEMBER(DeformWgradParams, rows),
                  S4D_MEMBER(DeformWgradParams, row_floats), S4D_MEMBER(DeformWgradParams, blocks),
                  S4D_MEMBER(DeformWgradParams, _pad0)),

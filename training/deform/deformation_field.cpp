@@ -20,13 +20,12 @@ uint32_t reg_groups(uint32_t floats) { return (floats + S4D_DEFORM_REG_WG - 1) /
 DeformationField::DeformationField(engine::Context& ctx, const FieldConfig& config, uint32_t seed, std::string name,
                                    DeformOptions options)
     : ctx_(&ctx), config_(config), shape_(deform_shape(config)), name_(std::move(name)), options_(options) {
-  check_device();
   planes_ = engine::buffer_from(ctx, name_ + " planes", initial_planes(shape_, seed));
   mlp_ = engine::buffer_from(ctx, name_ + " mlp", initial_mlp(shape_, seed));
   v_planes_ = engine::buffer_from(ctx, name_ + " v_planes", std::vector<float>(plane_floats(), 0.0f));
   v_mlp_ = engine::buffer_from(ctx, name_ + " v_mlp", std::vector<float>(mlp_floats(), 0.0f));
   reg_partials_ = engine::Buffer(ctx, name_ + " regulariser partials", size_t{reg_groups(plane_floats())} * 4);
-  scratch_ = engine::Buffer(ctx, name_ + " backward scratch", size_t{scratch_rows()} * gpu::deform_scratch_floats(shape_) * 4);
+  scratch_ = engine::Buffer(ctx, name_ + " scratch", size_t{scratch_rows()} * gpu::deform_scratch_floats(shape_) * 4);
 }
 
 uint32_t DeformationField::scratch_rows() const {

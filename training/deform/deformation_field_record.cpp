@@ -1,5 +1,5 @@
-// DeformationField: recording of deform_fwd, deform_bwd + deform_wgrad (or their _cas variants) and deform_reg, with the
-// host-side checks that run before anything is recorded.
+// DeformationField: recording of deform_feat, deform_fwd, deform_cot, deform_bwd, deform_feat_bwd + deform_wgrad (or
+// the _cas variants) and deform_reg, with the host-side checks that run before anything is recorded.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -14,43 +14,25 @@ namespace {
 using primitives::ceil_div;
 using primitives::shader_pipeline;
 
-// Loop iterations one invocation runs, an upper bound. Per Linear(in -> out) the forward runs
-// (in + 1) out iterations (inner and outer loops together), the input cotangent (out + 1) in, so a
-// pass costs at most 2 per weight: deform_fwd 1 pass, deform_bwd 2 (recomputed forward, input
-// cotangent) plus the scratch row (in + out per layer) and the layer-table walks of s4d_deform.h
-// (bounded by 200 per layer). The field visits, per level and plane, each channel's taps and the other
-// five planes. The compare-and-swap variant loops at least once per plane atomic. deform_wgrad runs
-// S4D_DEFORM_WGRAD_ROWS rows plus its layer walk, far below the limit for any shape.
-// With the old in-kernel weight reduction (6 per weight) this bound was about 2x conservative: C = 4,
-// 2 levels, all heads broke between W = 52 and 56 (bounds 123k, 140k).
-uint64_t loop_bound(const gpu::DeformShape& s, bool backward, bool cas) {
-  const uint64_t weights = gpu::deform_mlp_total(s), layers = gpu::deform_layer_count(s);
-  const uint64_t field = uint64_t{s.levels} * S4D_DEFORM_PLANES * s.channels * (S4D_DEFORM_PLANES + 4);
-  if (!backward) return 2 * weights + field + 1000;
-  return 4 * weights + gpu::deform_scratch_floats(s) + 200 * layers + 2 * field + (cas ? field : 0) + 1000;
-}
-
 // llvmpipe ends a shader invocation after 65535 loop iterations in total and says nothing (Mesa
-// 22.3, see docs/rasterizer.md "lavapipe caveat"): refuse fields whose kernels could get there.
-void check_llvmpipe(const engine::DeviceInfo& info, const gpu::DeformShape& s, bool backward, bool cas,
-                    const std::string& name) {
-  if (info.driver_name != "llvmpipe") return;
-  const uint64_t bound = loop_bound(s, backward, cas);
-  if (bound > 65535)
-    throw std::runtime_error(name + ": an MLP of " + std::to_string(gpu::deform_mlp_total(s)) + " floats needs up to " +
-                             std::to_string(bound) + " loop iterations per Gaussian in " +
-                             (backward ? "deform_bwd" : "deform_fwd") +
-                             ", more than lavapipe runs correctly (65535); use a smaller width or fewer heads, or a GPU");
-}
+// 22.3, docs/rasterizer.md "lavapipe caveat"). An upper bound of any deform kernel's iterations per
+// invocation at the shape limits of s4d_deform.h: deform_bwd sums over at most the five heads' W
+// outputs; deform_feat_bwd visits per level and plane each channel's other five planes and four
+// atomics (one compare-and-swap try each when uncontended); the layout walks of s4d_deform.h
+// (plane offsets, head and layer tables) stay under 2000. The MLP's size beyond one layer no longer
+// enters: no field within the limits comes near the budget.
+constexpr uint64_t kLoopBudget = 65535;
+constexpr uint64_t kLoopBound =
+    std::max<uint64_t>(uint64_t{S4D_DEFORM_HEADS} * S4D_DEFORM_MAX_WIDTH,
+                       uint64_t{S4D_DEFORM_MAX_LEVELS} * S4D_DEFORM_PLANES * S4D_DEFORM_MAX_CHANNELS * (S4D_DEFORM_PLANES + 4)) +
+    2000;
+static_assert(kLoopBound < kLoopBudget / 4,  // a quarter: margin for the estimate
+              "raising S4D_DEFORM_MAX_* brings the deform kernels near llvmpipe's 65535 loop iterations per invocation");
 
-// deform_fwd / deform_bwd specialised to this field's sizes (their private arrays' capacities).
+// deform_feat_bwd specialised to this field's C (its private samples' capacity).
 const engine::Pipeline& sized_pipeline(engine::Context& ctx, shaders::Id id, const gpu::DeformShape& s) {
   const shaders::Entry& e = shaders::get(id);
-  return ctx.pipeline(e.name, e.spirv(),
-                      {{S4D_DEFORM_SPEC_FEAT, gpu::deform_feat_dim(s)},
-                       {S4D_DEFORM_SPEC_WIDTH, s.width},
-                       {S4D_DEFORM_SPEC_TRUNK, s.trunk_extra + 1},
-                       {S4D_DEFORM_SPEC_CHANNELS, s.channels}});
+  return ctx.pipeline(e.name, e.spirv(), {{S4D_DEFORM_SPEC_CHANNELS, s.channels}});
 }
 
 void require(const engine::Buffer* b, const char* what, size_t bytes, const std::string& name) {
@@ -97,11 +79,29 @@ void DeformationField::record_zero_grads(engine::Recorder& rec) const {
   rec.fill(v_mlp_, 0);
 }
 
-void DeformationField::check_device() const {
-  const engine::DeviceInfo& info = ctx_->info();
-  const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
-  check_llvmpipe(info, shape_, false, false, name_);
-  check_llvmpipe(info, shape_, true, !float_atomics, name_);
+uint32_t DeformationField::heads_on() const { return (gpu::deform_layer_count(shape_) - shape_.trunk_extra - 1) / 2; }
+
+// The MLP's forward over one pass's rows, after deform_feat: the trunk layers, the heads' hidden
+// layers and, with `outputs`, their output layers, each set one deform_fwd dispatch after a barrier.
+void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformParams p, const CanonicalGaussians& g,
+                                          const engine::Buffer* const outputs[S4D_DEFORM_HEADS]) const {
+  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  const engine::Pipeline& fwd = shader_pipeline(*ctx_, shaders::Id::deform_fwd);
+  const uint32_t tiles = ceil_div(p.n - p.first, S4D_DEFORM_TILE), te = shape_.trunk_extra;
+  auto set = [&](uint32_t layer, uint32_t layers) {
+    p.layer = layer;
+    p.layers = layers;
+    rec.barrier();
+    // Bindings of heads that are off, or of sets that write no output, are never accessed; the means stand in.
+    rec.dispatch(fwd,
+                 {mlp_, scratch_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh),
+                  in(outputs ? outputs[0] : nullptr), in(outputs ? outputs[1] : nullptr), in(outputs ? outputs[2] : nullptr),
+                  in(outputs ? outputs[3] : nullptr), in(outputs ? outputs[4] : nullptr)},
+                 p, tiles * gpu::deform_set_blocks(shape_, layer, layers, false, false));
+  };
+  for (uint32_t e = 0; e <= te; ++e) set(e, 1);
+  set(te + 1, heads_on());
+  if (outputs) set(te + 2, heads_on());
 }
 
 void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
@@ -111,21 +111,22 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
       require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
-  check_llvmpipe(ctx_->info(), shape_, false, false, name_);
-  // Bindings of heads that are off are never accessed; the means stand in.
-  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
-  const gpu::DeformParams p = params(g, time);
-  rec.begin_label(name_ + " deform_fwd");
-  if (p.n > 0)
-    rec.dispatch(sized_pipeline(*ctx_, shaders::Id::deform_fwd, shape_),
-                 {planes_, mlp_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh), in(out.means),
-                  in(out.log_scales), in(out.quats), in(out.opacity_logits), in(out.sh)},
-                 p, ceil_div(p.n, S4D_DEFORM_WG));
+  const uint32_t moving = g.count - g.static_count, rows = scratch_rows();
+  rec.begin_label(name_ + " deform forward");
+  for (uint32_t first = 0; first < moving; first += rows) {
+    gpu::DeformParams p = params(g, time);
+    p.first = first;
+    p.n = std::min(moving - first, rows) + first;
+    rec.barrier();  // the scratch's previous readers are done
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p,
+                 ceil_div(p.n - first, S4D_DEFORM_WG));
+    record_mlp_forward(rec, p, g, outputs);
+  }
   const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h) && g.static_count > 0) {  // static: deformed = canonical
       const size_t row = head_floats(h, g.sh_coeffs) * 4;
-      rec.copy(*inputs[h], *outputs[h], g.static_count * row, p.n * row, p.n * row);
+      rec.copy(*inputs[h], *outputs[h], g.static_count * row, moving * row, moving * row);
     }
   rec.end_label();
 }
@@ -140,31 +141,44 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       require(grads[h], (std::string("v_") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
-  check_llvmpipe(info, shape_, true, !float_atomics, name_);
   const uint32_t moving = g.count - g.static_count;
   if (moving == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
-  const uint32_t rows = scratch_rows();
+  const uint32_t rows = scratch_rows(), te = shape_.trunk_extra;
   gpu::DeformWgradParams wp{};
   wp.shape = shape_;
   wp.row_floats = gpu::deform_scratch_floats(shape_);
   wp.blocks = gpu::deform_wgrad_blocks(shape_);
-  const engine::Pipeline& bwd =
-      sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_bwd : shaders::Id::deform_bwd_cas, shape_);
+  const engine::Pipeline& bwd = shader_pipeline(*ctx_, shaders::Id::deform_bwd);
+  const engine::Pipeline& feat_bwd =
+      sized_pipeline(*ctx_, float_atomics ? shaders::Id::deform_feat_bwd : shaders::Id::deform_feat_bwd_cas, shape_);
   const engine::Pipeline& wgrad =
       shader_pipeline(*ctx_, float_atomics ? shaders::Id::deform_wgrad : shaders::Id::deform_wgrad_cas);
-  rec.begin_label(name_ + (float_atomics ? " deform_bwd" : " deform_bwd_cas"));
+  rec.begin_label(name_ + (float_atomics ? " deform backward" : " deform backward (cas)"));
   for (uint32_t first = 0; first < moving; first += rows) {
     gpu::DeformParams p = params(g, time);
     p.first = first;
     p.n = std::min(moving - first, rows) + first;
     wp.rows = p.n - first;
+    const uint32_t groups = ceil_div(wp.rows, S4D_DEFORM_WG), tiles = ceil_div(wp.rows, S4D_DEFORM_TILE);
     rec.barrier();  // the scratch's previous readers are done
-    rec.dispatch(bwd,
-                 {planes_, mlp_, *g.means, *v.v_means, in(v.v_log_scales), in(v.v_quats),
-                  in(v.v_opacity_logits), in(v.v_sh), v_planes_, scratch_},
-                 p, ceil_div(wp.rows, S4D_DEFORM_WG));
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p, groups);
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_cot),
+                 {*v.v_means, in(v.v_log_scales), in(v.v_quats), in(v.v_opacity_logits), in(v.v_sh), scratch_}, p, groups);
+    record_mlp_forward(rec, p, g, nullptr);  // the activations: nothing is kept from the forward
+    // Input cotangents, from the heads' outputs back to the features.
+    auto set = [&](uint32_t layer, uint32_t layers, bool shared_input) {
+      p.layer = layer;
+      p.layers = layers;
+      p.shared_input = shared_input ? 1 : 0;
+      rec.barrier();
+      rec.dispatch(bwd, {mlp_, scratch_}, p, tiles * gpu::deform_set_blocks(shape_, layer, layers, true, shared_input));
+    };
+    set(te + 2, heads_on(), false);
+    set(te + 1, heads_on(), true);
+    for (uint32_t e = te + 1; e-- > 0;) set(e, 1, false);
     rec.barrier();
+    rec.dispatch(feat_bwd, {planes_, *g.means, *v.v_means, v_planes_, scratch_}, p, groups);
     rec.dispatch(wgrad, {scratch_, v_mlp_}, wp,
                  ceil_div(uint64_t{ceil_div(wp.rows, S4D_DEFORM_WGRAD_ROWS)} * wp.blocks, S4D_DEFORM_WGRAD_WG));
   }

@@ -1,6 +1,7 @@
 // The 4DGaussians deformation field F(x, y, z, t) on the GPU (ALGORITHMS.md 3.1-3.2): owns the
 // HexPlane and MLP parameters and their gradients, and records the kernels of shaders/deform
-// (deform_fwd, deform_bwd + deform_wgrad or their _cas variants, deform_reg). Layouts: shaders/shared/s4d_deform.h.
+// (deform_feat, deform_fwd, deform_bwd, deform_feat_bwd + deform_wgrad or their _cas variants,
+// deform_reg). Layouts: shaders/shared/s4d_deform.h.
 // CPU twin: training/ref/include/s4d/ref/deform_ref.h and hexplane_reg_ref.h.
 //
 // Every record_* only records: the caller orders dependent work with Recorder::barrier() and
@@ -62,15 +63,14 @@ struct RegulariserWeights {
 };
 
 struct DeformOptions {
-  bool force_cas_atomics = false;  // use deform_bwd_cas / deform_wgrad_cas even where float atomics exist
-  uint32_t scratch_rows = 0;       // Gaussians per backward pass; 0: as many as S4D_DEFORM_SCRATCH_BYTES hold
+  bool force_cas_atomics = false;  // use deform_feat_bwd_cas / deform_wgrad_cas even where float atomics exist
+  uint32_t scratch_rows = 0;       // Gaussians per forward or backward pass; 0: as many as S4D_DEFORM_SCRATCH_BYTES hold
 };
 
 class DeformationField {
  public:
   // Allocates and initialises the parameters (field_init.h, from `seed`) and zeroes the gradients.
-  // Throws std::invalid_argument naming the offending configuration field, std::runtime_error when
-  // the device cannot run a field this size (lavapipe's loop limit), so that no work is wasted first.
+  // Throws std::invalid_argument naming the offending configuration field.
   DeformationField(engine::Context& ctx, const FieldConfig& config, uint32_t seed, std::string name = "deform",
                    DeformOptions options = {});
 
@@ -89,7 +89,7 @@ class DeformationField {
   const engine::Buffer& v_mlp() const { return v_mlp_; }
   uint32_t plane_floats() const { return gpu::deform_planes_total(shape_); }
   uint32_t mlp_floats() const { return gpu::deform_mlp_total(shape_); }
-  // Gaussians per deform_bwd + deform_wgrad pass (the scratch buffer's rows; s4d_deform.h).
+  // Gaussians per forward or backward pass (the scratch buffer's rows; s4d_deform.h).
   uint32_t scratch_rows() const;
 
   // Checkpoints: whole parameter arrays (waits for submitted work). Uploads check the size.
@@ -99,12 +99,14 @@ class DeformationField {
   void upload_mlp(std::span<const float> values);
 
   void record_zero_grads(engine::Recorder& rec) const;
-  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): deform_fwd
-  // over the moving Gaussians, buffer copies of the static ones.
+  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): per
+  // scratch_rows() moving Gaussians deform_feat and deform_fwd's layer sets, with barriers before
+  // and between them (they share the scratch buffer); buffer copies of the static ones.
   void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
   // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
-  // Records deform_bwd then deform_wgrad per scratch_rows() moving Gaussians, with barriers before,
-  // between and after them (they share the field's scratch buffer); static Gaussians' cotangents are
+  // Records, per scratch_rows() moving Gaussians, the forward's activations again (deform_feat,
+  // deform_fwd), deform_bwd's layer sets back to the features, then deform_feat_bwd and
+  // deform_wgrad, with barriers before, between and after them; static Gaussians' cotangents are
   // left as they are (dL/d canonical = dL/d deformed).
   void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
@@ -115,8 +117,9 @@ class DeformationField {
  private:
   gpu::DeformParams params(const CanonicalGaussians& g, float time) const;
   void check_gaussians(const CanonicalGaussians& g) const;
-  // Throws when this device cannot run the field's kernels correctly (lavapipe's loop limit).
-  void check_device() const;
+  uint32_t heads_on() const;
+  void record_mlp_forward(engine::Recorder& rec, gpu::DeformParams p, const CanonicalGaussians& g,
+                          const engine::Buffer* const outputs[S4D_DEFORM_HEADS]) const;
 
   engine::Context* ctx_;
   FieldConfig config_;
@@ -124,7 +127,7 @@ class DeformationField {
   std::string name_;
   DeformOptions options_;
   engine::Buffer planes_, mlp_, v_planes_, v_mlp_, reg_partials_;
-  engine::Buffer scratch_;  // deform_bwd -> deform_wgrad: [scratch_rows(), deform_scratch_floats] f32
+  engine::Buffer scratch_;  // one pass's activations and cotangents: [scratch_rows(), deform_scratch_floats] f32
 };
 
 }  // namespace s4d::deform

@@ -1,5 +1,5 @@
-// CPU twin of deform_fwd / deform_bwd + deform_wgrad (the MLP weight gradients): the deformation
-// field applied to canonical Gaussians at time t (ALGORITHMS.md 3.1 "Updates"). Each head's output is
+// CPU twin of the whole field's kernels (deform_feat + deform_fwd, and deform_bwd + deform_feat_bwd +
+// deform_wgrad, the MLP weight gradients): the deformation field applied to canonical Gaussians at time t (ALGORITHMS.md 3.1 "Updates"). Each head's output is
 // added to the raw parameter; Gaussians with a non-zero static mask are not deformed and give the
 // field no gradient. Templated on the scalar type.
 #pragma once

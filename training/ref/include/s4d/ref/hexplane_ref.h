@@ -1,4 +1,4 @@
-// CPU twin of the HexPlane lookup of deform_fwd / deform_bwd (ALGORITHMS.md 3.1): a point's feature
+// CPU twin of the HexPlane lookup of deform_feat / deform_feat_bwd (ALGORITHMS.md 3.1): a point's feature
 // vector (6 bilinear samples multiplied per level, levels concatenated) and its backward to the
 // point's xyz and to the plane texels. Layouts and the coordinate mapping are documented in
 // shaders/shared/s4d_deform.h. Templated on the scalar type (float, double).
