@@ -124,17 +124,6 @@ bool binding_name_agrees(std::string_view id_name, std::string_view block) {
   return folded(id_name).find(folded(block)) != std::string::npos;
 }
 
-void Recorder::dispatch_positional(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
-                                   size_t params_bytes, uint32_t flat_groups) {
-  if (buffers.size() != pipeline.binding_count())
-    throw std::invalid_argument("dispatch of '" + pipeline.name() + "': " + std::to_string(buffers.size()) +
-                                " buffers given, the shader declares " + std::to_string(pipeline.binding_count()));
-  std::vector<Binding> bindings;
-  for (uint32_t i = 0; i < buffers.size(); ++i)
-    bindings.push_back({i, pipeline.reflection().bindings[i].block.c_str(), buffers[i]});
-  dispatch_raw(pipeline, bindings, params, params_bytes, flat_groups);
-}
-
 void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
                             size_t params_bytes, uint32_t flat_groups) {
   const std::vector<const Binding*> slots = by_binding(pipeline, bindings);

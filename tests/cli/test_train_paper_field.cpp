@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
-#include "s4d/train/checkpoint.h"
-#include "s4d/train/train_config.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/run/train_config.h"
 #include "s4d_deform.h"
 
 using namespace s4d;
@@ -34,10 +34,10 @@ TEST_CASE("train --preset default trains the paper's width-128, five-head field,
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.5);
 
   // Every head's output layer got a gradient: its Adam second moment is not all zero.
-  const gpu::DeformShape s = deform::deform_shape(train::field_config(train::preset_config("default"), {-1, -1, -1}, {1, 1, 1}));
+  const gpu::DeformShape s = deform::deform_shape(run::field_config(run::preset_config("default"), {-1, -1, -1}, {1, 1, 1}));
   REQUIRE(s.width == 128);
   REQUIRE(s.heads == S4D_DEFORM_HEADS_DYNERF);
-  const train::Checkpoint cp = train::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
+  const run::Checkpoint cp = run::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
   const auto found = std::find_if(cp.extra.begin(), cp.extra.end(), [](const auto& e) { return e.first == "field.mlp.adam_v"; });
   REQUIRE(found != cp.extra.end());
   const std::vector<float>& adam_v = found->second;

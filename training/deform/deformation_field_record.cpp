@@ -94,9 +94,14 @@ void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformPara
     rec.barrier();
     // Bindings of heads that are off, or of sets that write no output, are never accessed; the means stand in.
     rec.dispatch(fwd,
-                 {mlp_, scratch_, *g.means, in(g.log_scales), in(g.quats), in(g.opacity_logits), in(g.sh),
-                  in(outputs ? outputs[0] : nullptr), in(outputs ? outputs[1] : nullptr), in(outputs ? outputs[2] : nullptr),
-                  in(outputs ? outputs[3] : nullptr), in(outputs ? outputs[4] : nullptr)},
+                 {S4D_BIND(DFWD_MLP, mlp_), S4D_BIND(DFWD_SCRATCH, scratch_), S4D_BIND(DFWD_MEANS, *g.means),
+                  S4D_BIND(DFWD_LOG_SCALES, in(g.log_scales)), S4D_BIND(DFWD_QUATS, in(g.quats)),
+                  S4D_BIND(DFWD_OPACITY_LOGITS, in(g.opacity_logits)), S4D_BIND(DFWD_SH, in(g.sh)),
+                  S4D_BIND(DFWD_OUT_MEANS, in(outputs ? outputs[0] : nullptr)),
+                  S4D_BIND(DFWD_OUT_LOG_SCALES, in(outputs ? outputs[1] : nullptr)),
+                  S4D_BIND(DFWD_OUT_QUATS, in(outputs ? outputs[2] : nullptr)),
+                  S4D_BIND(DFWD_OUT_OPACITY_LOGITS, in(outputs ? outputs[3] : nullptr)),
+                  S4D_BIND(DFWD_OUT_SH, in(outputs ? outputs[4] : nullptr))},
                  p, tiles * gpu::deform_set_blocks(shape_, layer, layers, false, false));
   };
   for (uint32_t e = 0; e <= te; ++e) set(e, 1);
@@ -118,7 +123,8 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
     p.first = first;
     p.n = std::min(moving - first, rows) + first;
     rec.barrier();  // the scratch's previous readers are done
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p,
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat),
+                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g.means), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
                  ceil_div(p.n - first, S4D_DEFORM_WG));
     record_mlp_forward(rec, p, g, outputs);
   }
@@ -162,9 +168,14 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
     wp.rows = p.n - first;
     const uint32_t groups = ceil_div(wp.rows, S4D_DEFORM_WG), tiles = ceil_div(wp.rows, S4D_DEFORM_TILE);
     rec.barrier();  // the scratch's previous readers are done
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat), {planes_, *g.means, scratch_}, p, groups);
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat),
+                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g.means), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
+                 groups);
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_cot),
-                 {*v.v_means, in(v.v_log_scales), in(v.v_quats), in(v.v_opacity_logits), in(v.v_sh), scratch_}, p, groups);
+                 {S4D_BIND(DCOT_V_MEANS, *v.v_means), S4D_BIND(DCOT_V_LOG_SCALES, in(v.v_log_scales)),
+                  S4D_BIND(DCOT_V_QUATS, in(v.v_quats)), S4D_BIND(DCOT_V_OPACITY_LOGITS, in(v.v_opacity_logits)),
+                  S4D_BIND(DCOT_V_SH, in(v.v_sh)), S4D_BIND(DCOT_SCRATCH, scratch_)},
+                 p, groups);
     record_mlp_forward(rec, p, g, nullptr);  // the activations: nothing is kept from the forward
     // Input cotangents, from the heads' outputs back to the features.
     auto set = [&](uint32_t layer, uint32_t layers, bool shared_input) {
@@ -172,14 +183,17 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       p.layers = layers;
       p.shared_input = shared_input ? 1 : 0;
       rec.barrier();
-      rec.dispatch(bwd, {mlp_, scratch_}, p, tiles * gpu::deform_set_blocks(shape_, layer, layers, true, shared_input));
+      rec.dispatch(bwd, {S4D_BIND(DBWD_MLP, mlp_), S4D_BIND(DBWD_SCRATCH, scratch_)}, p, tiles * gpu::deform_set_blocks(shape_, layer, layers, true, shared_input));
     };
     set(te + 2, heads_on(), false);
     set(te + 1, heads_on(), true);
     for (uint32_t e = te + 1; e-- > 0;) set(e, 1, false);
     rec.barrier();
-    rec.dispatch(feat_bwd, {planes_, *g.means, *v.v_means, v_planes_, scratch_}, p, groups);
-    rec.dispatch(wgrad, {scratch_, v_mlp_}, wp,
+    rec.dispatch(feat_bwd,
+                 {S4D_BIND(DFB_PLANES, planes_), S4D_BIND(DFB_MEANS, *g.means), S4D_BIND(DFB_V_MEANS, *v.v_means),
+                  S4D_BIND(DFB_V_PLANES, v_planes_), S4D_BIND(DFB_SCRATCH, scratch_)},
+                 p, groups);
+    rec.dispatch(wgrad, {S4D_BIND(DWG_SCRATCH, scratch_), S4D_BIND(DWG_V_MLP, v_mlp_)}, wp,
                  ceil_div(uint64_t{ceil_div(wp.rows, S4D_DEFORM_WGRAD_ROWS)} * wp.blocks, S4D_DEFORM_WGRAD_WG));
   }
   rec.barrier();
@@ -194,7 +208,8 @@ void DeformationField::record_regularisers(engine::Recorder& rec, const Regulari
   p.w_time_smoothness = w.time_smoothness;
   p.w_l1_time = w.l1_time_planes;
   rec.begin_label(name_ + " deform_reg");
-  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_reg), {planes_, v_planes_, reg_partials_}, p,
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_reg),
+               {S4D_BIND(DREG_PLANES, planes_), S4D_BIND(DREG_V_PLANES, v_planes_), S4D_BIND(DREG_PARTIALS, reg_partials_)}, p,
                ceil_div(p.elements, S4D_DEFORM_REG_WG));
   rec.end_label();
 }

@@ -74,16 +74,6 @@ class Recorder {
   void dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
                     size_t params_bytes, uint32_t flat_groups);
 
-  // Binding by position: buffers[i] to binding i. Kept only for
-  // training/deform/deformation_field_record.cpp, whose kernels are being rewritten; it goes once
-  // that file binds by name.
-  template <class Params>
-  void dispatch(const Pipeline& pipeline, std::initializer_list<BufferRange> buffers, const Params& params,
-                uint32_t flat_groups) {
-    static_assert(std::is_trivially_copyable_v<Params>);
-    dispatch_positional(pipeline, std::span(buffers.begin(), buffers.size()), &params, sizeof(Params), flat_groups);
-  }
-
   // The grid a flat group count is split into under the device's limits.
   Groups split_groups(uint32_t flat_groups) const;
 
@@ -102,9 +92,6 @@ class Recorder {
   VkCommandBuffer finish();
 
  private:
-  void dispatch_positional(const Pipeline& pipeline, std::span<const BufferRange> buffers, const void* params,
-                           size_t params_bytes, uint32_t flat_groups);
-
   Context* ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   bool finished_ = false;
