@@ -20,7 +20,7 @@ cmake -S "$source_dir" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE
   { cat "$build_dir.configure.log"; echo "[sanitize] FAIL: configure"; exit 1; }
 # The unit-labelled tests that are programs of this tree (some run a script instead).
 mapfile -t unit_tests < <(comm -12 <(ctest --test-dir "$build_dir" -N -L unit | sed -n 's/^ *Test *#[0-9]*: //p' | sort) \
-  <(ninja -C "$build_dir" -t targets all | sed -n 's/^\([A-Za-z0-9_]*\): CXX_EXECUTABLE_LINKER.*/\1/p' | sort))
+  <(ninja -C "$build_dir" -t targets all | sed -n 's|^\(.*/\)\{0,1\}\([A-Za-z0-9_]*\): CXX_EXECUTABLE_LINKER.*|\2|p' | sort))
 [ ${#unit_tests[@]} -gt 0 ] || { echo "[sanitize] FAIL: no unit tests found"; exit 1; }
 echo "[sanitize] building style4d and ${#unit_tests[@]} unit tests with ASan + UBSan"
 cmake --build "$build_dir" --target style4d "${unit_tests[@]}" -j "$(nproc)" > "$build_dir.build.log" 2>&1 ||
