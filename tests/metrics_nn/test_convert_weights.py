@@ -20,16 +20,11 @@ import struct
 import subprocess
 import sys
 
-try:
-    import torch
-    import torch.nn as nn
-    import torchvision
-    from torchvision.models.vgg import cfgs, make_layers
-except ImportError as e:
-    if os.environ.get("CI") == "true":  # CI installs them: a missing torch there is a failure, not a skip
-        sys.exit("FAIL: python3-torch / python3-torchvision missing in CI (%s)" % e)
-    print("SKIP: needs python3-torch and python3-torchvision (%s); tools/run-tests.sh installs them" % e)
-    sys.exit(77)
+import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+import torch
+import torch.nn as nn
+import torchvision
+from torchvision.models.vgg import cfgs, make_layers
 
 FAILURES = []
 

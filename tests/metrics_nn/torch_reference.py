@@ -16,17 +16,12 @@ import shutil
 import subprocess
 import sys
 
-try:
-    import torch
-    import torch.nn as nn
-    import torch.nn.functional as F
-    import torchvision
-    from torchvision.models.vgg import cfgs, make_layers
-except ImportError as e:
-    if os.environ.get("CI") == "true":  # CI installs them: a missing torch there is a failure, not a skip
-        sys.exit("FAIL: python3-torch / python3-torchvision missing in CI (%s)" % e)
-    print("SKIP: needs python3-torch and python3-torchvision (%s); tools/run-tests.sh installs them" % e)
-    sys.exit(77)
+import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+import torchvision
+from torchvision.models.vgg import cfgs, make_layers
 
 # Frames of odd sizes (AlexNet needs >= 31; VGG16's maps go 37x31, 18x15, 9x7, 4x3, 2x1) and a
 # style image twice as large, which style_lpips shrinks to the frame (an exact 2x2 box average).
