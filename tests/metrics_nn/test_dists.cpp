@@ -85,6 +85,31 @@ TEST_CASE("dists matches its double twin on random weights, is symmetric and 0 f
   CHECK(std::abs(dists(a, a)) < 1e-12);
 }
 
+TEST_CASE("dists on black and constant frames is finite and the twin's (zero variances meet the 1e-6 guards)") {
+  std::mt19937 rng(52);
+  test::ScratchDir dir("dists_constant");
+  const test::NetParams vgg = test::random_torch_vgg(kWidths, false, rng);
+  test::write_params(dir / "vgg16.safetensors", vgg);
+  const std::vector<float> alpha = test::random_values(kChannels, 0.01f, 0.03f, rng);
+  const std::vector<float> beta = test::random_values(kChannels, 0.0f, 0.02f, rng);
+  io::write_safetensors(dir / "dists.safetensors",
+                        {{"alpha", {1, kChannels, 1, 1}, alpha}, {"beta", {1, kChannels, 1, 1}, beta}});
+  const metrics::Dists dists(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
+                             io::SafetensorsFile(dir / "dists.safetensors"), kWidths);
+  auto constant = [](float v) {
+    io::ImageF image{19, 13, 3, {}};
+    image.data.assign(19 * 13 * 3, v);
+    return image;
+  };
+  const io::ImageF black = constant(0.0f), grey = constant(0.5f);
+  const double gpu = dists(black, grey), twin = twin_dists(vgg, alpha, beta, black, grey);
+  REQUIRE(std::isfinite(gpu));
+  // Measured 8.8e-8 relative (black against grey): the statistics of constant maps take the guards.
+  CHECK(std::abs(gpu - twin) <= 1e-6 * twin);
+  CHECK(twin > 0.01);
+  CHECK(std::abs(dists(black, black)) < 1e-12);
+}
+
 TEST_CASE("dists: hand-computed values and the weight-file errors") {
   // One stage, one channel: constants 1 and 0 give S1 = c1 / (1 + c1) and S2 = c2 / c2 = 1; with
   // alpha = beta = 0.5, DISTS = 1 - 0.5 S1 - 0.5.
