@@ -6,17 +6,19 @@
 # iteration) and soak.json with the growth over the second half of each stage, where the Gaussian
 # count no longer changes.
 #
-# Usage: bench/soak.sh [OUT_DIR] [STATIC_ITERS] [FINE_ITERS]
-#   default 10000 + 10000 = 20,000 iterations (about 2 h on two lavapipe cores; minutes on a GPU)
+# Usage: bench/soak.sh [OUT_DIR] [STATIC_ITERS] [FINE_ITERS] [WxH]
+#   default 10000 + 10000 = 20,000 iterations of the built-in scene at its 160x120 (hours on two
+#   lavapipe cores; minutes on a GPU)
 set -euo pipefail
 out="${1:-out/soak}"
 static_iters="${2:-10000}"
 fine_iters="${3:-10000}"
+size="${4:-160x120}"
 exe="${S4D_BUILD_DIR:-build}/style4d"
 here=$(cd "$(dirname "$0")" && pwd)
 [ ! -e "$out/run" ] || { echo "soak: $out/run exists; choose another OUT_DIR" >&2; exit 1; }
 mkdir -p "$out"
-[ -d "$out/data" ] || "$exe" synth --out "$out/data" > "$out/synth.log" 2>&1
+[ -d "$out/data" ] || "$exe" synth --out "$out/data" --size "$size" > "$out/synth.log" 2>&1
 # Densification stops at the preset's point in each stage; no checkpoints in between to keep the
 # samples about training, a test every 1000 iterations as a long run would have.
 "$exe" train --data "$out/data" --out "$out/run" --preset fast --iters "$static_iters" --fine-iters "$fine_iters" \
