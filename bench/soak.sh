@@ -3,10 +3,10 @@
 # nothing grows with the iteration count. Samples every few seconds the process's resident memory
 # (on lavapipe the "device" memory is host memory, so it is inside this too) and the device memory
 # its buffers hold (the progress line's device_mib), writes soak.csv, soak.svg (both against the
-# iteration) and soak.json with the growth over the second half of each stage, where the Gaussian
-# count no longer changes.
+# iteration) and soak.json with each stage's growth after its Gaussian count last changed
+# (densification over). Further arguments go to `style4d train` (e.g. --set densify_until=200).
 #
-# Usage: bench/soak.sh [OUT_DIR] [STATIC_ITERS] [FINE_ITERS] [WxH]
+# Usage: bench/soak.sh [OUT_DIR] [STATIC_ITERS] [FINE_ITERS] [WxH] [TRAIN_OPTION...]
 #   default 10000 + 10000 = 20,000 iterations of the built-in scene at its 160x120 (hours on two
 #   lavapipe cores; minutes on a GPU)
 set -euo pipefail
@@ -14,6 +14,7 @@ out="${1:-out/soak}"
 static_iters="${2:-10000}"
 fine_iters="${3:-10000}"
 size="${4:-160x120}"
+shift $(( $# < 4 ? $# : 4 ))
 exe="${S4D_BUILD_DIR:-build}/style4d"
 here=$(cd "$(dirname "$0")" && pwd)
 [ ! -e "$out/run" ] || { echo "soak: $out/run exists; choose another OUT_DIR" >&2; exit 1; }
@@ -22,7 +23,7 @@ mkdir -p "$out"
 # Densification stops at the preset's point in each stage; no checkpoints in between to keep the
 # samples about training, a test every 1000 iterations as a long run would have.
 "$exe" train --data "$out/data" --out "$out/run" --preset fast --iters "$static_iters" --fine-iters "$fine_iters" \
-  --checkpoint-every 100000 --set test_every=1000 > "$out/train.log" 2>&1 &
+  --checkpoint-every 100000 --set test_every=1000 "$@" > "$out/train.log" 2>&1 &
 pid=$!
 echo "seconds,stage,iteration,rss_mib,device_mib,gaussians" > "$out/soak.csv"
 start=$(date +%s)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots bench/soak.sh's samples (resident and device memory against the iteration, one panel per
-stage) as an SVG, and writes the growth over the second half of each stage as JSON:
-MiB per 1000 iterations by a least-squares line, and the sampled range there.
+stage) as an SVG, and writes as JSON each stage's growth once its Gaussian count last changed
+(densification over): MiB per 1000 iterations by a least-squares line, and the range there.
 
     soak_plot.py soak.csv soak.svg soak.json
 """
@@ -25,16 +25,22 @@ def main():
     stages = [s for s in ("static", "fine") if any(r["stage"] == s for r in rows)]
     report, panels = {}, []
     for s in stages:
-        pts = [(int(r["iteration"]), float(r["rss_mib"]), float(r["device_mib"])) for r in rows if r["stage"] == s]
+        stage_rows = [r for r in rows if r["stage"] == s]
+        pts = [(int(r["iteration"]), float(r["rss_mib"]), float(r["device_mib"])) for r in stage_rows]
         last = max(p[0] for p in pts)
-        half = [p for p in pts if p[0] >= last / 2]
+        # The steady part: from the first sample with the stage's final Gaussian count on.
+        final = stage_rows[-1]["gaussians"]
+        first = max((k for k, r in enumerate(stage_rows) if r["gaussians"] != final), default=-1) + 1
+        steady = pts[first:]
         report[s] = {
             "samples": len(pts),
             "iterations": last,
-            "rss_mib_per_1000_iterations_second_half": 1000 * slope([p[0] for p in half], [p[1] for p in half]),
-            "device_mib_per_1000_iterations_second_half": 1000 * slope([p[0] for p in half], [p[2] for p in half]),
-            "rss_mib_range_second_half": [min(p[1] for p in half), max(p[1] for p in half)],
-            "device_mib_range_second_half": [min(p[2] for p in half), max(p[2] for p in half)],
+            "gaussians": int(final),
+            "steady_from_iteration": steady[0][0],
+            "rss_mib_per_1000_iterations_steady": 1000 * slope([p[0] for p in steady], [p[1] for p in steady]),
+            "device_mib_per_1000_iterations_steady": 1000 * slope([p[0] for p in steady], [p[2] for p in steady]),
+            "rss_mib_range_steady": [min(p[1] for p in steady), max(p[1] for p in steady)],
+            "device_mib_range_steady": [min(p[2] for p in steady), max(p[2] for p in steady)],
         }
         panels.append((s, pts))
     json.dump(report, open(json_path, "w"), indent=2)
