@@ -27,7 +27,8 @@ cmake --build "$build_dir" --target style4d "${unit_tests[@]}" -j "$(nproc)" > "
   { tail -40 "$build_dir.build.log"; echo "[sanitize] FAIL: build"; exit 1; }
 echo "[sanitize] built in $(( $(date +%s) - start )) s"
 status=0
-ctest --test-dir "$build_dir" -L unit --output-on-failure --parallel "$(nproc)" --timeout 600 || status=1
+ctest --test-dir "$build_dir" -R "^($(IFS='|'; echo "${unit_tests[*]}"))\$" --output-on-failure --parallel "$(nproc)" \
+  --timeout 600 || status=1
 python3 "$source_dir/tests/corpus/run_corpus.py" --exe "$build_dir/style4d" --timeout 240 || status=1
 echo "[sanitize] $([ $status -eq 0 ] && echo passed || echo FAILED) in $(( $(date +%s) - start )) s"
 exit $status
