@@ -27,7 +27,6 @@ namespace s4d::train {
 namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{1} << 30;
-constexpr size_t kPeriodicTestViews = 8;  // periodic tests use this many test views; the final one all
 // Static steps timed for the run's time estimate, after the first ones, which compile pipelines and
 // fill the frame cache (on a 2-core lavapipe the first 10 ran 3x slower than the rest).
 constexpr uint32_t kProbeFrom = 20, kProbeSteps = 30;
@@ -52,14 +51,6 @@ std::vector<const data::View*> select_views(const data::Dataset& d, const run::T
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test && v.time <= c.max_time + 1e-9) out.push_back(&v);
-  return out;
-}
-
-// Evenly spaced subset of at most k views, always including the first.
-std::vector<const data::View*> spread(const std::vector<const data::View*>& views, size_t k) {
-  if (views.size() <= k) return views;
-  std::vector<const data::View*> out;
-  for (size_t i = 0; i < k; ++i) out.push_back(views[i * (views.size() - 1) / (k - 1)]);
   return out;
 }
 
@@ -122,7 +113,7 @@ Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& c
   if (static_views.empty())
     throw std::runtime_error(d.root.string() + ": no training views with time <= " +
                              std::to_string(std::min(cfg.max_time, cfg.static_max_time)) + " for the static stage");
-  if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
+  if (test_views.empty()) test_views = spread_views(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
 Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::TrainConfig& config, const fs::path& run_dir,
@@ -226,7 +217,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     log << run::stage_name(m.stage) << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
         << m.gaussians->size() << ',' << seconds;
   }
-  double periodic_test() override { return m.evaluate(spread(m.test_views, kPeriodicTestViews)).psnr; }
+  double periodic_test() override { return m.evaluate(spread_views(m.test_views, kPeriodicTestViews)).psnr; }
   std::string test_name() const override { return "test_psnr"; }
   void after_step() override {
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities

@@ -32,20 +32,12 @@ namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{512} << 20;
 constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
-constexpr size_t kPeriodicTestViews = 8;
 enum Group : uint32_t { gShDc, gShRest, gOpacity, gMlp, gCount };
 
 std::vector<const data::View*> views_of(const data::Dataset& d, bool test) {
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test) out.push_back(&v);
-  return out;
-}
-
-std::vector<const data::View*> spread(const std::vector<const data::View*>& views, size_t k) {
-  if (views.size() <= k) return views;
-  std::vector<const data::View*> out;
-  for (size_t i = 0; i < k; ++i) out.push_back(views[i * (views.size() - 1) / (k - 1)]);
   return out;
 }
 
@@ -136,7 +128,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
         rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
         sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
-    if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);
+    if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
     full = config.method == run::StyleMethod::full;
     std::set<double> times;
     for (const data::View& view : stylized.views) times.insert(view.time);
@@ -185,7 +177,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   fs::path checkpoint_path() const override { return dir / "checkpoint.s4dckpt"; }
   train::Recovery& recovery() override { return recovery_state; }
   void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
-  double periodic_test() override { return evaluate(spread(test_views, kPeriodicTestViews)).psnr; }
+  double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
   std::string test_name() const override { return "test_psnr_vs_stylized"; }
   void save(double seconds) override {
     run::Checkpoint cp = snapshot(seconds);
