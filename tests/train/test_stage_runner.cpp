@@ -26,15 +26,18 @@ struct FakeStage final : train::RunnerStage {
   uint32_t stop_at = 0;
   uint32_t nan_always = 0;  // a step whose loss is always NaN
 
-  std::string name() const override { return "fake"; }
-  std::string progress_label() const override { return "fake stage"; }
+  train::StagePlan plan() const override {
+    return {.name = "fake",
+            .progress_label = "fake stage",
+            .iterations = length,
+            .test_every = 7,
+            .checkpoint_every = 5,
+            .test_name = "test",
+            .resume_hint = "run it again",
+            .checkpoint = "fake.s4dckpt"};
+  }
   uint32_t iteration() const override { return done; }
-  uint32_t iterations() const override { return length; }
-  uint32_t test_every() const override { return 7; }
-  uint32_t checkpoint_every() const override { return 5; }
   double seconds() const override { return 0; }
-  std::string resume_hint() const override { return "run it again"; }
-  std::filesystem::path checkpoint_path() const override { return "fake.s4dckpt"; }
   train::Recovery& recovery() override { return rec; }
   double step() override {
     ++done;
@@ -43,7 +46,6 @@ struct FakeStage final : train::RunnerStage {
   }
   void write_loss_row(std::ostream& log, double) const override { log << done; }
   double periodic_test() override { return ++tests; }
-  std::string test_name() const override { return "test"; }
   void save(double) override {
     if (bad_save_at.erase(done)) throw std::invalid_argument("a non-finite parameter");
     saved_at = done, ++saves;

@@ -12,13 +12,14 @@ namespace s4d::train {
 StageRunner::StageRunner(std::ostream& log, std::filesystem::path log_path) : log_(log), log_path_(std::move(log_path)) {}
 
 bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
-  util::Progress progress(stage.progress_label(), stage.iterations());
+  const StagePlan first = stage.plan();
+  util::Progress progress(first.progress_label, first.iterations);
   double test_psnr = NAN;
-  while (stage.iteration() < stage.iterations()) {
+  for (StagePlan plan = first; stage.iteration() < plan.iterations; plan = stage.plan()) {
     if (stop.load()) {
       checkpoint(stage);
-      std::cerr << stage.name() << ": interrupted at iteration " << stage.iteration() << "; checkpoint written, "
-                << stage.resume_hint() << "\n";
+      std::cerr << plan.name << ": interrupted at iteration " << stage.iteration() << "; checkpoint written, "
+                << plan.resume_hint << "\n";
       return false;
     }
     const double loss = stage.step();
@@ -26,18 +27,18 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
       roll_back(stage, "the loss became non-finite at iteration " + std::to_string(stage.iteration()));
       continue;
     }
-    const uint32_t it = stage.iteration(), end = stage.iterations();
+    const uint32_t it = stage.iteration();
     if (it % kLossRowEvery == 0) {
       stage.write_loss_row(log_, stage.seconds());
       log_ << std::endl;  // on disk before any later checkpoint
       util::require_written(log_, log_path_);
     }
-    if (it % stage.test_every() == 0 && it < end) test_psnr = stage.periodic_test();
+    if (it % plan.test_every == 0 && it < plan.iterations) test_psnr = stage.periodic_test();
     stage.after_step();
-    if (it % stage.checkpoint_every() == 0 && it < end) checkpoint(stage);
+    if (it % plan.checkpoint_every == 0 && it < plan.iterations) checkpoint(stage);
     ProgressValues shown = {{"loss", loss}};
     stage.add_progress(shown);
-    if (!std::isnan(test_psnr)) shown.emplace_back(stage.test_name(), test_psnr);  // after the first test
+    if (!std::isnan(test_psnr)) shown.emplace_back(plan.test_name, test_psnr);  // after the first test
     progress.update(stage.iteration(), shown);
   }
   progress.finish(stage.final_test());
@@ -55,14 +56,15 @@ bool StageRunner::checkpoint(RunnerStage& stage) {
 }
 
 void StageRunner::roll_back(RunnerStage& stage, const std::string& why) {
+  const StagePlan plan = stage.plan();
   Recovery now = stage.recovery();
   if (++now.rollbacks > kMaxRollbacks)
-    throw std::runtime_error(stage.name() + ": training diverged " + std::to_string(now.rollbacks) + " times (" + why +
-                             "); the last good state is in " + stage.checkpoint_path().string());
+    throw std::runtime_error(plan.name + ": training diverged " + std::to_string(now.rollbacks) + " times (" + why +
+                             "); the last good state is in " + plan.checkpoint.string());
   now.lr_scale *= 0.5;
   stage.restore_last_good();
   stage.recovery() = now;
-  std::cerr << stage.name() << ": " << why << "; rolled back to iteration " << stage.iteration()
+  std::cerr << plan.name << ": " << why << "; rolled back to iteration " << stage.iteration()
             << " and halved the learning rates (scale " << now.lr_scale << ")\n";
 }
 

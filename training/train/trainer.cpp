@@ -197,15 +197,19 @@ Trainer::~Trainer() = default;
 struct Trainer::Impl::Steps final : RunnerStage {
   Steps(Impl& impl, std::chrono::steady_clock::time_point from) : m(impl), start(from) {}
 
-  std::string name() const override { return run::stage_name(m.stage); }
-  std::string progress_label() const override { return name(); }
+  StagePlan plan() const override {
+    const std::string name = run::stage_name(m.stage);
+    return {.name = name,
+            .progress_label = name,
+            .iterations = m.stage_iterations(),
+            .test_every = m.config.test_every,
+            .checkpoint_every = m.config.checkpoint_every,
+            .test_name = "test_psnr",
+            .resume_hint = "continue with style4d train --resume " + m.run.root.string(),
+            .checkpoint = m.run.checkpoint()};
+  }
   uint32_t iteration() const override { return m.iteration; }
-  uint32_t iterations() const override { return m.stage_iterations(); }
-  uint32_t test_every() const override { return m.config.test_every; }
-  uint32_t checkpoint_every() const override { return m.config.checkpoint_every; }
   double seconds() const override { return m.elapsed(start); }
-  std::string resume_hint() const override { return "continue with style4d train --resume " + m.run.root.string(); }
-  fs::path checkpoint_path() const override { return m.run.checkpoint(); }
   Recovery& recovery() override { return m.recovery; }
 
   double step() override {
@@ -218,7 +222,6 @@ struct Trainer::Impl::Steps final : RunnerStage {
         << m.gaussians->size() << ',' << seconds;
   }
   double periodic_test() override { return m.evaluate(spread_views(m.test_views, kPeriodicTestViews)).psnr; }
-  std::string test_name() const override { return "test_psnr"; }
   void after_step() override {
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.mask_due()) m.update_mask();

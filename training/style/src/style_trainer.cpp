@@ -162,22 +162,26 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     v_quats = engine::Buffer(ctx, "style v quats (unused)", size_t{count} * 4 * 4);
   }
 
+  fs::path checkpoint_path() const { return dir / "checkpoint.s4dckpt"; }
+
   // ---- What the runner asks of a stage (stage_runner.h).
-  std::string name() const override { return "stage 4"; }
-  std::string progress_label() const override { return "stage 4 " + style; }
+  train::StagePlan plan() const override {
+    return {.name = "stage 4",
+            .progress_label = "stage 4 " + style,
+            .iterations = config.iterations,
+            .test_every = config.test_every,
+            .checkpoint_every = config.checkpoint_every,
+            .test_name = "test_psnr_vs_stylized",
+            .resume_hint = "run the same style4d stylize command again to continue",
+            .checkpoint = checkpoint_path()};
+  }
   uint32_t iteration() const override { return done; }
-  uint32_t iterations() const override { return config.iterations; }
-  uint32_t test_every() const override { return config.test_every; }
-  uint32_t checkpoint_every() const override { return config.checkpoint_every; }
   double seconds() const override {
     return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  std::string resume_hint() const override { return "run the same style4d stylize command again to continue"; }
-  fs::path checkpoint_path() const override { return dir / "checkpoint.s4dckpt"; }
   train::Recovery& recovery() override { return recovery_state; }
   void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
   double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
-  std::string test_name() const override { return "test_psnr_vs_stylized"; }
   void save(double seconds) override {
     run::Checkpoint cp = snapshot(seconds);
     run::write_checkpoint(checkpoint_path(), cp);

@@ -22,27 +22,32 @@ struct Recovery {
   double lr_scale = 1;  // multiplies every learning rate
 };
 
+// What a stage is, for the runner's loop and messages.
+struct StagePlan {
+  std::string name;            // messages: "static", "fine", "stage 4"
+  std::string progress_label;  // the progress line's
+  uint32_t iterations = 0;     // the stage's length
+  uint32_t test_every = 1, checkpoint_every = 1;
+  std::string test_name;             // the periodic test's PSNR in the progress line
+  std::string resume_hint;           // how an interrupted stage continues
+  std::filesystem::path checkpoint;  // named when training gives up
+};
+
 class RunnerStage {
  public:
   virtual ~RunnerStage() = default;
-  virtual std::string name() const = 0;            // messages: "static", "fine", "stage 4"
-  virtual std::string progress_label() const = 0;  // the progress line's
-  virtual uint32_t iteration() const = 0;          // steps done in the stage
-  virtual uint32_t iterations() const = 0;         // the stage's length
-  virtual uint32_t test_every() const = 0;
-  virtual uint32_t checkpoint_every() const = 0;
-  virtual double seconds() const = 0;  // training time over all sessions, now
-  virtual std::string resume_hint() const = 0;  // how an interrupted stage continues
-  virtual std::filesystem::path checkpoint_path() const = 0;
+  // Asked at every step: a rollback may change it (the trainer's, back into the static stage).
+  virtual StagePlan plan() const = 0;
+  virtual uint32_t iteration() const = 0;  // steps done in the stage
+  virtual double seconds() const = 0;      // training time over all sessions, now
   virtual Recovery& recovery() = 0;
 
   // Advances iteration() by one and trains that step; returns its loss (non-finite: rolled back).
   virtual double step() = 0;
   // The last step's loss.csv row, without the line end.
   virtual void write_loss_row(std::ostream& log, double seconds) const = 0;
-  // A test on a few views: its PSNR, shown in the progress line as test_name().
+  // A test on a few views: its PSNR.
   virtual double periodic_test() = 0;
-  virtual std::string test_name() const = 0;
   // What follows a finite step's test (densification, for one).
   virtual void after_step() {}
   // Values the progress line shows after the loss.
