@@ -11,6 +11,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/metrics/flow.h"
 #include "s4d/metrics/warp_loss.h"
+#include "s4d/run/checkpoint.h"
 #include "s4d/stylize/warp_error.h"
 #include "style_fixture.h"
 
@@ -180,6 +181,22 @@ TEST_CASE("running the same stylize again reuses stage 3's frames and the finish
   const nlohmann::json j = read_json(dir / "stylize.json");
   CHECK(j.at("stage3").at("reused") == true);
   CHECK(j.at("stage4").at("iterations") == 60);
+}
+
+TEST_CASE("a diverging style rolls back like training does, says so, and never writes a non-finite checkpoint") {
+  const test::Run4d& r = test::run4d();
+  const fs::path log = r.root / "stylize_diverge.log";
+  // MLP weights of 1e38 overflow the hidden layers after a few steps: a NaN loss.
+  const int rc = test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle +
+                                                  " --name diverge --iters 40 --mlp-iters 30 --mlp-lr 1e38 --spiral-frames 2",
+                                   log);
+  const std::string text = test::read_text(log);
+  INFO(text);
+  CHECK(text.find("stage 4: the loss became non-finite") != std::string::npos);
+  CHECK(text.find("rolled back") != std::string::npos);
+  if (rc != 0) CHECK((text.find("diverged") != std::string::npos || text.find("not finite") != std::string::npos));
+  const fs::path checkpoint = r.run / "style" / "diverge" / "checkpoint.s4dckpt";
+  if (fs::exists(checkpoint)) CHECK_NOTHROW(run::read_checkpoint(checkpoint));
 }
 
 TEST_CASE("stylize refuses other settings under an existing name, an unknown method and a missing style image") {

@@ -18,6 +18,13 @@ double psnr_of(const std::vector<float>& image, const std::vector<float>& target
   return mse <= 0 ? 100.0 : -10.0 * std::log10(mse);
 }
 
+std::vector<const data::View*> spread_views(const std::vector<const data::View*>& views, size_t k) {
+  if (views.size() <= k) return views;
+  std::vector<const data::View*> out;
+  for (size_t i = 0; i < k; ++i) out.push_back(views[i * (views.size() - 1) / (k - 1)]);
+  return out;
+}
+
 Evaluator::Evaluator(engine::Context& ctx) : ctx_(&ctx), loss_(ctx, "evaluation ssim") {}
 
 Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_at,

@@ -20,7 +20,6 @@
 #include "s4d/train/time_estimate.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d/util/free_space.h"
-#include "s4d/util/progress.h"
 #include "trainer_impl.h"
 
 namespace s4d::train {
@@ -28,7 +27,6 @@ namespace s4d::train {
 namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{1} << 30;
-constexpr size_t kPeriodicTestViews = 8;  // periodic tests use this many test views; the final one all
 // Static steps timed for the run's time estimate, after the first ones, which compile pipelines and
 // fill the frame cache (on a 2-core lavapipe the first 10 ran 3x slower than the rest).
 constexpr uint32_t kProbeFrom = 20, kProbeSteps = 30;
@@ -53,14 +51,6 @@ std::vector<const data::View*> select_views(const data::Dataset& d, const run::T
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test && v.time <= c.max_time + 1e-9) out.push_back(&v);
-  return out;
-}
-
-// Evenly spaced subset of at most k views, always including the first.
-std::vector<const data::View*> spread(const std::vector<const data::View*>& views, size_t k) {
-  if (views.size() <= k) return views;
-  std::vector<const data::View*> out;
-  for (size_t i = 0; i < k; ++i) out.push_back(views[i * (views.size() - 1) / (k - 1)]);
   return out;
 }
 
@@ -113,7 +103,7 @@ void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, s
 }  // namespace
 
 Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d)
-    : ctx(c), run(std::move(r)), config(cfg), dataset(d), lr_scale(cfg.lr_scale), train_views(select_views(d, cfg, false)),
+    : ctx(c), run(std::move(r)), config(cfg), dataset(d), recovery{0, cfg.lr_scale}, train_views(select_views(d, cfg, false)),
       test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
       loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
       sampler(1, cfg.seed) {
@@ -123,7 +113,7 @@ Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& c
   if (static_views.empty())
     throw std::runtime_error(d.root.string() + ": no training views with time <= " +
                              std::to_string(std::min(cfg.max_time, cfg.static_max_time)) + " for the static stage");
-  if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
+  if (test_views.empty()) test_views = spread_views(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
 Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::TrainConfig& config, const fs::path& run_dir,
@@ -203,67 +193,90 @@ std::unique_ptr<Trainer> Trainer::resume(engine::Context& ctx, const fs::path& r
 
 Trainer::~Trainer() = default;
 
+// The stage the trainer is in, as the runner drives it (both stages share one Impl).
+struct Trainer::Impl::Steps final : RunnerStage {
+  Steps(Impl& impl, std::chrono::steady_clock::time_point from) : m(impl), start(from) {}
+
+  StagePlan plan() const override {
+    const std::string name = run::stage_name(m.stage);
+    return {.name = name,
+            .progress_label = name,
+            .iterations = m.stage_iterations(),
+            .test_every = m.config.test_every,
+            .checkpoint_every = m.config.checkpoint_every,
+            .test_name = "test_psnr",
+            .resume_hint = "continue with style4d train --resume " + m.run.root.string(),
+            .checkpoint = m.run.checkpoint()};
+  }
+  uint32_t iteration() const override { return m.iteration; }
+  double seconds() const override { return m.elapsed(start); }
+  Recovery& recovery() override { return m.recovery; }
+
+  double step() override {
+    ++m.iteration;
+    value = m.fine() ? m.fine_step() : m.static_step();
+    return value.loss;
+  }
+  void write_loss_row(std::ostream& log, double seconds) const override {
+    log << run::stage_name(m.stage) << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
+        << m.gaussians->size() << ',' << seconds;
+  }
+  double periodic_test() override { return m.evaluate(spread_views(m.test_views, kPeriodicTestViews)).psnr; }
+  void after_step() override {
+    m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
+    if (m.mask_due()) m.update_mask();
+  }
+  void add_progress(ProgressValues& shown) override {
+    shown.emplace_back("gaussians", static_cast<double>(m.gaussians->size()));
+    shown.emplace_back("device_mib", static_cast<double>(m.ctx.memory_in_use()) / (1 << 20));  // bench/soak.sh plots it
+    // A fresh run tells its expected length once its first steps are timed.
+    const bool fresh = m.stage == run::Stage::coarse && m.seconds_before == 0;
+    if (fresh && m.iteration == kProbeFrom) probe_start = seconds();
+    if (fresh && m.iteration == kProbeFrom + kProbeSteps) {
+      const TimeEstimate e =
+          estimate_time(m.config, (seconds() - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
+      std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";
+      m.facts["estimate"] = {{"static_seconds", e.static_seconds}, {"fine_seconds", e.fine_seconds},
+                             {"static_seconds_low", e.static_seconds_low}, {"fine_seconds_low", e.fine_seconds_low},
+                             {"probe_seconds_per_step", e.probe_seconds_per_step}, {"probe_gaussians", e.probe_gaussians}};
+    }
+  }
+  void save(double seconds) override { m.checkpoint(seconds); }
+  void restore_last_good() override { m.restore(m.last_good); }
+  ProgressValues final_test() override {
+    test = m.evaluate(m.test_views, last() ? m.run.eval_dir() : fs::path{});
+    return {{"test_psnr", test.psnr}, {"test_ssim", test.ssim}, {"gaussians", static_cast<double>(m.gaussians->size())}};
+  }
+
+  bool last() const { return m.fine() || m.config.fine_iterations == 0; }
+
+  Impl& m;
+  std::chrono::steady_clock::time_point start;
+  optim::LossValue value{};  // the last step's
+  double probe_start = 0;
+  Evaluation test;  // the last stage's closing test
+};
+
 TrainResult Trainer::run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
-  const auto start = std::chrono::steady_clock::now();
   m.trim_loss_log();
   std::ofstream log(m.run.loss_csv(), std::ios::app);
-  double probe_start = 0;
+  StageRunner runner(log, m.run.loss_csv());
+  Impl::Steps steps(m, std::chrono::steady_clock::now());
   while (true) {
-    util::Progress progress(run::stage_name(m.stage), m.stage_iterations());
-    double test_psnr = NAN;
-    while (m.iteration < m.stage_iterations()) {
-      if (stop.load()) {
-        m.checkpoint(m.elapsed(start));
-        TrainResult r = m.result(false, m.elapsed(start), {});
-        m.write_result(r);
-        std::cerr << run::stage_name(m.stage) << ": interrupted at iteration " << m.iteration << "; checkpoint written, continue with "
-                     "style4d train --resume " << m.run.root.string() << "\n";
-        return r;
-      }
-      ++m.iteration;
-      const optim::LossValue value = m.fine() ? m.fine_step() : m.static_step();
-      if (!std::isfinite(value.loss)) {
-        m.rollback("the loss became non-finite at iteration " + std::to_string(m.iteration));
-        continue;
-      }
-      if (m.iteration % 10 == 0)
-        log << run::stage_name(m.stage) << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
-            << m.gaussians->size() << ',' << m.elapsed(start) << std::endl;  // on disk before any later checkpoint
-      util::require_written(log, m.run.loss_csv());
-      if (m.iteration % config_.test_every == 0 && m.iteration < m.stage_iterations())
-        test_psnr = m.evaluate(spread(m.test_views, kPeriodicTestViews)).psnr;
-      m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
-      if (m.mask_due()) m.update_mask();
-      if (m.iteration % config_.checkpoint_every == 0 && m.iteration < m.stage_iterations()) m.checkpoint(m.elapsed(start));
-      std::vector<std::pair<std::string, double>> shown = {
-          {"loss", value.loss},
-          {"gaussians", m.gaussians->size()},
-          {"device_mib", static_cast<double>(m.ctx.memory_in_use()) / (1 << 20)}};  // bench/soak.sh plots it
-      if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr", test_psnr);  // after the first test
-      // A fresh run tells its expected length once its first steps are timed.
-      if (m.stage == run::Stage::coarse && m.seconds_before == 0 && m.iteration == kProbeFrom) probe_start = m.elapsed(start);
-      if (m.stage == run::Stage::coarse && m.seconds_before == 0 && m.iteration == kProbeFrom + kProbeSteps) {
-        const TimeEstimate e =
-            estimate_time(config_, (m.elapsed(start) - probe_start) / kProbeSteps, static_cast<uint32_t>(m.gaussians->size()));
-        std::cerr << describe(e, kProbeSteps) << " on " << m.ctx.info().name << "\n";
-        m.facts["estimate"] = {{"static_seconds", e.static_seconds}, {"fine_seconds", e.fine_seconds},
-                               {"static_seconds_low", e.static_seconds_low}, {"fine_seconds_low", e.fine_seconds_low},
-                               {"probe_seconds_per_step", e.probe_seconds_per_step}, {"probe_gaussians", e.probe_gaussians}};
-      }
-      progress.update(m.iteration, shown);
-    }
-    const bool last = m.fine() || config_.fine_iterations == 0;
-    Evaluation test = m.evaluate(m.test_views, last ? m.run.eval_dir() : fs::path{});
-    progress.finish({{"test_psnr", test.psnr}, {"test_ssim", test.ssim}, {"gaussians", m.gaussians->size()}});
-    if (last) {
-      if (!m.checkpoint(m.elapsed(start))) throw std::runtime_error("the final state is not finite");
-      TrainResult r = m.result(true, m.elapsed(start), std::move(test));
+    if (!runner.run(steps, stop)) {
+      TrainResult r = m.result(false, steps.seconds(), {});
       m.write_result(r);
       return r;
     }
-    m.begin_fine_stage(test);
-    m.checkpoint(m.elapsed(start));
+    if (steps.last()) {
+      if (!runner.checkpoint(steps)) throw std::runtime_error("the final state is not finite");
+      TrainResult r = m.result(true, steps.seconds(), std::move(steps.test));
+      m.write_result(r);
+      return r;
+    }
+    m.begin_fine_stage(steps.test);
+    runner.checkpoint(steps);
   }
 }
 

@@ -1,9 +1,8 @@
-// Trainer::Impl's field, snapshots, checkpoints and rollbacks, and the loss log a resumed run trims
+// Trainer::Impl's field, snapshots and checkpoints, and the loss log a resumed run trims
 // to its checkpoint.
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <iostream>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -16,8 +15,6 @@
 namespace s4d::train {
 
 namespace {
-
-constexpr uint32_t kMaxRollbacks = 8;  // each halves the learning rates
 
 engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
   engine::Buffer b(ctx, name, floats * 4);
@@ -44,8 +41,8 @@ void Trainer::Impl::make_field(uint32_t seed) {
 }
 
 nlohmann::json Trainer::Impl::meta(double seconds) const {
-  return {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", lr_scale},   {"seconds", seconds},
-          {"rollbacks", rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
+  return {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", recovery.lr_scale},   {"seconds", seconds},
+          {"rollbacks", recovery.rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
           {"deform_evaluations_unmasked", deform_evaluations_unmasked}};
 }
@@ -75,9 +72,9 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   if (!known) throw std::runtime_error("checkpoint: meta 'stage' = '" + stage_in_file + "' is not static or fine");
   stage = *known;
   iteration = cp.meta.at("iteration").get<uint32_t>();
-  lr_scale = cp.meta.at("lr_scale").get<double>();
+  recovery.lr_scale = cp.meta.at("lr_scale").get<double>();
   seconds_before = cp.meta.at("seconds").get<double>();
-  rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
+  recovery.rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
   sampler = stage_sampler();
   sampler.load(cp.meta.at("sampler").get<std::string>());
   static_scores = cp.meta.at("static_test");
@@ -127,32 +124,12 @@ void Trainer::Impl::trim_loss_log() const {
   util::write_file_atomic(run.loss_csv(), kept);
 }
 
-bool Trainer::Impl::checkpoint(double seconds) {
+void Trainer::Impl::checkpoint(double seconds) {
   run::Checkpoint cp = snapshot(seconds);
-  try {
-    run::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
-  } catch (const std::invalid_argument& e) {  // non-finite parameters: never written
-    rollback(e.what());
-    return false;
-  }
+  run::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
   newest_damaged = false;
   io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);
   last_good = std::move(cp);
-  return true;
 }
 
-void Trainer::Impl::rollback(const std::string& why) {
-  if (++rollbacks > kMaxRollbacks)
-    throw std::runtime_error("training diverged " + std::to_string(rollbacks) + " times (" + why +
-                             "); the last good state is in " + run.checkpoint().string());
-  const double seconds = last_good.meta.at("seconds").get<double>();
-  const uint32_t rollbacks_now = rollbacks;
-  const double scale = lr_scale * 0.5;
-  restore(last_good);
-  rollbacks = rollbacks_now;
-  seconds_before = seconds;
-  lr_scale = scale;
-  std::cerr << run::stage_name(stage) << ": " << why << "; rolled back to iteration " << iteration
-            << " and halved the learning rates (scale " << lr_scale << ")\n";
-}
 }  // namespace s4d::train

@@ -21,6 +21,7 @@
 #include "s4d/optim/image_loss.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/splat/rasterizer.h"
+#include "s4d/train/stage_runner.h"
 #include "s4d/train/trainer.h"
 #include "s4d/train/view_sampler.h"
 
@@ -41,7 +42,7 @@ struct Trainer::Impl {
   run::RunDir run;
   const run::TrainConfig& config;
   const data::Dataset& dataset;
-  double lr_scale;
+  Recovery recovery;  // lr_scale starts at the settings'
   std::vector<const data::View*> train_views, test_views;
   std::vector<const data::View*> static_views;  // the static stage's: train views with time <= static_max_time
   data::FrameCache frames;
@@ -69,13 +70,15 @@ struct Trainer::Impl {
   run::Stage stage = run::Stage::coarse;
   uint32_t iteration = 0;  // within the stage
   double seconds_before = 0;
-  uint32_t rollbacks = 0;
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
   run::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
   // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
   // the newest without rotating it over the good previous one.
   bool newest_damaged = false;
+
+  // The runner's view of the current stage (trainer.cpp).
+  struct Steps;
 
   // ---- Small queries and the constructor (trainer.cpp).
   Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d);
@@ -95,10 +98,10 @@ struct Trainer::Impl {
     return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   TrainResult result(bool complete, double seconds, Evaluation test) const {
-    return {complete, stage, iteration, gaussians->size(), seconds, rollbacks, std::move(test)};
+    return {complete, stage, iteration, gaussians->size(), seconds, recovery.rollbacks, std::move(test)};
   }
 
-  // ---- The field, snapshots, checkpoints, rollbacks and loss.csv (trainer_checkpoint.cpp).
+  // ---- The field, snapshots, checkpoints and loss.csv (trainer_checkpoint.cpp).
   // The field, sized from the initial cloud's bounds (validated here, so a field the device cannot
   // run fails before any training).
   void make_field(uint32_t seed);
@@ -108,9 +111,9 @@ struct Trainer::Impl {
   // loss.csv keeps the rows up to the state training continues from: a resumed run drops the rows
   // logged after its checkpoint (they are logged again), and a new run starts with the header.
   void trim_loss_log() const;
-  // Saves the current state as the checkpoint and the PLY, or rolls back when it is not finite.
-  bool checkpoint(double seconds);
-  void rollback(const std::string& why);
+  // Saves the current state as the checkpoint and the PLY and makes it the last good state;
+  // std::invalid_argument when it is not finite (nothing written).
+  void checkpoint(double seconds);
 
   // ---- Stage 1 and what both stages' steps share (trainer_static_step.cpp).
   void set_learning_rates(uint32_t step);

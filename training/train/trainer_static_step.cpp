@@ -19,7 +19,7 @@ void Trainer::Impl::set_learning_rates(uint32_t step) {
   const optim::LogLinearSchedule mlp{config.deform_lr * e, config.deform_lr_final * e, span};
   const double lrs[gCount] = {means.at(step),   config.scaling_lr, config.rotation_lr, config.opacity_lr,
                               config.sh_dc_lr,  config.sh_rest_lr, planes.at(step),    mlp.at(step)};
-  for (uint32_t g = 0; g < gCount; ++g) adam.set_group(g, {.lr = lrs[g] * lr_scale}, step);
+  for (uint32_t g = 0; g < gCount; ++g) adam.set_group(g, {.lr = lrs[g] * recovery.lr_scale}, step);
   adam.upload();
 }
 

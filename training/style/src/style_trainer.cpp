@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <iostream>
 #include <random>
 #include <set>
 
@@ -19,9 +18,9 @@
 #include "s4d/scene/styled_scene.h"
 #include "s4d/splat/rasterizer.h"
 #include "s4d/splat/scene_upload.h"
+#include "s4d/train/stage_runner.h"
 #include "s4d/train/view_sampler.h"
 #include "s4d/util/atomic_file.h"
-#include "s4d/util/progress.h"
 #include "s4d_style_splat.h"
 
 namespace s4d::style {
@@ -32,20 +31,12 @@ namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{512} << 20;
 constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
-constexpr size_t kPeriodicTestViews = 8;
 enum Group : uint32_t { gShDc, gShRest, gOpacity, gMlp, gCount };
 
 std::vector<const data::View*> views_of(const data::Dataset& d, bool test) {
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test) out.push_back(&v);
-  return out;
-}
-
-std::vector<const data::View*> spread(const std::vector<const data::View*>& views, size_t k) {
-  if (views.size() <= k) return views;
-  std::vector<const data::View*> out;
-  for (size_t i = 0; i < k; ++i) out.push_back(views[i * (views.size() - 1) / (k - 1)]);
   return out;
 }
 
@@ -96,10 +87,11 @@ std::vector<uint32_t> inside_region(engine::Context& ctx, const splat::GaussianP
 
 }  // namespace
 
-struct StyleTrainer::Impl {
+// Stage 4 as the runner drives it.
+struct StyleTrainer::Impl final : train::RunnerStage {
   engine::Context& ctx;
   const scene::TrainedRun& run;
-  std::string name;
+  std::string style;  // the style's name
   StyleConfig config;
   fs::path dir;
   std::vector<const data::View*> train_views, test_views;
@@ -121,16 +113,21 @@ struct StyleTrainer::Impl {
   splat::StyleMlp mlp_desc{};
   engine::Buffer region_mask;  // [count] u32, 1 = stylized; empty: every Gaussian
   uint32_t region_count = 0;
-  uint32_t iteration = 0;
+  uint32_t done = 0;  // steps done
   double seconds_before = 0;
+  std::chrono::steady_clock::time_point start;  // of this session's run()
+  train::Recovery recovery_state;
+  run::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
+  double last_loss = 0;
+  train::Evaluation test;  // the closing test
 
   Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg)
-      : ctx(c), run(r), name(std::move(n)), config(cfg), dir(run::style_dir(r.root, name)),
+      : ctx(c), run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)),
         train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
         rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
         sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
-    if (test_views.empty()) test_views = spread(train_views, kPeriodicTestViews);
+    if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
     full = config.method == run::StyleMethod::full;
     std::set<double> times;
     for (const data::View& view : stylized.views) times.insert(view.time);
@@ -167,12 +164,46 @@ struct StyleTrainer::Impl {
 
   fs::path checkpoint_path() const { return dir / "checkpoint.s4dckpt"; }
 
-  nlohmann::json meta(double seconds) const {
-    return {{"iteration", iteration}, {"seconds", seconds}, {"sampler", sampler.save()}, {"settings", to_json(config)},
-            {"count", count}, {"depth_scale", depth_scale}};
+  // ---- What the runner asks of a stage (stage_runner.h).
+  train::StagePlan plan() const override {
+    return {.name = "stage 4",
+            .progress_label = "stage 4 " + style,
+            .iterations = config.iterations,
+            .test_every = config.test_every,
+            .checkpoint_every = config.checkpoint_every,
+            .test_name = "test_psnr_vs_stylized",
+            .resume_hint = "run the same style4d stylize command again to continue",
+            .checkpoint = checkpoint_path()};
+  }
+  uint32_t iteration() const override { return done; }
+  double seconds() const override {
+    return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  train::Recovery& recovery() override { return recovery_state; }
+  void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
+  double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
+  void save(double seconds) override {
+    run::Checkpoint cp = snapshot(seconds);
+    run::write_checkpoint(checkpoint_path(), cp);
+    last_good = std::move(cp);
+  }
+  void restore_last_good() override { restore(last_good); }
+  train::ProgressValues final_test() override {
+    test = evaluate(test_views, dir / "eval");
+    return {{"test_psnr_vs_stylized", test.psnr}};
   }
 
-  void save(double seconds) {
+  nlohmann::json meta(double seconds) const {
+    nlohmann::json j = {{"iteration", done}, {"seconds", seconds}, {"sampler", sampler.save()}, {"settings", to_json(config)},
+                        {"count", count}, {"depth_scale", depth_scale}};
+    if (recovery_state.rollbacks > 0) {  // absent: none, so a run that never rolled back writes what it always did
+      j["rollbacks"] = recovery_state.rollbacks;
+      j["lr_scale"] = recovery_state.lr_scale;
+    }
+    return j;
+  }
+
+  run::Checkpoint snapshot(double seconds) const {
     run::Checkpoint cp{meta(seconds), {}, {}};
     const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k) {
@@ -181,21 +212,21 @@ struct StyleTrainer::Impl {
       cp.extra.emplace_back(std::string(names[k]) + ".adam_m", ctx.download<float>(m[k], floats[k]));
       cp.extra.emplace_back(std::string(names[k]) + ".adam_v", ctx.download<float>(v[k], floats[k]));
     }
-    run::write_checkpoint(checkpoint_path(), cp);
+    return cp;
   }
 
-  void restore() {
-    const run::Checkpoint cp = run::read_checkpoint(checkpoint_path());
+  void restore(const run::Checkpoint& cp) {
     const nlohmann::json saved = cp.meta.at("settings");
     if (saved != to_json(config))
       throw std::runtime_error(checkpoint_path().string() + " was written with other settings (" + saved.dump() +
                                "); pass the same options or --restart");
     if (cp.meta.at("count").get<uint32_t>() != count)
       throw std::runtime_error(checkpoint_path().string() + ": trained for another Gaussian count; the run was retrained (use --restart)");
-    iteration = cp.meta.at("iteration").get<uint32_t>();
+    done = cp.meta.at("iteration").get<uint32_t>();
     seconds_before = cp.meta.at("seconds").get<double>();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     depth_scale = cp.meta.at("depth_scale").get<float>();
+    recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0)};
     const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k)
       for (auto [buffer, suffix] : {std::pair{&param[k], ""}, {&m[k], ".adam_m"}, {&v[k], ".adam_v"}}) {
@@ -209,7 +240,7 @@ struct StyleTrainer::Impl {
   }
 
   // Method full's MLPs train from this step on (earlier steps are colours only).
-  bool mlp_on() const { return full && iteration + config.mlp_iterations > config.iterations; }
+  bool mlp_on() const { return full && done + config.mlp_iterations > config.iterations; }
 
   // The run's Gaussians at the view's time in this style (`with_mlp` false: colours only).
   splat::GaussianParams styled(const data::View& view, const splat::Camera& cam, bool with_mlp = true) {
@@ -236,7 +267,8 @@ struct StyleTrainer::Impl {
     return cam;
   }
 
-  double step() {
+  double step() override {
+    ++done;
     const data::View& view = *train_views[sampler.next()];
     const splat::Camera cam = load_target(view);
     const bool mlp = mlp_on();
@@ -249,8 +281,8 @@ struct StyleTrainer::Impl {
       if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, v_rgb);
       ctx.run(std::move(rec));
     }
-    const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
-    if (!std::isfinite(value)) return value;
+    last_loss = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
+    if (!std::isfinite(last_loss)) return last_loss;
     splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &grad[1], &grad[0], nullptr};
     if (mlp) grads.v_style_mlp = &grad[2];
     rast.backward(p, {.v_rgb = &v_rgb}, grads);
@@ -264,7 +296,7 @@ struct StyleTrainer::Impl {
     const bool colors = !full || config.train_colors;
     const double lrs[gCount] = {colors ? config.sh_dc_lr : 0.0, colors ? config.sh_rest_lr : 0.0,
                                 colors ? config.opacity_lr : 0.0, config.mlp_lr};
-    for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k]}, iteration);
+    for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k] * recovery_state.lr_scale}, done);
     adam.upload();
     engine::Recorder rec(ctx, "style update");
     if (colors) {
@@ -273,7 +305,7 @@ struct StyleTrainer::Impl {
     }
     if (mlp) adam.record(rec, gMlp, param[2], grad[2], m[2], v[2], static_cast<uint32_t>(floats[2]));
     ctx.run(std::move(rec));
-    return value;
+    return last_loss;
   }
 
   train::Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {}) {
@@ -301,47 +333,23 @@ StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, c
   if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
   impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config);
   fs::create_directories(impl_->dir);
-  if (fs::exists(impl_->checkpoint_path())) impl_->restore();
+  if (fs::exists(impl_->checkpoint_path())) impl_->restore(run::read_checkpoint(impl_->checkpoint_path()));
+  impl_->last_good = impl_->snapshot(impl_->seconds_before);
 }
 
 StyleTrainer::~StyleTrainer() = default;
 
 StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
   Impl& s = *impl_;
-  const auto start = std::chrono::steady_clock::now();
-  auto elapsed = [&] { return s.seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  std::ofstream log(s.dir / "loss.csv", s.iteration == 0 ? std::ios::trunc : std::ios::app);
-  if (s.iteration == 0) log << "iteration,loss,seconds\n";
-  util::Progress progress("stage 4 " + s.name, s.config.iterations);
-  double test_psnr = NAN;
-  while (s.iteration < s.config.iterations) {
-    if (stop.load()) {
-      s.save(elapsed());
-      std::cerr << "stage 4: interrupted at iteration " << s.iteration << "; checkpoint written, run the same "
-                   "style4d stylize command again to continue\n";
-      return {false, s.iteration, elapsed(), s.region_count, {}};
-    }
-    ++s.iteration;
-    const double value = s.step();
-    if (!std::isfinite(value))
-      throw std::runtime_error("stage 4: the loss became non-finite at iteration " + std::to_string(s.iteration) +
-                               "; the last checkpoint is " + s.checkpoint_path().string() + " (lower the learning rates)");
-    if (s.iteration % 10 == 0) {
-      log << s.iteration << ',' << value << ',' << elapsed() << std::endl;
-      util::require_written(log, s.dir / "loss.csv");
-    }
-    if (s.iteration % s.config.test_every == 0 && s.iteration < s.config.iterations)
-      test_psnr = s.evaluate(spread(s.test_views, kPeriodicTestViews)).psnr;
-    if (s.iteration % s.config.checkpoint_every == 0 && s.iteration < s.config.iterations) s.save(elapsed());
-    std::vector<std::pair<std::string, double>> shown = {{"loss", value}};
-    if (!std::isnan(test_psnr)) shown.emplace_back("test_psnr_vs_stylized", test_psnr);
-    progress.update(s.iteration, shown);
-  }
-  train::Evaluation test = s.evaluate(s.test_views, s.dir / "eval");
-  progress.finish({{"test_psnr_vs_stylized", test.psnr}});
-  s.save(elapsed());
-  run::write_style_file(run::style_file_path(s.run.root, s.name), s.style_file());
-  return {true, s.iteration, elapsed(), s.region_count, std::move(test)};
+  s.start = std::chrono::steady_clock::now();
+  const fs::path log_path = s.dir / "loss.csv";
+  std::ofstream log(log_path, s.done == 0 ? std::ios::trunc : std::ios::app);
+  if (s.done == 0) log << "iteration,loss,seconds\n";
+  train::StageRunner runner(log, log_path);
+  if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
+  if (!runner.checkpoint(s)) throw std::runtime_error("stage 4: the final state is not finite");
+  run::write_style_file(run::style_file_path(s.run.root, s.style), s.style_file());
+  return {true, s.done, s.seconds(), s.region_count, std::move(s.test)};
 }
 
 }  // namespace s4d::style

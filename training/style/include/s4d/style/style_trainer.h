@@ -1,7 +1,8 @@
 // Stage 4 of Style4D, "Style Gaussians" (ALGORITHMS.md 4.3): the run's geometry stays frozen; each
 // Gaussian's colour and opacity change and (method "full") its tiny MLP on (time, ray-hit depth)
 // are trained against the stylized frames of stage 3 with L1 + image TV. Progress, checkpoints
-// (RUN/style/NAME/checkpoint.s4dckpt, atomic), interruption and resume as in training.
+// (RUN/style/NAME/checkpoint.s4dckpt, atomic), interruption, resume and rollback on a non-finite
+// loss as in training (one loop runs both: train/stage_runner.h).
 #pragma once
 #include <atomic>
 #include <cstdint>

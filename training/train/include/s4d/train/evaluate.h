@@ -27,6 +27,11 @@ struct Evaluation {
 
 double psnr_of(const std::vector<float>& image, const std::vector<float>& target);  // image clamped to [0, 1]
 
+// The periodic tests during a stage use this many test views; the closing test uses all.
+constexpr size_t kPeriodicTestViews = 8;
+// An evenly spaced subset of at most k views, always including the first.
+std::vector<const data::View*> spread_views(const std::vector<const data::View*>& views, size_t k);
+
 class Evaluator {
  public:
   explicit Evaluator(engine::Context& ctx);

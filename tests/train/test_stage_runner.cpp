@@ -1,0 +1,113 @@
+// The stage runner (stage_runner.h) on a host-only stage: loss.csv rows and checkpoints at their
+// cadence, stop requests, rollback to the last good state on a non-finite loss or checkpoint with
+// halved learning rates, and giving up after kMaxRollbacks.
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "s4d/train/stage_runner.h"
+
+using namespace s4d;
+
+namespace {
+
+// Counts steps; a step's loss is NaN for the iterations in `nan_at` (each once) and for
+// `nan_always` (every time), a save throws
+// std::invalid_argument as a non-finite checkpoint does for those in `bad_save_at` (each once).
+struct FakeStage final : train::RunnerStage {
+  uint32_t done = 0, length = 25, saved_at = 0, saves = 0, tests = 0, finals = 0;
+  std::set<uint32_t> nan_at, bad_save_at;
+  train::Recovery rec;
+  std::atomic<bool>* stop_after = nullptr;  // set once `stop_at` steps are done
+  uint32_t stop_at = 0;
+  uint32_t nan_always = 0;  // a step whose loss is always NaN
+
+  train::StagePlan plan() const override {
+    return {.name = "fake",
+            .progress_label = "fake stage",
+            .iterations = length,
+            .test_every = 7,
+            .checkpoint_every = 5,
+            .test_name = "test",
+            .resume_hint = "run it again",
+            .checkpoint = "fake.s4dckpt"};
+  }
+  uint32_t iteration() const override { return done; }
+  double seconds() const override { return 0; }
+  train::Recovery& recovery() override { return rec; }
+  double step() override {
+    ++done;
+    if (stop_after && done == stop_at) *stop_after = true;
+    return nan_at.erase(done) || done == nan_always ? NAN : 1.0 / done;
+  }
+  void write_loss_row(std::ostream& log, double) const override { log << done; }
+  double periodic_test() override { return ++tests; }
+  void save(double) override {
+    if (bad_save_at.erase(done)) throw std::invalid_argument("a non-finite parameter");
+    saved_at = done, ++saves;
+  }
+  void restore_last_good() override { done = saved_at, rec = {}; }
+  train::ProgressValues final_test() override { return {{"test", ++finals}}; }
+};
+
+}  // namespace
+
+TEST_CASE("the stage runner writes rows and checkpoints at their cadence and tests before the end") {
+  FakeStage stage;
+  std::ostringstream log;
+  train::StageRunner runner(log, "loss.csv");
+  const std::atomic<bool> stop{false};
+  CHECK(runner.run(stage, stop));
+  CHECK(log.str() == "10\n20\n");
+  CHECK(stage.saves == 4);  // 5, 10, 15, 20: the end is the caller's
+  CHECK(stage.tests == 3);  // 7, 14, 21
+  CHECK(stage.finals == 1);
+  CHECK(stage.rec.rollbacks == 0);
+}
+
+TEST_CASE("a stop request checkpoints and returns before the next step") {
+  FakeStage stage;
+  std::atomic<bool> stop{false};
+  stage.stop_after = &stop, stage.stop_at = 12;
+  std::ostringstream log;
+  train::StageRunner runner(log, "loss.csv");
+  CHECK_FALSE(runner.run(stage, stop));
+  CHECK(stage.done == 12);
+  CHECK(stage.saved_at == 12);
+  CHECK(stage.finals == 0);
+}
+
+TEST_CASE("a non-finite loss or checkpoint rolls back to the last good state and halves the learning rates") {
+  FakeStage stage;
+  stage.rec.lr_scale = 2;
+  stage.nan_at = {13};       // back to 10
+  stage.bad_save_at = {20};  // back to 15
+  std::ostringstream log;
+  train::StageRunner runner(log, "loss.csv");
+  const std::atomic<bool> stop{false};
+  CHECK(runner.run(stage, stop));
+  CHECK(stage.rec.rollbacks == 2);
+  CHECK(stage.rec.lr_scale == 0.5);
+  CHECK(log.str() == "10\n20\n20\n");  // the rows after a rollback's state are logged again
+}
+
+TEST_CASE("a stage that keeps diverging stops after kMaxRollbacks rollbacks and names its last checkpoint") {
+  FakeStage stage;
+  stage.nan_always = 3;
+  std::ostringstream log;
+  train::StageRunner runner(log, "loss.csv");
+  const std::atomic<bool> stop{false};
+  std::string what;
+  try {
+    runner.run(stage, stop);
+  } catch (const std::runtime_error& e) {
+    what = e.what();
+  }
+  CHECK(what.find("diverged 9 times") != std::string::npos);
+  CHECK(what.find("fake.s4dckpt") != std::string::npos);
+  CHECK(stage.rec.rollbacks == train::StageRunner::kMaxRollbacks);
+}

@@ -1,0 +1,84 @@
+// One loop for every training stage (static, 4DGS fine, Style Gaussians): stop requests, rollback
+// to the last good state on a non-finite loss or checkpoint, checkpoint and test cadence, the
+// progress line and the loss.csv row cadence. A stage says how to step, save, restore and test
+// itself through RunnerStage; what its files hold stays its own.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace s4d::train {
+
+using ProgressValues = std::vector<std::pair<std::string, double>>;
+
+// What rollbacks change: a stage keeps it in its checkpoints so that a resumed run goes on with
+// the halved learning rates.
+struct Recovery {
+  uint32_t rollbacks = 0;
+  double lr_scale = 1;  // multiplies every learning rate
+};
+
+// What a stage is, for the runner's loop and messages.
+struct StagePlan {
+  std::string name;            // messages: "static", "fine", "stage 4"
+  std::string progress_label;  // the progress line's
+  uint32_t iterations = 0;     // the stage's length
+  uint32_t test_every = 1, checkpoint_every = 1;
+  std::string test_name;             // the periodic test's PSNR in the progress line
+  std::string resume_hint;           // how an interrupted stage continues
+  std::filesystem::path checkpoint;  // named when training gives up
+};
+
+class RunnerStage {
+ public:
+  virtual ~RunnerStage() = default;
+  // Asked at every step: a rollback may change it (the trainer's, back into the static stage).
+  virtual StagePlan plan() const = 0;
+  virtual uint32_t iteration() const = 0;  // steps done in the stage
+  virtual double seconds() const = 0;      // training time over all sessions, now
+  virtual Recovery& recovery() = 0;
+
+  // Advances iteration() by one and trains that step; returns its loss (non-finite: rolled back).
+  virtual double step() = 0;
+  // The last step's loss.csv row, without the line end.
+  virtual void write_loss_row(std::ostream& log, double seconds) const = 0;
+  // A test on a few views: its PSNR.
+  virtual double periodic_test() = 0;
+  // What follows a finite step's test (densification, for one).
+  virtual void after_step() {}
+  // Values the progress line shows after the loss.
+  virtual void add_progress(ProgressValues&) {}
+  // Writes a checkpoint and makes it the last good state; std::invalid_argument when the state is
+  // not finite (nothing written).
+  virtual void save(double seconds) = 0;
+  // Back to the last good state, all of it (Recovery too: the runner sets it after).
+  virtual void restore_last_good() = 0;
+  // The stage's closing test over all its test views; returns what the progress line ends with.
+  virtual ProgressValues final_test() = 0;
+};
+
+class StageRunner {
+ public:
+  // Rows go to `log` (the file `log_path`), every kLossRowEvery steps.
+  StageRunner(std::ostream& log, std::filesystem::path log_path);
+
+  // Runs `stage` to its length (true) or until `stop` (then checkpoints; false).
+  bool run(RunnerStage& stage, const std::atomic<bool>& stop);
+  // Saves a checkpoint; false when the state was not finite and the stage rolled back instead.
+  bool checkpoint(RunnerStage& stage);
+
+  static constexpr uint32_t kLossRowEvery = 10;
+  static constexpr uint32_t kMaxRollbacks = 8;  // each halves the learning rates
+
+ private:
+  void roll_back(RunnerStage& stage, const std::string& why);
+
+  std::ostream& log_;
+  std::filesystem::path log_path_;
+};
+
+}  // namespace s4d::train
