@@ -21,6 +21,7 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+from reference_nets import adain_vgg
 import torch
 import torch.nn as nn
 import torchvision
@@ -149,14 +150,7 @@ def main():
 
     # AdaIN's vgg_normalised: nn.Sequential of 1x1 conv, then (ReflectionPad2d, Conv2d, ReLU) per layer
     # with ceil-mode max pools, up to relu5_4.
-    layers, cin = [nn.Conv2d(3, 3, 1)], 3
-    for v in cfgs["E"][:-1]:
-        if v == "M":
-            layers.append(nn.MaxPool2d(2, 2, 0, ceil_mode=True))
-        else:
-            layers += [nn.ReflectionPad2d(1), nn.Conv2d(cin, v, 3), nn.ReLU()]
-            cin = v
-    adain = nn.Sequential(*layers).state_dict()
+    adain = adain_vgg().state_dict()
     p, _, out = convert("vgg_normalised", adain)
     same(os.path.join(out, "vgg_normalised.safetensors"), adain, "AdaIN vgg_normalised")
 

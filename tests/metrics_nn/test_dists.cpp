@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -57,20 +58,37 @@ double twin_dists(const test::NetParams& vgg, const std::vector<float>& alpha, c
   return 1 - (d1 + d2);
 }
 
+// Random VGG16 weights and DISTS alpha / beta written as the bench reads them.
+struct RandomDists {
+  test::NetParams vgg;
+  std::vector<float> alpha, beta;
+};
+
+RandomDists write_random_dists(const std::filesystem::path& dir, std::mt19937& rng) {
+  RandomDists w{test::random_torch_vgg(kWidths, false, rng), {}, {}};
+  test::write_params(dir / "vgg16.safetensors", w.vgg);
+  w.alpha = test::random_values(kChannels, 0.01f, 0.03f, rng);
+  w.beta = test::random_values(kChannels, 0.0f, 0.02f, rng);
+  io::write_safetensors(dir / "dists.safetensors",
+                        {{"alpha", {1, kChannels, 1, 1}, w.alpha}, {"beta", {1, kChannels, 1, 1}, w.beta}});
+  return w;
+}
+
+metrics::Dists open_dists(const std::filesystem::path& dir) {
+  return metrics::Dists(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
+                        io::SafetensorsFile(dir / "dists.safetensors"), kWidths);
+}
+
 }  // namespace
 
 // Kernels nn_conv3x3_zero, nn_l2pool.
 TEST_CASE("dists matches its double twin on random weights, is symmetric and 0 for identical images") {
   std::mt19937 rng(51);
   test::ScratchDir dir("dists");
-  const test::NetParams vgg = test::random_torch_vgg(kWidths, false, rng);
-  test::write_params(dir / "vgg16.safetensors", vgg);
-  const std::vector<float> alpha = test::random_values(kChannels, 0.01f, 0.03f, rng);
-  const std::vector<float> beta = test::random_values(kChannels, 0.0f, 0.02f, rng);
-  io::write_safetensors(dir / "dists.safetensors",
-                        {{"alpha", {1, kChannels, 1, 1}, alpha}, {"beta", {1, kChannels, 1, 1}, beta}});
-  const metrics::Dists dists(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
-                             io::SafetensorsFile(dir / "dists.safetensors"), kWidths);
+  const RandomDists w = write_random_dists(dir.path(), rng);
+  const test::NetParams& vgg = w.vgg;
+  const std::vector<float>&alpha = w.alpha, &beta = w.beta;
+  const metrics::Dists dists = open_dists(dir.path());
   // 19x13: odd sizes at every L2 pool; relu5_3 is 2x1.
   const io::ImageF a = test::random_image(19, 13, rng), b = test::random_image(19, 13, rng);
   const double gpu = dists(a, b), twin = twin_dists(vgg, alpha, beta, a, b);
@@ -88,21 +106,15 @@ TEST_CASE("dists matches its double twin on random weights, is symmetric and 0 f
 TEST_CASE("dists on black and constant frames is finite and the twin's (zero variances meet the 1e-6 guards)") {
   std::mt19937 rng(52);
   test::ScratchDir dir("dists_constant");
-  const test::NetParams vgg = test::random_torch_vgg(kWidths, false, rng);
-  test::write_params(dir / "vgg16.safetensors", vgg);
-  const std::vector<float> alpha = test::random_values(kChannels, 0.01f, 0.03f, rng);
-  const std::vector<float> beta = test::random_values(kChannels, 0.0f, 0.02f, rng);
-  io::write_safetensors(dir / "dists.safetensors",
-                        {{"alpha", {1, kChannels, 1, 1}, alpha}, {"beta", {1, kChannels, 1, 1}, beta}});
-  const metrics::Dists dists(test::context(), io::SafetensorsFile(dir / "vgg16.safetensors"),
-                             io::SafetensorsFile(dir / "dists.safetensors"), kWidths);
+  const RandomDists w = write_random_dists(dir.path(), rng);
+  const metrics::Dists dists = open_dists(dir.path());
   auto constant = [](float v) {
     io::ImageF image{19, 13, 3, {}};
     image.data.assign(19 * 13 * 3, v);
     return image;
   };
   const io::ImageF black = constant(0.0f), grey = constant(0.5f);
-  const double gpu = dists(black, grey), twin = twin_dists(vgg, alpha, beta, black, grey);
+  const double gpu = dists(black, grey), twin = twin_dists(w.vgg, w.alpha, w.beta, black, grey);
   REQUIRE(std::isfinite(gpu));
   // Measured 8.8e-8 relative (black against grey): the statistics of constant maps take the guards.
   CHECK(std::abs(gpu - twin) <= 1e-6 * twin);

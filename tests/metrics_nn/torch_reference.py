@@ -17,6 +17,7 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+from reference_nets import adain_vgg
 import torch
 import torch.nn as nn
 import torch.nn.functional as F
@@ -49,16 +50,6 @@ class Features(nn.Module):
         self.features = features
 
 
-def adain_vgg():
-    """AdaIN net.py's `vgg` (vgg_normalised.pth), up to relu5_4."""
-    layers, cin = [nn.Conv2d(3, 3, 1)], 3
-    for v in cfgs["E"][:-1]:
-        if v == "M":
-            layers.append(nn.MaxPool2d(2, 2, 0, ceil_mode=True))
-        else:
-            layers += [nn.ReflectionPad2d(1), nn.Conv2d(cin, v, 3), nn.ReLU()]
-            cin = v
-    return nn.Sequential(*layers)
 
 
 def taps(features, x, indices):
