@@ -31,8 +31,8 @@ while kill -0 $pid 2>/dev/null; do
   sleep 5
   rss_kib=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null || true)
   [ -n "$rss_kib" ] || break
-  # The newest progress line: "[stage] ITER/TOTAL ... gaussians=N device_mib=M ..."
-  line=$(tr '\r' '\n' < "$out/train.log" | grep -E '^\[(static|fine)\] [0-9]+/' | tail -1 || true)
+  # The newest progress line (from the log's end only: the log grows with the run): "[stage] ITER/TOTAL ... gaussians=N device_mib=M ..."
+  line=$(tail -c 4096 "$out/train.log" | tr '\r' '\n' | grep -E '^\[(static|fine)\] [0-9]+/' | tail -1 || true)
   [ -n "$line" ] || continue
   stage=$(sed -E 's/^\[([a-z]+)\].*/\1/' <<< "$line")
   iter=$(sed -E 's/^\[[a-z]+\] ([0-9]+)\/.*/\1/' <<< "$line")

@@ -36,7 +36,7 @@ std::string byte_size(uint64_t bytes) {
   return text;
 }
 
-void require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64_t largest_file_bytes,
+uint64_t require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64_t largest_file_bytes,
                   const std::string& what) {
   const uint64_t limit = file_size_limit();
   if (largest_file_bytes > limit)
@@ -46,6 +46,7 @@ void require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64
   if (total_bytes > free)
     throw std::runtime_error(dir.string() + ": " + byte_size(free) + " free, " + what + " needs about " +
                              byte_size(total_bytes));
+  return free;
 }
 
 }  // namespace s4d::util

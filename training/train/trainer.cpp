@@ -92,9 +92,9 @@ std::optional<run::LoadedCheckpoint> checkpoint_to_resume(const run::RunDir& run
 // fill before the Gaussian budget is reached.
 void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, size_t gaussians) {
   const run::RunSize size = run::run_size(config, static_cast<uint32_t>(gaussians));
-  util::require_room(run_dir, size.least, size.largest_file,
-                     "a checkpoint of " + std::to_string(gaussians) + " Gaussians (written beside the current one)");
-  const uint64_t free = util::free_bytes(run_dir);
+  const uint64_t free = util::require_room(run_dir, size.least, size.largest_file,
+                                           "a checkpoint of " + std::to_string(gaussians) +
+                                               " Gaussians (written beside the current one)");
   if (free < size.at_budget)
     std::cerr << "warning: " << run_dir.string() << ": " << util::byte_size(free) << " free; the run's checkpoints at its "
               << "budget of " << config.budget << " Gaussians need about " << util::byte_size(size.at_budget) << "\n";

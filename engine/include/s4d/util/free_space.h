@@ -18,8 +18,8 @@ uint64_t file_size_limit();
 
 // Throws std::runtime_error "DIR: N MB free, WHAT needs about M MB" when `total_bytes` do not fit on
 // `dir`'s file system, or "... the file size limit (ulimit -f) is N MB, WHAT writes files of about
-// M MB" when `largest_file_bytes` exceeds the limit.
-void require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64_t largest_file_bytes,
+// M MB" when `largest_file_bytes` exceeds the limit. Returns the free bytes it found.
+uint64_t require_room(const std::filesystem::path& dir, uint64_t total_bytes, uint64_t largest_file_bytes,
                   const std::string& what);
 
 // "12.3 MB", "16.0 KB": bytes for messages.
