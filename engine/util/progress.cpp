@@ -31,9 +31,15 @@ Progress::Progress(std::string stage, uint64_t total, std::ostream& out, double 
       min_interval_s_(min_interval_s),
       interactive_(&out == &std::cerr && isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()),
-      last_print_(start_) {}
+      last_print_(start_),
+      rate_start_(start_) {}
 
 Progress::Progress(std::string stage, uint64_t total) : Progress(std::move(stage), total, std::cerr) {}
+
+void Progress::restart_rate(uint64_t step) {
+  rate_step_ = step;
+  rate_start_ = std::chrono::steady_clock::now();
+}
 
 double Progress::elapsed_s() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -44,8 +50,9 @@ std::string Progress::format(uint64_t step, const std::vector<std::pair<std::str
   const double t = elapsed_s();
   line << "[" << stage_ << "] " << step << "/" << total_;
   if (total_ > 0) line << " (" << static_cast<int>(100.0 * static_cast<double>(step) / static_cast<double>(total_)) << "%)";
-  if (step > 0 && t > 0) {
-    const double rate = static_cast<double>(step) / t;
+  const double rate_t = std::chrono::duration<double>(std::chrono::steady_clock::now() - rate_start_).count();
+  if (step > rate_step_ && rate_t > 0) {
+    const double rate = static_cast<double>(step - rate_step_) / rate_t;
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g", rate);
     line << " " << buf << " it/s";

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -71,4 +72,12 @@ TEST_CASE("stylize killed anywhere, over and over, continues and ends exactly wh
   CHECK(test::read_text(style / "style.s4dstyle") == test::read_text(whole / "style.s4dstyle"));
   for (const char* frame : {"spiral/styled/0000.png", "spiral/styled/0001.png"})
     CHECK_MESSAGE(test::read_text(style / frame) == test::read_text(whole / frame), frame);
+  // iteration,loss,seconds: every logged iteration once, with the uninterrupted run's loss.
+  auto iterations_and_losses = [](const fs::path& csv) {
+    std::istringstream in(test::read_text(csv));
+    std::string kept, row;
+    while (std::getline(in, row)) kept += row.substr(0, row.rfind(',')) + "\n";
+    return kept;
+  };
+  CHECK(iterations_and_losses(style / "loss.csv") == iterations_and_losses(whole / "loss.csv"));
 }

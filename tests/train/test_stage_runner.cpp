@@ -1,13 +1,19 @@
 // The stage runner (stage_runner.h) on a host-only stage: loss.csv rows and checkpoints at their
 // cadence, stop requests, rollback to the last good state on a non-finite loss or checkpoint with
-// halved learning rates, and giving up after kMaxRollbacks.
+// halved learning rates (and loss.csv without the rows it discarded), a resumed stage's loss.csv,
+// and giving up after kMaxRollbacks.
 #include <doctest/doctest.h>
 
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
-#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <unistd.h>
 
 #include "s4d/train/stage_runner.h"
 
@@ -44,7 +50,8 @@ struct FakeStage final : train::RunnerStage {
     if (stop_after && done == stop_at) *stop_after = true;
     return nan_at.erase(done) || done == nan_always ? NAN : 1.0 / done;
   }
-  void write_loss_row(std::ostream& log, double) const override { log << done; }
+  void write_loss_row(std::ostream& log, double) const override { log << done << ",x"; }
+  bool keeps_loss_row(const std::string& row) const override { return std::strtoul(row.c_str(), nullptr, 10) <= done; }
   double periodic_test() override { return ++tests; }
   void save(double) override {
     if (bad_save_at.erase(done)) throw std::invalid_argument("a non-finite parameter");
@@ -54,15 +61,26 @@ struct FakeStage final : train::RunnerStage {
   train::ProgressValues final_test() override { return {{"test", ++finals}}; }
 };
 
+// A loss.csv of its own per test, removed after it.
+struct LossFile {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("s4d_stage_runner_" + std::to_string(getpid()) + ".csv");
+  ~LossFile() { std::filesystem::remove(path); }
+  std::string text() const {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+};
+
 }  // namespace
 
 TEST_CASE("the stage runner writes rows and checkpoints at their cadence and tests before the end") {
   FakeStage stage;
-  std::ostringstream log;
-  train::StageRunner runner(log, "loss.csv");
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
   const std::atomic<bool> stop{false};
   CHECK(runner.run(stage, stop));
-  CHECK(log.str() == "10\n20\n");
+  CHECK(log.text() == "iteration,what\n10,x\n20,x\n");
   CHECK(stage.saves == 4);  // 5, 10, 15, 20: the end is the caller's
   CHECK(stage.tests == 3);  // 7, 14, 21
   CHECK(stage.finals == 1);
@@ -73,8 +91,8 @@ TEST_CASE("a stop request checkpoints and returns before the next step") {
   FakeStage stage;
   std::atomic<bool> stop{false};
   stage.stop_after = &stop, stage.stop_at = 12;
-  std::ostringstream log;
-  train::StageRunner runner(log, "loss.csv");
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
   CHECK_FALSE(runner.run(stage, stop));
   CHECK(stage.done == 12);
   CHECK(stage.saved_at == 12);
@@ -86,20 +104,20 @@ TEST_CASE("a non-finite loss or checkpoint rolls back to the last good state and
   stage.rec.lr_scale = 2;
   stage.nan_at = {13};       // back to 10
   stage.bad_save_at = {20};  // back to 15
-  std::ostringstream log;
-  train::StageRunner runner(log, "loss.csv");
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
   const std::atomic<bool> stop{false};
   CHECK(runner.run(stage, stop));
   CHECK(stage.rec.rollbacks == 2);
   CHECK(stage.rec.lr_scale == 0.5);
-  CHECK(log.str() == "10\n20\n20\n");  // the rows after a rollback's state are logged again
+  CHECK(log.text() == "iteration,what\n10,x\n20,x\n");  // 20's first row went with the rollback to 15
 }
 
 TEST_CASE("a stage that keeps diverging stops after kMaxRollbacks rollbacks and names its last checkpoint") {
   FakeStage stage;
   stage.nan_always = 3;
-  std::ostringstream log;
-  train::StageRunner runner(log, "loss.csv");
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
   const std::atomic<bool> stop{false};
   std::string what;
   try {
@@ -110,4 +128,15 @@ TEST_CASE("a stage that keeps diverging stops after kMaxRollbacks rollbacks and 
   CHECK(what.find("diverged 9 times") != std::string::npos);
   CHECK(what.find("fake.s4dckpt") != std::string::npos);
   CHECK(stage.rec.rollbacks == train::StageRunner::kMaxRollbacks);
+}
+
+TEST_CASE("a resumed stage's loss.csv keeps the complete rows up to its state and drops the rest") {
+  const LossFile log;
+  std::ofstream(log.path) << "iteration,what\n10,x\n20,x\nbroken\n30,x\n40,";  // 40's row cut short by a kill
+  FakeStage stage;
+  stage.done = stage.saved_at = 20;  // the checkpoint it resumes from
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  CHECK(runner.run(stage, stop));
+  CHECK(log.text() == "iteration,what\n10,x\n20,x\n");  // 30 came after the checkpoint; 25 steps, no row after 20
 }

@@ -1,6 +1,9 @@
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <sstream>
+#include <string>
+#include <thread>
 
 #include "s4d/util/progress.h"
 
@@ -30,4 +33,19 @@ TEST_CASE("durations are formatted for people") {
   CHECK(s4d::util::format_duration(12.34) == "12.3s");
   CHECK(s4d::util::format_duration(185) == "3m05s");
   CHECK(s4d::util::format_duration(3720) == "1h02m");
+}
+
+TEST_CASE("a resumed loop's rate counts only the steps done since restart_rate") {
+  std::ostringstream out;
+  s4d::util::Progress p("stage 4", 100, out, 0.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  CHECK(p.format(50, {}).find("it/s") != std::string::npos);  // 50 steps in 20 ms: as if all were done now
+  p.restart_rate(50);
+  CHECK(p.format(50, {}).find("it/s") == std::string::npos);  // none done since: no rate, no ETA
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const std::string line = p.format(51, {});
+  // One step in >= 200 ms: at most 5 it/s whatever the machine (the 50 before are not counted).
+  const size_t at = line.find(" it/s");
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(line.substr(line.rfind(' ', at - 1) + 1)) <= 5.0);
 }

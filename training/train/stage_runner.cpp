@@ -1,7 +1,9 @@
 #include "s4d/train/stage_runner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <iterator>
 #include <stdexcept>
 
 #include "s4d/util/atomic_file.h"
@@ -9,11 +11,33 @@
 
 namespace s4d::train {
 
-StageRunner::StageRunner(std::ostream& log, std::filesystem::path log_path) : log_(log), log_path_(std::move(log_path)) {}
+StageRunner::StageRunner(std::filesystem::path log_path, std::string header)
+    : log_path_(std::move(log_path)), header_(std::move(header)) {}
+
+void StageRunner::keep_log_rows(const RunnerStage& stage) {
+  std::string text;
+  if (std::ifstream in{log_path_, std::ios::binary}) text.assign(std::istreambuf_iterator<char>(in), {});
+  const auto commas = std::count(header_.begin(), header_.end(), ',');
+  std::string kept = header_ + "\n";
+  size_t at = text.find('\n');  // past the header
+  while (at != std::string::npos && at + 1 < text.size()) {
+    const size_t end = text.find('\n', at + 1);
+    if (end == std::string::npos) break;  // a row cut short by a kill
+    const std::string row = text.substr(at + 1, end - at - 1);
+    if (std::count(row.begin(), row.end(), ',') == commas && stage.keeps_loss_row(row)) kept += row + "\n";
+    at = end;
+  }
+  if (log_.is_open()) log_.close();
+  util::write_file_atomic(log_path_, kept);
+  log_.open(log_path_, std::ios::app);
+  util::require_written(log_, log_path_);
+}
 
 bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
+  keep_log_rows(stage);
   const StagePlan first = stage.plan();
   util::Progress progress(first.progress_label, first.iterations);
+  progress.restart_rate(stage.iteration());
   double test_psnr = NAN;
   for (StagePlan plan = first; stage.iteration() < plan.iterations; plan = stage.plan()) {
     if (stop.load()) {
@@ -25,6 +49,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     const double loss = stage.step();
     if (!std::isfinite(loss)) {
       roll_back(stage, "the loss became non-finite at iteration " + std::to_string(stage.iteration()));
+      progress.restart_rate(stage.iteration());
       continue;
     }
     const uint32_t it = stage.iteration();
@@ -35,7 +60,8 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     }
     if (it % plan.test_every == 0 && it < plan.iterations) test_psnr = stage.periodic_test();
     stage.after_step();
-    if (it % plan.checkpoint_every == 0 && it < plan.iterations) checkpoint(stage);
+    if (it % plan.checkpoint_every == 0 && it < plan.iterations && !checkpoint(stage))
+      progress.restart_rate(stage.iteration());
     ProgressValues shown = {{"loss", loss}};
     stage.add_progress(shown);
     if (!std::isnan(test_psnr)) shown.emplace_back(plan.test_name, test_psnr);  // after the first test
@@ -64,6 +90,7 @@ void StageRunner::roll_back(RunnerStage& stage, const std::string& why) {
   now.lr_scale *= 0.5;
   stage.restore_last_good();
   stage.recovery() = now;
+  keep_log_rows(stage);
   std::cerr << plan.name << ": " << why << "; rolled back to iteration " << stage.iteration()
             << " and halved the learning rates (scale " << now.lr_scale << ")\n";
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -221,6 +222,13 @@ struct Trainer::Impl::Steps final : RunnerStage {
     log << run::stage_name(m.stage) << ',' << m.iteration << ',' << value.loss << ',' << value.l1 << ',' << value.ssim << ','
         << m.gaussians->size() << ',' << seconds;
   }
+  // Rows of the static stage, and of the current stage up to its iteration.
+  bool keeps_loss_row(const std::string& row) const override {
+    const size_t comma = row.find(',');
+    const std::optional<run::Stage> row_stage = run::parse_stage(row.substr(0, comma));
+    const auto row_iteration = std::strtoul(row.c_str() + comma + 1, nullptr, 10);
+    return row_stage == m.stage ? row_iteration <= m.iteration : row_stage == run::Stage::coarse;
+  }
   double periodic_test() override { return m.evaluate(spread_views(m.test_views, kPeriodicTestViews)).psnr; }
   void after_step() override {
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
@@ -259,9 +267,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
 
 TrainResult Trainer::run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
-  m.trim_loss_log();
-  std::ofstream log(m.run.loss_csv(), std::ios::app);
-  StageRunner runner(log, m.run.loss_csv());
+  StageRunner runner(m.run.loss_csv(), "stage,iteration,loss,l1,ssim,gaussians,seconds");
   Impl::Steps steps(m, std::chrono::steady_clock::now());
   while (true) {
     if (!runner.run(steps, stop)) {

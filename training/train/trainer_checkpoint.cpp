@@ -1,15 +1,11 @@
-// Trainer::Impl's field, snapshots and checkpoints, and the loss log a resumed run trims
-// to its checkpoint.
+// Trainer::Impl's field, snapshots and checkpoints.
 #include <algorithm>
-#include <cstdlib>
-#include <fstream>
 #include <optional>
 #include <span>
 #include <stdexcept>
 
 #include "s4d/deform/static_split.h"
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/util/atomic_file.h"
 #include "trainer_impl.h"
 
 namespace s4d::train {
@@ -107,21 +103,6 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
                                std::to_string(gaussians->size()) + " Gaussians");
     apply_mask(std::vector<uint32_t>(values.begin(), values.end()));  // checkpoints since the split: already in order
   }
-}
-
-void Trainer::Impl::trim_loss_log() const {
-  std::string kept = "stage,iteration,loss,l1,ssim,gaussians,seconds\n", line;
-  std::ifstream in(run.loss_csv());
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    const size_t comma = line.find(',');
-    if (comma == std::string::npos) break;  // a row cut short by a kill
-    const std::optional<run::Stage> row_stage = run::parse_stage(line.substr(0, comma));
-    const uint32_t row_iteration = static_cast<uint32_t>(std::strtoul(line.c_str() + comma + 1, nullptr, 10));
-    const bool before = row_stage == stage ? row_iteration <= iteration : row_stage == run::Stage::coarse;
-    if (before && std::count(line.begin(), line.end(), ',') == 6) kept += line + "\n";
-  }
-  util::write_file_atomic(run.loss_csv(), kept);
 }
 
 void Trainer::Impl::checkpoint(double seconds) {

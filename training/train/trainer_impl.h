@@ -108,9 +108,6 @@ struct Trainer::Impl {
   nlohmann::json meta(double seconds) const;
   run::Checkpoint snapshot(double seconds) const;
   void restore(const run::Checkpoint& cp);
-  // loss.csv keeps the rows up to the state training continues from: a resumed run drops the rows
-  // logged after its checkpoint (they are logged again), and a new run starts with the header.
-  void trim_loss_log() const;
   // Saves the current state as the checkpoint and the PLY and makes it the last good state;
   // std::invalid_argument when it is not finite (nothing written).
   void checkpoint(double seconds);

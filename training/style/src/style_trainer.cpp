@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <set>
@@ -181,6 +182,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   }
   train::Recovery& recovery() override { return recovery_state; }
   void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
+  bool keeps_loss_row(const std::string& row) const override { return std::strtoul(row.c_str(), nullptr, 10) <= done; }
   double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
   void save(double seconds) override {
     run::Checkpoint cp = snapshot(seconds);
@@ -342,10 +344,7 @@ StyleTrainer::~StyleTrainer() = default;
 StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
   Impl& s = *impl_;
   s.start = std::chrono::steady_clock::now();
-  const fs::path log_path = s.dir / "loss.csv";
-  std::ofstream log(log_path, s.done == 0 ? std::ios::trunc : std::ios::app);
-  if (s.done == 0) log << "iteration,loss,seconds\n";
-  train::StageRunner runner(log, log_path);
+  train::StageRunner runner(s.dir / "loss.csv", "iteration,loss,seconds");
   if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
   if (!runner.checkpoint(s)) throw std::runtime_error("stage 4: the final state is not finite");
   run::write_style_file(run::style_file_path(s.run.root, s.style), s.style_file());

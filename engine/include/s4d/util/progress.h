@@ -22,6 +22,10 @@ class Progress {
   // Prints the final line (always) with the total time.
   void finish(const std::vector<std::pair<std::string, double>>& values = {});
 
+  // Measures the rate (and so the ETA) from `step` now on: a resumed or rolled-back loop's steps
+  // before it were not done in this session.
+  void restart_rate(uint64_t step);
+
   double elapsed_s() const;
   // The line update() would print now (exposed for tests).
   std::string format(uint64_t step, const std::vector<std::pair<std::string, double>>& values) const;
@@ -34,6 +38,8 @@ class Progress {
   bool interactive_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;
+  uint64_t rate_step_ = 0;
+  std::chrono::steady_clock::time_point rate_start_;
   bool printed_ = false;
 };
 

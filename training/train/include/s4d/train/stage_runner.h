@@ -1,11 +1,13 @@
 // One loop for every training stage (static, 4DGS fine, Style Gaussians): stop requests, rollback
 // to the last good state on a non-finite loss or checkpoint, checkpoint and test cadence, the
-// progress line and the loss.csv row cadence. A stage says how to step, save, restore and test
+// progress line and loss.csv (its rows hold one line per logged iteration of the state trained:
+// rows past a rollback's or a resume's state are dropped). A stage says how to step, save, restore and test
 // itself through RunnerStage; what its files hold stays its own.
 #pragma once
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -46,6 +48,9 @@ class RunnerStage {
   virtual double step() = 0;
   // The last step's loss.csv row, without the line end.
   virtual void write_loss_row(std::ostream& log, double seconds) const = 0;
+  // Whether a complete loss.csv row (without its line end) was logged at or before the state the
+  // stage has now; the others describe training that a rollback or a kill discarded.
+  virtual bool keeps_loss_row(const std::string& row) const = 0;
   // A test on a few views: its PSNR.
   virtual double periodic_test() = 0;
   // What follows a finite step's test (densification, for one).
@@ -63,8 +68,9 @@ class RunnerStage {
 
 class StageRunner {
  public:
-  // Rows go to `log` (the file `log_path`), every kLossRowEvery steps.
-  StageRunner(std::ostream& log, std::filesystem::path log_path);
+  // Rows go to `log_path` under `header` (the column names, without the line end), every
+  // kLossRowEvery steps; rows there already are kept as far as the stage keeps them.
+  StageRunner(std::filesystem::path log_path, std::string header);
 
   // Runs `stage` to its length (true) or until `stop` (then checkpoints; false).
   bool run(RunnerStage& stage, const std::atomic<bool>& stop);
@@ -76,9 +82,12 @@ class StageRunner {
 
  private:
   void roll_back(RunnerStage& stage, const std::string& why);
+  // Rewrites loss.csv with its header and the complete rows the stage keeps, then appends.
+  void keep_log_rows(const RunnerStage& stage);
 
-  std::ostream& log_;
   std::filesystem::path log_path_;
+  std::string header_;
+  std::ofstream log_;
 };
 
 }  // namespace s4d::train
