@@ -1,18 +1,21 @@
 #!/usr/bin/env python3
 """The native learned metrics against PyTorch references (ctest metrics_torch_reference).
 
-    torch_reference.py STYLE4D CONVERT_WEIGHTS_PY WORK_DIR
+    torch_reference.py STYLE4D CONVERT_WEIGHTS_PY WORK_DIR CALIBRATION_PUBLISHED
 
 Builds the backbones from torchvision's own modules (make_layers of cfgs "D"/"E", AlexNet().features)
 and AdaIN's vgg_normalised as net.py declares it, with random weights; writes each as the published
 checkpoint would be (torch.save of the state dict, LPIPS's heads in the legacy format), converts them
 with tools/convert_weights.py, and runs `style4d bench --metric-weights` on PNG frames of odd sizes.
 The heads are written here from the papers' definitions (LPIPS v0.1, DISTS, the Gram loss), in
-float64, and compared with report.json's per-frame values. Exit 77 (skipped) without torch.
+float64, and compared with report.json's per-frame values. The same weights drive the published-
+calibration program (calibration_published.cpp) over BMP pairs in pyiqa's layout, so its run path is
+checked here too. Exit 77 (skipped) without torch.
 """
 import json
 import os
 import shutil
+import struct
 import subprocess
 import sys
 
@@ -142,6 +145,30 @@ def gram_loss(fa, fb):
     return sum(float(((gram(a) - gram(b)) ** 2).mean()) for a, b in zip(fa, fb))
 
 
+def write_bmp(path, u8):
+    """A 24-bit BMP (bottom-up BGR rows padded to 4 bytes) of a [3, H, W] uint8 tensor."""
+    c, h, w = u8.shape
+    pad = (4 - 3 * w % 4) % 4
+    rows = b"".join(bytes(u8[[2, 1, 0], y].permute(1, 0).flatten().tolist()) + b"\0" * pad for y in range(h - 1, -1, -1))
+    header = b"BM" + struct.pack("<IHHI", 54 + len(rows), 0, 0, 54)
+    info = struct.pack("<IiiHHIIiiII", 40, w, h, 1, 24, 0, len(rows), 2835, 2835, 0, 0)
+    with open(path, "wb") as f:
+        f.write(header + info + rows)
+
+
+def calibration_scores(program, weights, images):
+    """calibration_published on our images and random weights: its per-image scores (it must run, and
+    fail the published values, which random weights cannot meet)."""
+    env = dict(os.environ, S4D_METRIC_WEIGHTS=weights, S4D_CALIBRATION_DIR=images)
+    p = subprocess.run([program], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    scores = {}
+    for line in p.stdout.splitlines():
+        if line.endswith(" FAILED") or line.endswith(" ok"):
+            metric, image = line.split(":")[0].split()
+            scores.setdefault(metric, []).append(float(line.split(":")[1].split(",")[0]))
+    return p.returncode, scores, p.stdout
+
+
 def run(cmd):
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if p.returncode != 0:
@@ -150,7 +177,7 @@ def run(cmd):
 
 
 def main():
-    style4d, converter, work = sys.argv[1:4]
+    style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(2024)
     # Frames: RGB noise over a gradient, so channels differ (a swapped colour order shows).
@@ -249,6 +276,28 @@ def main():
         ok = apart > 100 * tolerance["content_lpips"]
         failed |= not ok
         print("%s %s would differ by %.2e relative" % ("ok  " if ok else "FAIL", what, apart))
+    # The published-calibration program's run path (its own test can only skip here): random pairs as
+    # pyiqa's ResultsCalibra BMPs, scored with DISTS (weights a) and LPIPS-AlexNet, 2x - 1 (weights b).
+    calib = os.path.join(work, "calibration")
+    pairs = {name: (image(W, H), image(W, H)) for name in ("I03", "I04", "I06", "I08", "I19")}
+    for sub in ("dist_dir", "ref_dir"):
+        os.makedirs(os.path.join(calib, sub))
+    for name, (dist, ref) in pairs.items():
+        write_bmp(os.path.join(calib, "dist_dir", name + ".bmp"), dist)
+        write_bmp(os.path.join(calib, "ref_dir", name + ".bmp"), ref)
+    with torch.no_grad():
+        calibration_expected = {
+            ("a", "dists"): [dists(vgg16.features, alpha.double(), beta.double(), as_input(d), as_input(r))
+                             for d, r in pairs.values()],
+            ("b", "lpips_alex"): [lpips(alex_taps, lins("lpips_alex"), as_input(d), as_input(r), True) for d, r in pairs.values()]}
+    for (folder, metric), ref in calibration_expected.items():
+        code, scores, output = calibration_scores(calibration, os.path.join(work, "weights_" + folder), calib)
+        values = scores.get(metric, [])
+        worst = max((abs(v - r) / abs(r) for v, r in zip(values, ref)), default=float("inf"))
+        ok = code == 1 and len(values) == len(ref) and worst <= tolerance[metric if metric == "dists" else "content_lpips"]
+        failed |= not ok
+        print("%s calibration_published %s on random weights: exit %d, worst relative difference %.2e\n%s" %
+              ("ok  " if ok else "FAIL", metric, code, worst, output.strip()))
     if failed:
         sys.exit("the native metrics differ from the references; the files are in %s" % work)
     shutil.rmtree(work)  # about 450 MB of checkpoints and weights
