@@ -21,7 +21,7 @@
 #include "s4d/scene/trained_run.h"
 #include "s4d/style/style_trainer.h"
 #include "s4d/style/stylized_frames.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "s4d/stylize/registry.h"
 #include "s4d/stylize/warp_error.h"
 #include "s4d/train/trainer.h"
@@ -219,7 +219,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const std::string name = req.name.empty() ? req.style_image.stem().string() : req.name;
   if (name.empty() || name == "original" || name.find('/') != std::string::npos)
     throw std::invalid_argument("--name '" + name + "': a style needs a plain name other than 'original'");
-  const io::ImageF style_image = stylize::read_image_rgb(req.style_image);
+  const io::ImageF style_image = io::read_image_rgb(req.style_image);
   const std::unique_ptr<stylize::Stylizer> stylizer = stylize::make_stylizer(
       req.config.stylizer, {.weights = req.weights, .style_size = req.style_size, .context = &ctx});
   StylizeOutcome out;

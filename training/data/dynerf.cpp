@@ -19,7 +19,7 @@
 
 #include "dataset_parts.h"
 #include "s4d/data/npy.h"
-#include "video_reader.h"
+#include "s4d/data/video_reader.h"
 
 namespace s4d::data {
 namespace {
@@ -62,7 +62,7 @@ CameraSource folder_camera(const fs::path& root, const std::string& name) {
 
 CameraSource video_camera(const fs::path& root, const std::string& name) {
   const fs::path video = root / (name + ".mp4");
-  const detail::VideoInfo info = detail::probe_video(video);
+  const VideoInfo info = probe_video(video);
   return {name, {}, video, static_cast<size_t>(info.frames), video, info.width, info.height};
 }
 
