@@ -1,4 +1,5 @@
 // Trainer::Impl's tests, the change from the static to the fine stage, and train.json.
+#include "s4d/run/stage_times.h"
 #include "s4d/util/atomic_file.h"
 #include "trainer_impl.h"
 
@@ -55,6 +56,7 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"data", fs::absolute(dataset.root).string()},
                       {"dataset", facts},
                       {"settings", run::to_json(config)}};
+  if (stage_timer) j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);  // this session's
   util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
 }
 }  // namespace s4d::train
