@@ -1,5 +1,6 @@
 #include "s4d/engine/stage_timer.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <numeric>
 #include <stdexcept>
@@ -20,6 +21,18 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 double StageTotals::stage_sum_ms() const { return std::accumulate(ms.begin(), ms.end(), other_ms); }
+
+StageTotals& StageTotals::operator+=(const StageTotals& o) {
+  if (windows > 0 && o.windows > 0 && gpu != o.gpu) throw std::logic_error("adding stage times of different clocks");
+  if (o.windows > 0) gpu = o.gpu;
+  for (size_t i = 0; i < o.stages.size(); ++i) {
+    const auto at = std::find(stages.begin(), stages.end(), o.stages[i]);
+    if (at == stages.end()) stages.push_back(o.stages[i]), ms.push_back(o.ms[i]);
+    else ms[static_cast<size_t>(at - stages.begin())] += o.ms[i];
+  }
+  other_ms += o.other_ms, window_ms += o.window_ms, windows += o.windows;
+  return *this;
+}
 
 StageTimer::StageTimer(Context& ctx, std::vector<std::string> stages, Clock clock)
     : ctx_(ctx), gpu_(clock == Clock::automatic && ctx.info().timestamps), names_(std::move(stages)),

@@ -90,6 +90,19 @@ TEST_CASE("the host clock charges each scope's wall time to its stage") {
   CHECK(within_window(t));
 }
 
+TEST_CASE("totals add stage by stage name") {
+  engine::StageTotals a{.gpu = true, .stages = {"x", "y"}, .ms = {1, 2}, .other_ms = 0.5, .window_ms = 4, .windows = 1};
+  const engine::StageTotals b{.gpu = true, .stages = {"y", "z"}, .ms = {10, 20}, .other_ms = 1, .window_ms = 40, .windows = 2};
+  a += b;
+  CHECK(a.stages == std::vector<std::string>{"x", "y", "z"});
+  CHECK(a.ms == std::vector<double>{1, 12, 20});
+  CHECK(a.stage_sum_ms() == 34.5);
+  CHECK(a.window_ms == 44);
+  CHECK(a.windows == 3);
+  engine::StageTotals host{.gpu = false, .stages = {}, .ms = {}, .other_ms = 0, .window_ms = 1, .windows = 1};
+  CHECK_THROWS_AS(host += b, std::logic_error);
+}
+
 TEST_CASE("a recorder dropped unsubmitted gives its queries back; one timer per context") {
   auto& ctx = test::context();
   engine::Buffer buf(ctx, "stage timer iota", 1024);

@@ -41,6 +41,8 @@ struct StageTotals {
   double window_ms = 0;             // host wall clock of the windows
   uint64_t windows = 0;
   double stage_sum_ms() const;      // sum of ms and other_ms
+  // Adds another timer's totals, stage by stage name (the clocks must agree).
+  StageTotals& operator+=(const StageTotals& other);
 };
 
 class StageTimer {
