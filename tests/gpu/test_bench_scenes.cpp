@@ -99,8 +99,17 @@ TEST_CASE("the bench on a PLY and a transforms.json counts what the CPU twin cou
   REQUIRE(instances > 1500);  // lists of tens of Gaussians per tile
   CHECK(t.instances == instances);
   CHECK(t.pixel_pairs_listed == instances * 256);
-  CHECK(t.pixel_pairs_blended == std::accumulate(img.count.begin(), img.count.end(), uint64_t{0}));
-  CHECK(t.pixel_pairs_evaluated == std::accumulate(img.last.begin(), img.last.end(), uint64_t{0}));
+  // A pixel whose transmittance lands on the other side of the stop threshold, or an alpha on the
+  // other side of 1/255, moves a pair count by one or a few: none here, 1 of 131,867 blended pairs on
+  // the 1,000-Gaussian 128x128 peer scene. 1 in 10,000 (+ 1) allows for that; a Gaussian binned,
+  // sorted or blended wrongly moves far more.
+  const auto near = [](uint64_t gpu, uint64_t twin) {
+    return (gpu > twin ? gpu - twin : twin - gpu) <= twin / 10000 + 1;
+  };
+  const uint64_t blended = std::accumulate(img.count.begin(), img.count.end(), uint64_t{0});
+  const uint64_t evaluated = std::accumulate(img.last.begin(), img.last.end(), uint64_t{0});
+  CHECK_MESSAGE(near(t.pixel_pairs_blended, blended), t.pixel_pairs_blended << " vs " << blended);
+  CHECK_MESSAGE(near(t.pixel_pairs_evaluated, evaluated), t.pixel_pairs_evaluated << " vs " << evaluated);
   CHECK(t.pixel_pairs_blended <= t.pixel_pairs_evaluated);
 
   // Stage times over the two measured runs, within their wall time (GPU and host clocks differ:
