@@ -1,9 +1,9 @@
 // GPU rasterizer speed vs image size and Gaussian count on the chosen device (S4D_DEVICE to pick
 // another), next to the device's ceiling for the same blend loop. Per scene, one JSON line for the
 // ceiling and one per rasterizer pass on stdout, with tile instances, pixel-Gaussian pairs and the
-// time of each stage (project, sort, raster, backward; run::stage_ms_json); a human table on
-// stderr. Timings are never pass/fail; the smallest scene's forward image is checked against the
-// CPU twin.
+// time of each stage over the measured runs (project, sort, raster, backward: run::stage_ms_json;
+// both passes unless --only fwd); a human table on stderr. Timings are never pass/fail; the
+// smallest scene's forward image is checked against the CPU twin.
 //
 //   s4d_bench_splat [--sizes 128x128:1000,...] [--repeats 5] [--only fwd|fwdbwd]
 //   s4d_bench_splat --ply F --cameras transforms.json [--camera K] [...]
