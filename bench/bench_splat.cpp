@@ -32,6 +32,7 @@
 
 #include "blend_ceiling.h"
 #include "peer_scene.h"
+#include "scene_options.h"
 #include "s4d/engine/check.h"
 #include "s4d/engine/context.h"
 #include "s4d/run/stage_times.h"
@@ -41,6 +42,11 @@ namespace {
 
 using nlohmann::json;
 using s4d::bench::SplatPoint;
+using s4d::bench::SceneOptions;
+using s4d::bench::kPeerSuite;
+using s4d::bench::parse_scene_option;
+using s4d::bench::check_scene_options;
+using s4d::bench::parse_point;
 
 // What to benchmark: a seeded random scene, the peer's scene, or a PLY and a camera file.
 struct Job {
@@ -65,14 +71,8 @@ struct Job {
   }
 };
 
-// The PyTorch peer's sizes (issue 21).
-const std::vector<SplatPoint> kPeerSuite = {{128, 128, 1000}, {256, 256, 10000}, {512, 512, 100000}};
-
-struct Options {
-  std::vector<SplatPoint> points = {{128, 128, 1000}, {256, 256, 10000}, {512, 512, 100000}, {1352, 1014, 200000}};
-  std::string ply, cameras;
-  size_t camera = 0;
-  bool peer_suite = false;
+struct Options : SceneOptions {
+  Options() { points = {{128, 128, 1000}, {256, 256, 10000}, {512, 512, 100000}, {1352, 1014, 200000}}; }
   std::string write_peer;  // a directory: write the peer scene there and exit
   SplatPoint peer_point = {128, 128, 1000};
   int repeats = 5;
@@ -87,16 +87,6 @@ struct Options {
     return out;
   }
 };
-
-// "WxH:N" -> point; throws std::invalid_argument on anything else.
-SplatPoint parse_point(const std::string& s) {
-  const size_t x = s.find('x'), colon = s.find(':');
-  if (x == std::string::npos || colon == std::string::npos || colon < x)
-    throw std::invalid_argument("size '" + s + "' is not WxH:N");
-  return {.width = static_cast<uint32_t>(std::stoul(s.substr(0, x))),
-          .height = static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
-          .gaussians = static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
-}
 
 // The job the twin check runs at: the fewest pixels, then the fewest Gaussians.
 size_t smallest(const std::vector<Job>& jobs) {
@@ -215,19 +205,8 @@ std::optional<Options> parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const std::string value = i + 1 < argc ? argv[i + 1] : "";
-    if (a == "--sizes" && !value.empty()) {
-      o.points.clear();
-      std::stringstream ss(argv[++i]);
-      for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
-    } else if (a == "--ply" && !value.empty()) {
-      o.ply = argv[++i];
-    } else if (a == "--cameras" && !value.empty()) {
-      o.cameras = argv[++i];
-    } else if (a == "--camera" && !value.empty()) {
-      o.camera = std::stoul(argv[++i]);
-    } else if (a == "--suite" && value == "peer") {
-      o.peer_suite = true;
-      ++i;
+    if (parse_scene_option(argc, argv, i, o)) {
+      continue;
     } else if (a == "--write-peer-scene" && !value.empty()) {
       o.write_peer = argv[++i];
     } else if (a == "--gaussians" && !value.empty()) {
@@ -245,9 +224,8 @@ std::optional<Options> parse(int argc, char** argv) {
       throw std::invalid_argument("unknown or incomplete option '" + a + "'");
     }
   }
-  if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
-  if (o.ply.empty() != o.cameras.empty()) throw std::invalid_argument("--ply and --cameras go together");
-  if (!o.ply.empty() && o.peer_suite) throw std::invalid_argument("--ply and --suite exclude each other");
+  check_scene_options(o);
+  if (o.repeats < 1) throw std::invalid_argument("need at least one repeat");
   return o;
 }
 

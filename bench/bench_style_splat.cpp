@@ -32,6 +32,7 @@
 #include "s4d/ref/style_raster_ref.h"
 #include "s4d/splat/rasterizer.h"
 #include "peer_scene.h"
+#include "scene_options.h"
 #include "s4d/engine/stage_timer.h"
 #include "s4d/run/stage_times.h"
 #include "splat_bench.h"
@@ -44,42 +45,19 @@ using namespace s4d;
 
 constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
 
-struct Options {
-  std::vector<bench::SplatPoint> points = {{128, 128, 1000}, {256, 256, 10000}};
-  std::string ply, cameras;
-  size_t camera = 0;
-  bool peer_suite = false;
+struct Options : bench::SceneOptions {
+  Options() { points = {{128, 128, 1000}, {256, 256, 10000}}; }
   int repeats = 5;
   ref::StyleDepth depth = ref::StyleDepth::ndc;
   bool cas = false;
 };
 
-bench::SplatPoint parse_point(const std::string& s) {
-  const size_t x = s.find('x'), colon = s.find(':');
-  if (x == std::string::npos || colon == std::string::npos || colon < x)
-    throw std::invalid_argument("size '" + s + "' is not WxH:N");
-  return {.width = static_cast<uint32_t>(std::stoul(s.substr(0, x))),
-          .height = static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
-          .gaussians = static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
-}
-
 std::optional<Options> parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i], value = i + 1 < argc ? argv[i + 1] : "";
-    if (a == "--sizes" && !value.empty()) {
-      o.points.clear();
-      std::stringstream ss(argv[++i]);
-      for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
-    } else if (a == "--ply" && !value.empty()) {
-      o.ply = argv[++i];
-    } else if (a == "--cameras" && !value.empty()) {
-      o.cameras = argv[++i];
-    } else if (a == "--camera" && !value.empty()) {
-      o.camera = std::stoul(argv[++i]);
-    } else if (a == "--suite" && value == "peer") {
-      o.peer_suite = true, o.points = {{128, 128, 1000}, {256, 256, 10000}, {512, 512, 100000}};
-      ++i;
+    if (bench::parse_scene_option(argc, argv, i, o)) {
+      continue;
     } else if (a == "--repeats" && !value.empty()) {
       o.repeats = std::stoi(argv[++i]);
     } else if (a == "--depth" && (value == "ndc" || value == "relative")) {
@@ -93,8 +71,9 @@ std::optional<Options> parse(int argc, char** argv) {
       throw std::invalid_argument("unknown or incomplete option '" + a + "'");
     }
   }
-  if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
-  if (o.ply.empty() != o.cameras.empty()) throw std::invalid_argument("--ply and --cameras go together");
+  bench::check_scene_options(o);
+  if (o.repeats < 1) throw std::invalid_argument("need at least one repeat");
+  if (o.peer_suite) o.points = bench::kPeerSuite;
   if (!o.ply.empty()) o.points = {{}};  // one scene, from the files
   return o;
 }
