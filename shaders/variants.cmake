@@ -63,5 +63,9 @@ set(S4D_SHADER_VARIANTS
   "nn_resize_nearest|nn/nn_resize_nearest.comp"
   "nn_attn_scores|nn/nn_attn_scores.comp"
   "nn_softmax_rows|nn/nn_softmax_rows.comp"
-  "nn_attn_apply|nn/nn_attn_apply.comp"
+  "nn_attn_apply|nn/nn_attn_apply.comp|S4D_NN_ATTN_AVERAGE=0"
+  "nn_attn_average|nn/nn_attn_apply.comp|S4D_NN_ATTN_AVERAGE=1"
+  "nn_layernorm|nn/nn_layernorm.comp"
+  "nn_gelu|nn/nn_gelu.comp"
+  "nn_vit_embed|nn/nn_vit_embed.comp"
 )
