@@ -21,6 +21,10 @@
 #define S4D_NN_CONV_WG_Y 8
 #define S4D_NN_CONV_PIX 4
 #define S4D_NN_CONV_COUT 8
+// nn_conv1x1_rows: nn_conv1x1 for tensors of one row (a transformer's tokens [c, 1, n]), where an
+// 8-row workgroup would leave 7 of its rows idle: S4D_NN_CONV_ROWS_WG_X x 1 invocations, a tile of
+// 256 pixels.
+#define S4D_NN_CONV_ROWS_WG_X 64
 #define S4D_NN_FLAG_RELU 1u        // ReLU on the output
 #define S4D_NN_FLAG_ACCUMULATE 2u  // out += conv(in) (residual connections)
 #define S4D_B_CONV_IN 0      // [cin, h, w]

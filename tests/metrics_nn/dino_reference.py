@@ -21,6 +21,7 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+from reference_nets import dino_state_dict
 import torch
 import torch.nn.functional as F
 import torchvision
@@ -41,22 +42,6 @@ def randomise(model, gen):
         else:
             p.data = 0.5 * torch.randn(p.shape, generator=gen) if p.dim() >= 2 else 0.1 * torch.randn(p.shape, generator=gen)
     return model.eval()
-
-
-def dino_state_dict(model):
-    """torchvision's names -> DINO vision_transformer.py's (the head is dropped)."""
-    out = {"cls_token": model.class_token, "pos_embed": model.encoder.pos_embedding,
-           "patch_embed.proj.weight": model.conv_proj.weight, "patch_embed.proj.bias": model.conv_proj.bias,
-           "norm.weight": model.encoder.ln.weight, "norm.bias": model.encoder.ln.bias}
-    for i, layer in enumerate(model.encoder.layers):
-        b = "blocks.%d." % i
-        pairs = {"norm1": layer.ln_1, "norm2": layer.ln_2, "attn.proj": layer.self_attention.out_proj,
-                 "mlp.fc1": layer.mlp[0], "mlp.fc2": layer.mlp[3]}
-        for name, m in pairs.items():
-            out[b + name + ".weight"], out[b + name + ".bias"] = m.weight, m.bias
-        out[b + "attn.qkv.weight"] = layer.self_attention.in_proj_weight  # rows q, k, v as DINO's qkv
-        out[b + "attn.qkv.bias"] = layer.self_attention.in_proj_bias
-    return {k: v.detach().clone().float().contiguous() for k, v in out.items()}
 
 
 def dino_cls(model, x):

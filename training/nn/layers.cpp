@@ -45,12 +45,15 @@ Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32
   if (into == nullptr) out = make_tensor(rec.context(), w.name, w.cout, x.h, x.w);
   Tensor& y = into != nullptr ? *into : out;
   if (y.c != w.cout || y.h != x.h || y.w != x.w) fail(layer, "output " + y.shape() + " does not match");
+  // One-row tensors (a transformer's tokens) take the variant with one-row workgroups.
+  const bool rows = id == shaders::Id::nn_conv1x1 && x.h == 1;
+  if (rows) id = shaders::Id::nn_conv1x1_rows;
   const gpu::NnConvParams p{.cin = w.cin,
                             .cout = w.cout,
                             .height = x.h,
                             .width = x.w,
-                            .tiles_x = ceil_div(x.w, S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX),
-                            .tiles_y = ceil_div(x.h, S4D_NN_CONV_WG_Y),
+                            .tiles_x = ceil_div(x.w, (rows ? S4D_NN_CONV_ROWS_WG_X : S4D_NN_CONV_WG_X) * S4D_NN_CONV_PIX),
+                            .tiles_y = rows ? 1u : ceil_div(x.h, S4D_NN_CONV_WG_Y),
                             .flags = flags,
                             ._pad0 = 0};
   rec.dispatch(shader_pipeline(rec.context(), id),
