@@ -133,15 +133,14 @@ DinoVit::DinoVit(engine::Context& ctx, const io::SafetensorsFile& file, uint32_t
 }
 
 const Tensor& DinoVit::position(uint32_t image_h, uint32_t image_w) const {
-  const std::pair<uint32_t, uint32_t> key{image_h / shape_.patch, image_w / shape_.patch};
-  // The stored grid is used as is only for square images, so square and other images of one grid differ.
+  // Keyed by the image size, not the grid: the stored grid is used as is only for square images.
   const std::pair<uint32_t, uint32_t> size{image_h, image_w};
   auto it = positions_.find(size);
   if (it == positions_.end()) {
     const std::vector<double> p = dino_position_embedding(pos_, cls_, shape_, image_h, image_w);
     const std::vector<float> f(p.begin(), p.end());
-    it = positions_.emplace(size, upload_tensor(ctx_, "dino position embedding", shape_.width, 1,
-                                                1 + key.first * key.second, f)).first;
+    const auto tokens = static_cast<uint32_t>(f.size() / shape_.width);
+    it = positions_.emplace(size, upload_tensor(ctx_, "dino position embedding", shape_.width, 1, tokens, f)).first;
   }
   return it->second;
 }
