@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "s4d/metrics/dino_subject.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
     s4d::engine::Context ctx;  // ContextOptions::from_env(): S4D_VALIDATION, the device choice
     const s4d::metrics::DinoSubject dino(ctx, s4d::io::SafetensorsFile(argv[1]));
     for (int i = 2; i < argc; ++i) {
-      const s4d::io::ImageF frame = s4d::stylize::read_image_rgb(argv[i]);
+      const s4d::io::ImageF frame = s4d::io::read_image_rgb(argv[i]);
       s4d::ref::Chw<float> input = s4d::metrics::dino_transform(frame);
       input.v.push_back(float(input.h));
       input.v.push_back(float(input.w));
