@@ -32,6 +32,8 @@ int cmd_view(const std::vector<std::string>& argv) {
       {"record", "record the camera path from the first frame; written on exit as transforms.json", true, "FILE"},
       {"out-dir", "where screenshots (P) and camera paths (R) go (default RUN/viewer)", true, "DIR"},
       {"size", "window size (default: the first camera's aspect, 640..1280 wide)", true, "WxH"},
+      {"frame-budget-ms", "frame time to hold while the view moves by rendering fewer pixels; 0: always full "
+                          "resolution (default 100, or 0 with --exit-after)", true, "MS"},
   };
   Args args(argv, specs);
   if (args.help()) {
@@ -75,9 +77,13 @@ int cmd_view(const std::vector<std::string>& argv) {
                                 .out_dir = args.get_or("out-dir", (run_dir / "viewer").string()),
                                 .record = args.get_or("record", "")};
   if (args.get("size")) std::tie(options.width, options.height) = parse_size("size", *args.get("size"));
+  // Test runs (--exit-after) see full-resolution frames unless they ask for the adaptive scale.
+  options.frame_budget_ms =
+      parse_number<double>("frame-budget-ms", args.get_or("frame-budget-ms", options.exit_after ? "0" : "100"));
   const viewer::ViewerSummary summary = viewer::run_viewer(run, options);
   std::cout << "presented " << summary.frames << " frames on " << summary.device << ", mean frame "
-            << summary.mean_frame_ms << " ms\n";
+            << summary.mean_frame_ms << " ms; rasterized " << summary.rasterized << " at mean scale "
+            << summary.mean_scale << "\n";
   return 0;
 #else
   throw std::runtime_error("this build has no viewer window (configured with S4D_BUILD_VIEWER=OFF); "
