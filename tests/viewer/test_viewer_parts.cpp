@@ -181,6 +181,14 @@ TEST_CASE("budget 0 keeps full resolution; bad options are refused") {
   CHECK_THROWS_AS(AdaptiveResolution({.budget_ms = -1, .floor = 0.25}), std::invalid_argument);
   CHECK_THROWS_AS(AdaptiveResolution({.budget_ms = 100, .floor = 0}), std::invalid_argument);
   CHECK_THROWS_AS(AdaptiveResolution({.budget_ms = 100, .floor = 1.5}), std::invalid_argument);
+  CHECK_THROWS_AS(AdaptiveResolution({.budget_ms = 100, .floor = 0.25, .settle_ms = -1}), std::invalid_argument);
+}
+
+TEST_CASE("the refine waits for the view to settle") {
+  const AdaptiveResolution policy({.budget_ms = 100, .floor = 0.25, .settle_ms = 150});
+  CHECK(!policy.refine(0));
+  CHECK(!policy.refine(149.9));
+  CHECK(policy.refine(150));
 }
 
 TEST_CASE("a scaled camera keeps every pixel centre on its ray") {

@@ -139,10 +139,12 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
                  .cameras = &camera_names,
                  .styles = &run.styles};
   ViewerSummary summary{.device = ctx.info().name};
-  double total_ms = 0, total_scale = 0;
+  double total_ms = 0, total_scale = 0, total_raster_ms = 0;
+  uint64_t measured = 0;  // rasterized frames whose time was measured (all but a last one)
   uint64_t last_submit = 0;
   AdaptiveResolution resolution({.budget_ms = options.frame_budget_ms});
   std::optional<FrameView> shown;  // what renderer.pixels() hold
+  std::chrono::steady_clock::time_point changed_at;  // when the view last changed
   // The last rasterized frame, measured once its submission completes: start time and scale.
   std::optional<std::pair<std::chrono::steady_clock::time_point, double>> measuring;
   bool recreate = false;
@@ -196,9 +198,10 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
     if (last_submit) ctx.wait(last_submit);
     if (measuring) {  // start of the render to its pixels on screen, the panel's work included
-      resolution.measured(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count(),
-          measuring->second);
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count();
+      resolution.measured(ms, measuring->second);
+      total_raster_ms += ms, ++measured;
       measuring.reset();
     }
     const std::optional<uint32_t> image = swapchain.acquire();
@@ -209,15 +212,17 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     }
     const auto t0 = std::chrono::steady_clock::now();
     engine::Recorder rec(ctx, "viewer frame");
-    // Moving: the policy's scale. Still: refine to full resolution once, then reuse those pixels.
-    // A screenshot is always of a full-resolution frame.
+    // Moving: the policy's scale. Still for the policy's settle time: refine to full resolution
+    // once, then reuse those pixels. A screenshot is always of a full-resolution frame.
     const bool screenshot = in.screenshot || act.screenshot;
     const FrameView view{.camera = control.camera(info.width, info.height),
                          .time = playback.time,
                          .style = styles.shown(),
                          .order = swapchain.pixel_order()};
     const bool changed = !shown || !same_view(*shown, view);
-    if (changed || renderer.scale() != 1) {
+    if (changed) changed_at = t0;
+    const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at).count();
+    if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
       const double scale = changed && !screenshot ? resolution.scale(true) : 1.0;
       renderer.render(styles.source(), view.camera, view.time, view.order, rec, scale);
       shown = view;
@@ -261,6 +266,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     path.write(options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record);
   summary.mean_frame_ms = summary.frames > 1 ? total_ms / static_cast<double>(summary.frames - 1) : 0;
   summary.mean_scale = summary.rasterized ? total_scale / static_cast<double>(summary.rasterized) : 0;
+  summary.mean_rasterized_ms = measured ? total_raster_ms / static_cast<double>(measured) : 0;
   return summary;
 }
 

@@ -2,9 +2,9 @@
 // rasterizes and packs on the device, one command buffer copies the pixels into the acquired
 // swapchain image and draws the ImGui panel over them, and the image is presented; no pixel is read
 // back to the host unless a screenshot is asked for. While the view changes (camera, time, style,
-// blend, window size) frames are rasterized at AdaptiveResolution's scale and upsampled; the first
-// still frame refines to full resolution, and later still frames reuse its pixels without
-// rasterizing. Screenshots are always of a full-resolution frame. Resizes recreate the swapchain; while the
+// blend, window size) frames are rasterized at AdaptiveResolution's scale and upsampled; once the
+// view has been still for the policy's settle time a frame refines to full resolution, and later
+// still frames reuse its pixels without rasterizing. Screenshots are always of a full-resolution frame. Resizes recreate the swapchain; while the
 // window is minimised nothing renders and playback stops advancing.
 #pragma once
 #include <cstdint>
@@ -32,6 +32,7 @@ struct ViewerSummary {
   double mean_frame_ms = 0;
   uint64_t rasterized = 0;      // frames rasterized (the others reused the last full-resolution pixels)
   double mean_scale = 0;        // mean render scale of the rasterized frames
+  double mean_rasterized_ms = 0;  // mean time of a rasterized frame, from the render to its pixels on screen
   std::string device;
 };
 

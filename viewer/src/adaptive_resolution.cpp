@@ -11,6 +11,8 @@ AdaptiveResolution::AdaptiveResolution(AdaptiveResolutionOptions options) : opti
   if (!(options_.budget_ms >= 0))
     throw std::invalid_argument("frame budget " + std::to_string(options_.budget_ms) +
                                 " ms: expected 0 (always full resolution) or a positive time");
+  if (!(options_.settle_ms >= 0))
+    throw std::invalid_argument("settle time " + std::to_string(options_.settle_ms) + " ms: expected 0 or more");
   if (!(options_.floor > 0 && options_.floor <= 1))
     throw std::invalid_argument("resolution floor " + std::to_string(options_.floor) + ": expected a scale in (0, 1]");
 }
