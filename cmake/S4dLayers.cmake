@@ -1,6 +1,7 @@
 # The layers' one-way rule as data: what a target links, directly or through the targets it links
 # (public and private), read from the targets themselves at configure time. tests/CMakeLists.txt
-# writes it for the render side and cmake/check_layers.cmake refuses a forbidden library in it.
+# writes it for the render side and the bench's report, and cmake/check_layers.cmake refuses a
+# forbidden library in it.
 
 # s4d_link_closure(<target> <out-var>): the s4d_* targets that <target> links, sorted.
 function(s4d_link_closure target out)

@@ -1,16 +1,11 @@
 #include "s4d/bench/frame_sequence.h"
 
 #include <algorithm>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 #include <stdexcept>
 
-namespace s4d::bench {
+#include "s4d/data/video_reader.h"
 
-struct FrameSequence::Video {
-  cv::VideoCapture capture;
-};
+namespace s4d::bench {
 
 namespace {
 [[noreturn]] void fail(const std::filesystem::path& p, const std::string& why) { throw std::runtime_error(p.string() + ": " + why); }
@@ -35,11 +30,8 @@ FrameSequence::FrameSequence(const std::filesystem::path& path) : path_(path) {
     count_ = int(pngs_.size());
     return;
   }
-  video_ = std::make_unique<Video>(Video{cv::VideoCapture(path.string(), cv::CAP_FFMPEG)});
-  if (!video_->capture.isOpened()) fail(path, "cannot open the video (not a video file, corrupt, or no decoder for its codec)");
-  const double frames = video_->capture.get(cv::CAP_PROP_FRAME_COUNT);
-  if (!(frames >= 1 && frames < double(1 << 24))) fail(path, "video declares no valid frame count");
-  count_ = int(frames);
+  video_ = std::make_unique<data::VideoReader>(path);
+  count_ = video_->info().frames;
 }
 
 FrameSequence::~FrameSequence() = default;
@@ -48,14 +40,7 @@ io::ImageF FrameSequence::next() {
   if (next_ >= count_) fail(path_, "no frame left after " + std::to_string(count_));
   const int index = next_++;
   if (!video_) return rgb_only(io::read_png(pngs_[size_t(index)]), pngs_[size_t(index)]);
-  cv::Mat bgr, rgb, values;
-  if (!video_->capture.read(bgr) || bgr.empty() || bgr.type() != CV_8UC3)
-    fail(path_, "frame " + std::to_string(index) + " cannot be decoded as 8-bit colour");
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  rgb.convertTo(values, CV_32FC3, 1.0 / 255.0);
-  io::ImageF im{values.cols, values.rows, 3, {}};
-  im.data.assign(values.ptr<float>(), values.ptr<float>() + values.total() * 3);
-  return im;
+  return video_->read(index);
 }
 
 }  // namespace s4d::bench

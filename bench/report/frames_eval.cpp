@@ -9,7 +9,7 @@
 #include "s4d/bench/frame_sequence.h"
 #include "s4d/bench/native_learned.h"
 #include "s4d/metrics/flow.h"
-#include "s4d/metrics/psnr.h"
+#include "s4d/io/psnr.h"
 #include "s4d/metrics/ssim.h"
 
 namespace s4d::bench {
@@ -100,7 +100,7 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     r.per_frame["uiqm"].push_back(metrics::uiqm(s, o.uiqm));
     if (truth) {
       const io::ImageF captured = truth->next();
-      if (scores_psnr) r.per_frame["psnr"].push_back(metrics::psnr(g, captured));
+      if (scores_psnr) r.per_frame["psnr"].push_back(io::psnr(g, captured));
     }
     if (o.learned) o.learned->score_frame(s, g, o.style_image, i > 0, o.learned_keys, r.per_frame);
     if (i > 0) {

@@ -44,6 +44,8 @@ std::vector<MetricEntry> build() {
       {"style_loss_gram", "Gram loss", false, "VGG19 relu1_1..relu5_1 Gram, 1/(C H W)", "frame vs style image",
        needs("vgg_normalised.safetensors (or vgg19.safetensors with --gram-vgg torchvision)",
              "AdaIN's vgg_normalised.pth or torchvision vgg19-dcbb9e9d.pth")},
+      // The label reports have carried since before PSNR moved to s4d/io/psnr.h (same computation);
+      // `bench --merge` compares impl labels, so a new one would refuse to merge older reports.
       {"psnr", "PSNR", true, "native (s4d::metrics::psnr)", "", std::nullopt},
   };
 }

@@ -4,7 +4,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 
 namespace s4d::bench {
 
@@ -148,7 +148,7 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
                                 bool follows, const std::vector<std::string>& keys,
                                 std::map<std::string, std::vector<double>>& per_frame) const {
   if (!style_image.empty() && style_image != style_path_) {
-    style_ = stylize::read_image_rgb(style_image);
+    style_ = io::read_image_rgb(style_image);
     style_path_ = style_image;
     style_lpips_.clear();
     style_gram_.reset();
@@ -162,7 +162,7 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
       const std::pair<int, int> size{stylised.width, stylised.height};
       auto it = style_lpips_.find(size);
       if (it == style_lpips_.end())
-        it = style_lpips_.emplace(size, lpips_->features(stylize::resize_image(style_, size.first, size.second))).first;
+        it = style_lpips_.emplace(size, lpips_->features(io::resize_image(style_, size.first, size.second))).first;
       per_frame["style_lpips"].push_back(lpips_->distance(frame, it->second));
     }
   }

@@ -14,7 +14,7 @@
 #include "s4d/bench/frames_report.h"
 #include "s4d/bench/line_plot.h"
 #include "s4d/bench/metric_catalog.h"
-#include "s4d/metrics/psnr.h"
+#include "s4d/io/psnr.h"
 
 namespace fs = std::filesystem;
 namespace b = s4d::bench;
@@ -122,7 +122,7 @@ TEST_CASE("frames report holds every metric key as a number or an explained unav
   }
   const auto& copy = report.at("results")[0];
   CHECK(copy.at("content_ssim").get<double>() == doctest::Approx(1.0).epsilon(1e-12));
-  CHECK(copy.at("psnr").get<double>() == doctest::Approx(s4d::metrics::kPsnrCapDb).epsilon(1e-12));
+  CHECK(copy.at("psnr").get<double>() == doctest::Approx(s4d::io::kPsnrCapDb).epsilon(1e-12));
   // The 2 px shift per frame, DIS flow on the original, warp of the copy: measured 0.00087 (mostly the
   // clamped strip at the image edge); 0.005 leaves room for DIS's fit.
   CHECK(copy.at("warp_loss").get<double>() < 0.005);

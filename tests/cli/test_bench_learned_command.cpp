@@ -14,7 +14,7 @@
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/gram_loss.h"
 #include "s4d/metrics/lpips.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "torch_vgg_fixture.h"
 
 namespace fs = std::filesystem;
@@ -93,16 +93,16 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   CHECK(std::abs(r.at("content_lpips").get<double>() - content) <= 1e-9 * content);
   CHECK(r.at("per_frame").at("style_lpips").size() == 3);
   // Style LPIPS recomputed: each frame against the style image read and resized to the frame as the
-  // program does (stylize::read_image_rgb, stylize::resize_image); same kernels and inputs, so equal
+  // program does (io::read_image_rgb, io::resize_image); same kernels and inputs, so equal
   // within 1e-9 relative like content_lpips above (passes at that bound).
-  const s4d::io::ImageF style_at_frame = s4d::stylize::resize_image(s4d::stylize::read_image_rgb(f.style), 20, 18);
+  const s4d::io::ImageF style_at_frame = s4d::io::resize_image(s4d::io::read_image_rgb(f.style), 20, 18);
   double style = 0;
   for (int t = 0; t < 3; ++t) style += lpips(f.s[t], style_at_frame) / 3;
   CHECK(std::abs(r.at("style_lpips").get<double>() - style) <= 1e-9 * style);
   const s4d::metrics::GramStyleLoss gram(s4d::test::context(), s4d::io::SafetensorsFile(weights / "vgg_normalised.safetensors"),
                                          s4d::metrics::GramBackbone::vgg_normalised);
   const double g0 = gram(f.s[0], f.style_image);
-  // The program reads the style image through OpenCV (stylize::read_image_rgb), the test through
+  // The program reads the style image through OpenCV (io::read_image_rgb), the test through
   // io::read_png: values 1 ulp apart; measured 1.4e-6 relative.
   CHECK(std::abs(r.at("per_frame").at("style_loss_gram")[0].get<double>() - g0) <= 1e-5 * g0);
   const s4d::metrics::Dists dists(s4d::test::context(), s4d::io::SafetensorsFile(weights / "vgg16.safetensors"),

@@ -15,7 +15,7 @@
 #include "nn_fixture.h"
 #include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/attention.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "s4d/stylize/network_stylizer.h"
 #include "s4d_nn.h"
 
@@ -270,7 +270,7 @@ TEST_CASE("the adaattn stylizer's frames are the network's, resized back and cla
   const auto twin = twin_adaattn(p, frame, style, {{0, 0}, {0, 0}, {0, 0}}, 1.0);
   ref::Chw<float> clamped(twin.c, twin.h, twin.w);
   for (size_t i = 0; i < twin.v.size(); ++i) clamped.v[i] = static_cast<float>(std::clamp(twin.v[i], 0.0, 1.0));
-  const io::ImageF expected = stylize::resize_image(image(clamped), 34, 30);
+  const io::ImageF expected = io::resize_image(image(clamped), 34, 30);
   double worst = 0;
   for (size_t i = 0; i < expected.data.size(); ++i)
     worst = std::max(worst, static_cast<double>(std::abs(out[0].data[i] - expected.data[i])));

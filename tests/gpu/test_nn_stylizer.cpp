@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "nn_fixture.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "s4d/stylize/network_stylizer.h"
 
 namespace {
@@ -54,7 +54,7 @@ io::ImageF twin_frame(const ref::Chw<double>& decoded, int width, int height) {
     for (uint32_t x = 0; x < decoded.w; ++x)
       for (uint32_t c = 0; c < 3; ++c)
         image.data[(size_t{y} * decoded.w + x) * 3 + c] = static_cast<float>(std::clamp(decoded.at(c, y, x), 0.0, 1.0));
-  return stylize::resize_image(image, width, height);
+  return io::resize_image(image, width, height);
 }
 
 double max_abs_diff(const io::ImageF& a, const io::ImageF& b) {
@@ -79,7 +79,7 @@ TEST_CASE("the adain stylizer's frames are the network's, resized back and clamp
   const auto out = stylizer->stylize(frames, style, {.strength = 0.8f}, [&](int done, int) { reported = done; });
   CHECK(reported == 2);
   REQUIRE(out.size() == 2);
-  const auto fs = test::twin_encode(net.vgg, test::to_double(to_chw(stylize::resize_image(style, 12, 16))), 4);
+  const auto fs = test::twin_encode(net.vgg, test::to_double(to_chw(io::resize_image(style, 12, 16))), 4);
   for (size_t t = 0; t < frames.size(); ++t) {
     const auto fc = test::twin_encode(net.vgg, test::to_double(to_chw(frames[t])), 4);
     const auto decoded =
@@ -102,7 +102,7 @@ TEST_CASE("the hgst stylizer runs MCCNet on the style's centre square") {
   const io::ImageF style = random_image(18, 24, rng);
   const auto out = stylizer->stylize(frames, style, {});
   // 18x24 -> 12x16, then its centre 12x12 (rows 2..13).
-  const io::ImageF resized = stylize::resize_image(style, 12, 16);
+  const io::ImageF resized = io::resize_image(style, 12, 16);
   io::ImageF square{12, 12, 3, {resized.data.begin() + 2 * 12 * 3, resized.data.begin() + 14 * 12 * 3}};
   const auto fc = test::twin_encode(net.vgg, test::to_double(to_chw(frames[0])), 4);
   const auto fs = test::twin_encode(net.vgg, test::to_double(to_chw(square)), 4);

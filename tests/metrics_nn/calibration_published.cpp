@@ -22,7 +22,7 @@
 #include "s4d/io/safetensors.h"
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/lpips.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 
 namespace {
 
@@ -94,8 +94,8 @@ int main() {
       }
       ++ran;
       for (size_t k = 0; k < kImages.size(); ++k) {
-        const io::ImageF dist = stylize::read_image_rgb(images / "dist_dir" / (kImages[k] + ".bmp"));
-        const io::ImageF ref = stylize::read_image_rgb(images / "ref_dir" / (kImages[k] + ".bmp"));
+        const io::ImageF dist = io::read_image_rgb(images / "dist_dir" / (kImages[k] + ".bmp"));
+        const io::ImageF ref = io::read_image_rgb(images / "ref_dir" / (kImages[k] + ".bmp"));
         const double value = score(dist, ref), error = std::abs(value - c.published[k]);
         const bool ok = error <= kTolerance;
         failed += ok ? 0 : 1;

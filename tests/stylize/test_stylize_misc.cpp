@@ -1,4 +1,4 @@
-// The registry's names and errors, the built-in style generator, and image reading errors.
+// The registry's names and errors and the built-in style generator.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "s4d/stylize/builtin_style.h"
-#include "s4d/stylize/image_file.h"
 #include "s4d/stylize/registry.h"
 
 using namespace s4d;
@@ -55,12 +54,4 @@ TEST_CASE("the committed built-in style is the generator's output") {
   for (size_t i = 0; i < generated.data.size(); ++i)
     worst = std::max(worst, static_cast<double>(std::abs(committed.data[i] - generated.data[i])));
   CHECK(worst <= 0.5 / 255 + 1e-6);  // 8-bit rounding only
-}
-
-TEST_CASE("reading an image names the file on failure") {
-  const auto dir = std::filesystem::temp_directory_path() / "s4d_stylize_read";
-  std::filesystem::create_directories(dir);
-  CHECK_THROWS_WITH_AS(stylize::read_image_rgb(dir / "missing.png"), doctest::Contains("missing.png"), std::runtime_error);
-  std::ofstream(dir / "junk.jpg") << "not an image";
-  CHECK_THROWS_WITH_AS(stylize::read_image_rgb(dir / "junk.jpg"), doctest::Contains("junk.jpg"), std::runtime_error);
 }

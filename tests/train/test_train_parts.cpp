@@ -1,4 +1,4 @@
-// The training stage's host-side parts: initial cloud, checkpoints, settings, view order, PSNR.
+// The training stage's host-side parts: initial cloud, checkpoints, settings, view order.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -135,14 +135,6 @@ TEST_CASE("the view sampler visits every view once per epoch and resumes identic
   CHECK(a == b);
   train::ViewSampler other(8, 0);
   CHECK_THROWS_AS(other.load(saved), std::runtime_error);
-}
-
-TEST_CASE("psnr_of clamps the render and uses the mean over all channels") {
-  const std::vector<float> target(12, 0.5f);
-  std::vector<float> image(12, 0.6f);
-  CHECK(train::psnr_of(image, target) == doctest::Approx(20.0));  // mse 0.01
-  image.assign(12, 7.0f);                                         // clamped to 1: mse 0.25
-  CHECK(train::psnr_of(image, target) == doctest::Approx(-10 * std::log10(0.25)));
 }
 
 TEST_CASE("the static split puts static Gaussians last, stably, and moves every per-Gaussian array with them") {

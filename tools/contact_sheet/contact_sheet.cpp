@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "s4d/io/image_io.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "s4d/stylize/registry.h"
 
 namespace fs = std::filesystem;
@@ -35,7 +35,7 @@ std::vector<fs::path> pictures(const fs::path& dir) {
 ImageF fit(const ImageF& image, int side) {
   const double s = static_cast<double>(side) / std::max(image.width, image.height);
   const int w = std::max(2, 2 * static_cast<int>(image.width * s / 2)), h = std::max(2, 2 * static_cast<int>(image.height * s / 2));
-  return s4d::stylize::resize_image(image, w, h);
+  return s4d::io::resize_image(image, w, h);
 }
 
 // Pastes `image`, fitted into a cell x cell square, centred in the cell at column cx, row cy.
@@ -69,11 +69,11 @@ int main(int argc, char** argv) {
     sheet.data.assign(static_cast<size_t>(sheet.width) * sheet.height * 3, 0.12f);
     std::vector<ImageF> style_images;
     for (size_t s = 0; s < styles.size(); ++s) {
-      style_images.push_back(fit(s4d::stylize::read_image_rgb(styles[s]), work));
+      style_images.push_back(fit(s4d::io::read_image_rgb(styles[s]), work));
       paste(sheet, style_images.back(), static_cast<int>(s) + 1, 0, cell, gap);
     }
     for (size_t c = 0; c < contents.size(); ++c) {
-      const ImageF content = fit(s4d::stylize::read_image_rgb(contents[c]), work);
+      const ImageF content = fit(s4d::io::read_image_rgb(contents[c]), work);
       paste(sheet, content, 0, static_cast<int>(c) + 1, cell, gap);
       for (size_t s = 0; s < styles.size(); ++s) {
         std::cerr << contents[c].filename().string() << " x " << styles[s].filename().string() << "\n";

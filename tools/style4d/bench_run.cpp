@@ -31,7 +31,7 @@ struct Method {
   fs::path style_image;
 };
 
-// The style image a style was trained with: request.json's style_image.path (stylize_pipeline.cpp).
+// The style image a style was trained with: request.json's style_image.path (s4d/style/stylize_run.h).
 fs::path requested_style_image(const fs::path& run, const std::string& style) {
   const fs::path file = run::style_dir(run, style) / "request.json";
   std::ifstream in(file);

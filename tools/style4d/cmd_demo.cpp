@@ -21,14 +21,15 @@
 #include "demo_report.h"
 #include "frame_sequence.h"
 #include "primitives_bench.h"
+#include "s4d/bench/style_eval.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/run/run_lock.h"
+#include "s4d/style/stylize_run.h"
 #include "s4d/stylize/builtin_style.h"
 #include "s4d/synth/dataset.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/progress.h"
-#include "stylize_pipeline.h"
 
 namespace s4d::cli {
 
@@ -90,7 +91,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   // build and the demo fit 30 minutes on two lavapipe cores (docs/demo.md: with fast's full
   // fine stage and 100 MLP steps the demo alone took 29.5 minutes).
   run::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
-  StylizeRequest request;
+  style::StylizeRequest request;
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));
   request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
   const std::string spiral_frames = args.get_or("spiral-frames", "60");
@@ -149,7 +150,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   request.run = run, request.style_image = style_image, request.name = "builtin";
   request.spiral_frames = parse_number<int>("spiral-frames", spiral_frames);
   stage(rec, &ctx, "stylize", "stages 3-4: the weight-free stylizer on every camera's frames, then Style Gaussians",
-        [&] { rec.stylize = stylize_run(ctx, request, never_stop).summary; });
+        [&] { rec.stylize = bench::measure_style(ctx, request, style::stylize_run(ctx, request, never_stop)); });
 
   const fs::path bench_dir = out / "bench";
   stage(rec, nullptr, "bench", "Style4D-Bench: test and spiral protocols rendered and scored, original and style", [&] {

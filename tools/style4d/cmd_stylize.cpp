@@ -1,5 +1,6 @@
 // style4d stylize --run RUN --style IMG [--stylizer NAME] [--name NAME] [--method full|colors|scratch]
-// ...: stages 3 and 4 of Style4D on a trained run (stylize_pipeline.h). SIGINT or SIGTERM writes a
+// ...: stages 3 and 4 of Style4D on a trained run (s4d/style/stylize_run.h), then the
+// measurement of the result (s4d/bench/style_eval.h). SIGINT or SIGTERM writes a
 // checkpoint and exits with 130; the same command continues it.
 #include <atomic>
 #include <csignal>
@@ -9,8 +10,9 @@
 
 #include "args.h"
 #include "commands.h"
+#include "s4d/bench/style_eval.h"
+#include "s4d/style/stylize_run.h"
 #include "s4d/stylize/registry.h"
-#include "stylize_pipeline.h"
 
 namespace s4d::cli {
 
@@ -104,7 +106,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
     return 0;
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
-  StylizeRequest req;
+  style::StylizeRequest req;
   req.run = args.require("run");
   req.style_image = args.require("style");
   req.name = args.get_or("name", "");
@@ -116,9 +118,9 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   engine::Context ctx;
   std::signal(SIGINT, request_stylize_stop);
   std::signal(SIGTERM, request_stylize_stop);
-  const StylizeOutcome out = stylize_run(ctx, req, g_stop);
+  const style::StylizeOutcome out = style::stylize_run(ctx, req, g_stop);
   if (!out.complete) return 130;
-  const nlohmann::json& s = out.summary;
+  const nlohmann::json s = bench::measure_style(ctx, req, out);
   const nlohmann::json& exact = s.at("warp_error").at("spiral_exact_flow");
   std::cout << "style " << s.at("style").get<std::string>() << " (" << s.at("method").get<std::string>() << ") in "
             << out.dir.string() << "\n"

@@ -10,7 +10,7 @@
 #include "args.h"
 #include "commands.h"
 #include "frame_sequence.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 #include "s4d/stylize/registry.h"
 #include "s4d/util/progress.h"
 
@@ -65,7 +65,7 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   if (network.style_size < 0) throw std::invalid_argument("--style-size: expected 0 or more pixels");
   const auto stylizer = stylize::make_stylizer(args.get_or("stylizer", "patch"), network);
 
-  const io::ImageF style = stylize::read_image_rgb(style_path);
+  const io::ImageF style = io::read_image_rgb(style_path);
   const FrameSequence input = read_frame_sequence(in);
   const int total = static_cast<int>(input.frames.size());
   util::Progress progress("stylize-frames", static_cast<uint64_t>(total));

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
-#include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
-
+#include "s4d/data/video_reader.h"
 #include "s4d/data/video_writer.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 
 namespace s4d::cli {
 
@@ -27,17 +26,13 @@ std::string frame_name(size_t index) {
   return name;
 }
 
+// Every frame the stream holds, whatever count the container declares.
 FrameSequence read_video(const fs::path& path) {
-  cv::VideoCapture capture(path.string(), cv::CAP_FFMPEG);
-  if (!capture.isOpened()) throw std::runtime_error(path.string() + ": cannot open the video");
+  data::VideoReader video(path);
   FrameSequence seq;
-  cv::Mat bgr, rgb, f;
-  while (capture.read(bgr)) {
-    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-    rgb.convertTo(f, CV_32FC3, 1.0 / 255);
-    io::ImageF image{f.cols, f.rows, 3, std::vector<float>(f.ptr<float>(), f.ptr<float>() + f.total() * 3)};
+  while (std::optional<io::ImageF> frame = video.next()) {
     seq.names.push_back(frame_name(seq.frames.size()));
-    seq.frames.push_back(std::move(image));
+    seq.frames.push_back(std::move(*frame));
   }
   if (seq.frames.empty()) throw std::runtime_error(path.string() + ": the video has no frames");
   return seq;
@@ -51,7 +46,7 @@ FrameSequence read_folder(const fs::path& dir) {
   std::sort(files.begin(), files.end());
   FrameSequence seq;
   for (const fs::path& f : files) {
-    seq.frames.push_back(stylize::read_image_rgb(f));
+    seq.frames.push_back(io::read_image_rgb(f));
     seq.names.push_back(f.filename().string());
     if (seq.frames.back().width != seq.frames[0].width || seq.frames.back().height != seq.frames[0].height)
       throw std::runtime_error(f.string() + ": " + std::to_string(seq.frames.back().width) + "x" +

@@ -1,5 +1,5 @@
 // Frame sequences on disk for `style4d stylize-frames`: a folder of PNG frames (sorted by name) or
-// a video file (.mp4, .avi, .mov, .mkv, decoded through OpenCV's FFmpeg backend).
+// a video file (.mp4, .avi, .mov, .mkv, read by s4d/data/video_reader.h).
 #pragma once
 #include <filesystem>
 #include <string>

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "dataset_parts.h"
-#include "video_reader.h"
+#include "video_decoders.h"
 
 namespace s4d::data::detail {
 namespace {

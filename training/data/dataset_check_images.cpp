@@ -9,7 +9,7 @@
 
 #include "dataset_check_parts.h"
 #include "dataset_parts.h"
-#include "video_reader.h"
+#include "s4d/data/video_reader.h"
 
 namespace s4d::data::detail {
 namespace {
@@ -58,7 +58,7 @@ void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources
                   DatasetSummary& summary) {
   struct VideoProbe {
     bool probed = false, size_checked = false;
-    std::optional<detail::VideoInfo> info;  // unset when the video cannot be opened
+    std::optional<VideoInfo> info;  // unset when the video cannot be opened
   };
   std::map<fs::path, VideoProbe> videos;
   std::map<std::string, size_t> unread;  // extension -> images whose size was not read
@@ -78,7 +78,7 @@ void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources
       if (!probe.probed) {
         probe.probed = true;
         try {
-          probe.info = detail::probe_video(v.image);
+          probe.info = probe_video(v.image);
         } catch (const std::exception& e) {
           problems.error(v.image, "file", e.what());
         }

@@ -19,7 +19,8 @@
 
 #include "dataset_parts.h"
 #include "s4d/data/npy.h"
-#include "video_reader.h"
+#include "s4d/data/poses_bounds.h"
+#include "s4d/data/video_reader.h"
 
 namespace s4d::data {
 namespace {
@@ -62,7 +63,7 @@ CameraSource folder_camera(const fs::path& root, const std::string& name) {
 
 CameraSource video_camera(const fs::path& root, const std::string& name) {
   const fs::path video = root / (name + ".mp4");
-  const detail::VideoInfo info = detail::probe_video(video);
+  const VideoInfo info = probe_video(video);
   return {name, {}, video, static_cast<size_t>(info.frames), video, info.width, info.height};
 }
 
@@ -99,7 +100,7 @@ std::vector<CameraSource> find_cameras(const fs::path& root) {
 
 // The camera of one poses_bounds row, before downscaling. `field` names the row in errors.
 io::CameraView llff_camera(const fs::path& npy, const double* row, const std::string& field) {
-  for (int k = 0; k < 17; ++k) {
+  for (size_t k = 0; k < kPosesBoundsRow; ++k) {
     if (!std::isfinite(row[k])) fail(npy, field + ": non-finite value at column " + std::to_string(k));
   }
   auto m = [&](int r, int c) { return row[r * 5 + c]; };
@@ -171,7 +172,7 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
   const fs::path npy = root / "poses_bounds.npy";
   if (!fs::exists(npy)) fail(npy, "missing (a DyNeRF / Neu3D dataset needs it)");
   const NpyArray poses = read_npy(npy);
-  if (poses.shape.size() != 2 || poses.shape[1] != 17) fail(npy, "shape must be (N, 17)");
+  if (poses.shape.size() != 2 || poses.shape[1] != kPosesBoundsRow) fail(npy, "shape must be (N, 17)");
   const std::vector<CameraSource> cameras = find_cameras(root);
   if (poses.shape[0] != cameras.size()) {
     fail(npy, "shape has " + std::to_string(poses.shape[0]) + " rows but there are " + std::to_string(cameras.size()) +
@@ -186,10 +187,11 @@ Dataset load_dynerf(const fs::path& root, const LoadOptions& options) {
   for (size_t c = 0; c < cameras.size(); ++c) {
     const CameraSource& source = cameras[c];
     const std::string field = "row " + std::to_string(c) + " (" + source.name + ")";
-    io::CameraView camera = llff_camera(npy, &poses.values[c * 17], field);
+    io::CameraView camera = llff_camera(npy, &poses.values[c * kPosesBoundsRow], field);
     // hwf must describe the frames on disk; compare after downscaling, allowing for rounding.
     const int w = source.width, h = source.height;
-    const double hwf_w = poses.values[c * 17 + 9], hwf_h = poses.values[c * 17 + 4];
+    const double hwf_w = poses.values[c * kPosesBoundsRow + kPosesBoundsWidth];
+    const double hwf_h = poses.values[c * kPosesBoundsRow + kPosesBoundsHeight];
     if (std::abs(detail::downscaled(w, factor) - hwf_w / factor) > 1 ||
         std::abs(detail::downscaled(h, factor) - hwf_h / factor) > 1) {
       fail(npy, field + ": hwf says " + num(hwf_w) + "x" + num(hwf_h) + " (W x H) but " + source.first.string() +

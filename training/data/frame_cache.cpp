@@ -1,7 +1,7 @@
 #include "s4d/data/frame_cache.h"
 
 #include "dataset_parts.h"
-#include "video_reader.h"
+#include "video_decoders.h"
 
 namespace s4d::data {
 namespace {

@@ -1,4 +1,4 @@
-#include "video_reader.h"
+#include "s4d/data/video_reader.h"
 
 #include <cstring>
 #include <opencv2/core.hpp>
@@ -7,7 +7,10 @@
 
 #include "dataset_parts.h"
 
-namespace s4d::data::detail {
+namespace s4d::data {
+
+using detail::fail;
+
 namespace {
 
 // A seek lands on the keyframe before the target and decodes forward from it, so for a short jump
@@ -19,60 +22,41 @@ constexpr int kMaxForwardDecode = 16;
 // overflow the conversion to int.
 constexpr double kMaxCount = 1 << 24;
 
-// The FFmpeg backend, named: left to choose, OpenCV also tries GStreamer, which prints warnings for
-// every file it cannot open.
-cv::VideoCapture open_capture(const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) fail(path, "video does not exist");
-  cv::VideoCapture capture(path.string(), cv::CAP_FFMPEG);
-  if (!capture.isOpened()) fail(path, "cannot open the video (not a video file, corrupt, or no decoder for its codec)");
-  return capture;
-}
-
 }  // namespace
 
-VideoInfo probe_video(const std::filesystem::path& path) {
-  cv::VideoCapture capture = open_capture(path);
+struct VideoReader::Capture {
+  cv::VideoCapture capture;
+};
+
+// The FFmpeg backend, named: left to choose, OpenCV also tries GStreamer, which prints warnings for
+// every file it cannot open.
+VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
+  if (!std::filesystem::exists(path)) fail(path, "video does not exist");
+  capture_ = std::make_unique<Capture>(Capture{cv::VideoCapture(path.string(), cv::CAP_FFMPEG)});
+  if (!capture_->capture.isOpened()) fail(path, "cannot open the video (not a video file, corrupt, or no decoder for its codec)");
+}
+
+VideoReader::~VideoReader() = default;
+
+VideoInfo VideoReader::info() const {
   // OpenCV reports the properties as doubles (0 when unknown); range-check before converting.
+  const cv::VideoCapture& capture = capture_->capture;
   const double width = capture.get(cv::CAP_PROP_FRAME_WIDTH), height = capture.get(cv::CAP_PROP_FRAME_HEIGHT);
   const double frames = capture.get(cv::CAP_PROP_FRAME_COUNT);
   if (!(width >= 1 && width <= kMaxCount && height >= 1 && height <= kMaxCount)) {
-    fail(path, "video declares no valid frame size");
+    fail(path_, "video declares no valid frame size");
   }
-  if (!(frames >= 1 && frames <= kMaxCount)) fail(path, "video declares no valid frame count");
+  if (!(frames >= 1 && frames <= kMaxCount)) fail(path_, "video declares no valid frame count");
   return {static_cast<int>(width), static_cast<int>(height), static_cast<int>(frames)};
 }
 
-struct VideoDecoders::Decoder {
-  cv::VideoCapture capture;
-  int next = 0;  // the frame the next read() decodes
-};
-
-VideoDecoders::VideoDecoders() = default;
-VideoDecoders::~VideoDecoders() = default;
-
-io::ImageF VideoDecoders::read(const std::filesystem::path& path, int frame) {
-  std::unique_ptr<Decoder>& slot = open_[path.string()];
-  if (!slot) slot = std::make_unique<Decoder>(Decoder{open_capture(path), 0});
-  Decoder& d = *slot;
-  const std::string what = "frame " + std::to_string(frame);
-  // After a failure the decoder's position is unknown: drop it, so the next read reopens the video.
-  auto fail_and_close = [&](const std::string& problem) {
-    open_.erase(path.string());
-    fail(path, what + " " + problem);
-  };
-
-  if (frame < d.next || frame > d.next + kMaxForwardDecode) {
-    if (!d.capture.set(cv::CAP_PROP_POS_FRAMES, frame)) fail_and_close("cannot be reached (seek failed)");
-    d.next = frame;
-  }
-  for (; d.next < frame; ++d.next) {
-    if (!d.capture.grab()) fail_and_close("cannot be decoded (the video ends or is corrupt before it)");
-  }
+std::optional<io::ImageF> VideoReader::next() {
   cv::Mat bgr;
-  if (!d.capture.read(bgr) || bgr.empty()) fail_and_close("cannot be decoded (past the end of the video, or corrupt)");
-  ++d.next;
-  if (bgr.type() != CV_8UC3) fail_and_close("decodes to an unsupported pixel format (expected 8-bit BGR)");
-
+  if (!capture_->capture.read(bgr) || bgr.empty()) return std::nullopt;
+  const int frame = next_++;
+  if (bgr.type() != CV_8UC3) {
+    fail(path_, "frame " + std::to_string(frame) + " decodes to an unsupported pixel format (expected 8-bit BGR)");
+  }
   cv::Mat rgb;
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   cv::Mat values;
@@ -83,4 +67,20 @@ io::ImageF VideoDecoders::read(const std::filesystem::path& path, int frame) {
   return image;
 }
 
-}  // namespace s4d::data::detail
+io::ImageF VideoReader::read(int frame) {
+  const std::string what = "frame " + std::to_string(frame);
+  if (frame < next_ || frame > next_ + kMaxForwardDecode) {
+    if (!capture_->capture.set(cv::CAP_PROP_POS_FRAMES, frame)) fail(path_, what + " cannot be reached (seek failed)");
+    next_ = frame;
+  }
+  for (; next_ < frame; ++next_) {
+    if (!capture_->capture.grab()) fail(path_, what + " cannot be decoded (the video ends or is corrupt before it)");
+  }
+  std::optional<io::ImageF> image = next();
+  if (!image) fail(path_, what + " cannot be decoded (past the end of the video, or corrupt)");
+  return std::move(*image);
+}
+
+VideoInfo probe_video(const std::filesystem::path& path) { return VideoReader(path).info(); }
+
+}  // namespace s4d::data

@@ -1,22 +1,12 @@
 #include "s4d/train/evaluate.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "s4d/io/image_io.h"
+#include "s4d/io/psnr.h"
 #include "s4d/splat/scene_upload.h"
 
 namespace s4d::train {
-
-double psnr_of(const std::vector<float>& image, const std::vector<float>& target) {
-  double se = 0;
-  for (size_t i = 0; i < image.size(); ++i) {
-    const double d = std::clamp(double(image[i]), 0.0, 1.0) - target[i];
-    se += d * d;
-  }
-  const double mse = se / double(std::max<size_t>(image.size(), 1));
-  return mse <= 0 ? 100.0 : -10.0 * std::log10(mse);
-}
 
 std::vector<const data::View*> spread_views(const std::vector<const data::View*>& views, size_t k) {
   if (views.size() <= k) return views;
@@ -37,25 +27,25 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_a
     const splat::Camera cam = splat::to_splat_camera(view->camera);
     rast.forward(params_at(*view), cam, background);
     const size_t n = size_t{cam.width} * cam.height * 3;
-    std::vector<float> image = ctx_->download<float>(rast.rgb(), n);
-    for (float& v : image) v = std::clamp(v, 0.0f, 1.0f);
+    io::ImageF image{int(cam.width), int(cam.height), 3, ctx_->download<float>(rast.rgb(), n)};
+    for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);  // 3DGS scores the clamped render
     if (image_.size() < n * 4) {
       image_ = engine::Buffer(*ctx_, "evaluation image", n * 4);
       target_ = engine::Buffer(*ctx_, "evaluation target", n * 4);
       grad_ = engine::Buffer(*ctx_, "evaluation gradient", n * 4);
     }
-    ctx_->upload(image_, std::span<const float>(image));
+    ctx_->upload(image_, std::span<const float>(image.data));
     ctx_->upload(target_, std::span<const float>(target.data));
     engine::Recorder rec(*ctx_, "evaluation ssim");
     loss_.record(rec, image_, target_, cam.width, cam.height, 3, 1.0f, grad_);
     ctx_->run(std::move(rec));
-    ViewScore score{view->name, view->time, psnr_of(image, target.data), loss_.value().ssim};
+    ViewScore score{view->name, view->time, io::psnr(image, target), loss_.value().ssim};
     out.psnr += score.psnr;
     out.ssim += score.ssim;
     if (!save_dir.empty()) {
       std::string file = view->name;
       std::replace(file.begin(), file.end(), '/', '_');
-      io::write_png(save_dir / (file + ".png"), io::ImageF{int(cam.width), int(cam.height), 3, std::move(image)});
+      io::write_png(save_dir / (file + ".png"), image);
     }
     out.views.push_back(std::move(score));
   }

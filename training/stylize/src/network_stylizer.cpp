@@ -11,7 +11,7 @@
 #include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/adain_net.h"
 #include "s4d/nn/mcc_net.h"
-#include "s4d/stylize/image_file.h"
+#include "s4d/io/image_file.h"
 
 namespace s4d::stylize {
 
@@ -40,7 +40,7 @@ io::ImageF prepare_style(const io::ImageF& image, int size, bool square) {
   io::ImageF out = image;
   if (size > 0 && std::min(image.width, image.height) != size) {
     const double scale = static_cast<double>(size) / std::min(image.width, image.height);
-    out = resize_image(image, std::max(size, static_cast<int>(std::lround(image.width * scale))),
+    out = io::resize_image(image, std::max(size, static_cast<int>(std::lround(image.width * scale))),
                        std::max(size, static_cast<int>(std::lround(image.height * scale))));
   }
   if (!square || out.width == out.height) return out;
@@ -103,7 +103,7 @@ class NetworkStylizer final : public Stylizer {
       io::ImageF decoded =
           from_chw(nn::download(*ctx_, result), static_cast<int>(result.w), static_cast<int>(result.h));
       const bool same_size = decoded.width == frame.width && decoded.height == frame.height;
-      out.push_back(same_size ? std::move(decoded) : resize_image(decoded, frame.width, frame.height));
+      out.push_back(same_size ? std::move(decoded) : io::resize_image(decoded, frame.width, frame.height));
       if (progress) progress(static_cast<int>(t) + 1, static_cast<int>(frames.size()));
     }
     return out;

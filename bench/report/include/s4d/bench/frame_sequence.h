@@ -1,5 +1,5 @@
 // The frames of one video to score: a folder of PNG files (in file-name order) or a video file
-// (decoded through OpenCV's FFmpeg backend), read front to back as RGB [H, W, 3] in [0, 1]. Alpha
+// (s4d/data/video_reader.h), read front to back as RGB [H, W, 3] in [0, 1]. Alpha
 // in RGBA PNGs is dropped.
 #pragma once
 #include <filesystem>
@@ -7,6 +7,10 @@
 #include <vector>
 
 #include "s4d/io/image_io.h"
+
+namespace s4d::data {
+class VideoReader;
+}
 
 namespace s4d::bench {
 
@@ -26,10 +30,9 @@ class FrameSequence {
   io::ImageF next();
 
  private:
-  struct Video;
   std::filesystem::path path_;
   std::vector<std::filesystem::path> pngs_;
-  std::unique_ptr<Video> video_;
+  std::unique_ptr<data::VideoReader> video_;
   int count_ = 0, next_ = 0;
 };
 

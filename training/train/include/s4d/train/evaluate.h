@@ -1,5 +1,5 @@
 // Test-view evaluation as 3DGS reports it: each render clamped to [0, 1], PSNR from the mean squared
-// error over all pixels and channels, SSIM with the 11x11 Gaussian window (sigma 1.5) averaged over
+// error over all pixels and channels (s4d/io/psnr.h), SSIM with the 11x11 Gaussian window (sigma 1.5) averaged over
 // the map (the training loss's own kernels), both averaged over the views.
 #pragma once
 #include <filesystem>
@@ -24,8 +24,6 @@ struct Evaluation {
   double psnr = 0, ssim = 0;  // means over the views
   std::vector<ViewScore> views;
 };
-
-double psnr_of(const std::vector<float>& image, const std::vector<float>& target);  // image clamped to [0, 1]
 
 // The periodic tests during a stage use this many test views; the closing test uses all.
 constexpr size_t kPeriodicTestViews = 8;

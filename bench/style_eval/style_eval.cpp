@@ -1,74 +1,32 @@
-#include "stylize_pipeline.h"
+#include "s4d/bench/style_eval.h"
 
-#include <limits>
+#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
+#include <limits>
+#include <map>
 #include <memory>
-#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "s4d/bench/contact_sheet.h"
 #include "s4d/data/frame_cache.h"
-#include "s4d/data/npy.h"
 #include "s4d/metrics/flow.h"
 #include "s4d/metrics/warp_loss.h"
 #include "s4d/protocols/protocol.h"
 #include "s4d/protocols/protocol_render.h"
-#include "s4d/run/run_lock.h"
-#include "s4d/run/style_file.h"
-#include "s4d/scene/trained_run.h"
-#include "s4d/style/style_trainer.h"
-#include "s4d/style/stylized_frames.h"
-#include "s4d/stylize/image_file.h"
-#include "s4d/stylize/registry.h"
+#include "s4d/run/names.h"
+#include "s4d/scene/scene_source.h"
 #include "s4d/stylize/warp_error.h"
-#include "s4d/train/trainer.h"
 #include "s4d/util/atomic_file.h"
 
-namespace s4d::cli {
+namespace s4d::bench {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// Identifies a style image by content, so a replaced file under the same name is noticed.
-nlohmann::json image_key(const fs::path& path, const io::ImageF& image) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a over the 8-bit values
-  for (float v : image.data) {
-    h ^= static_cast<uint64_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
-    h *= 1099511628211ull;
-  }
-  return {{"path", fs::absolute(path).string()}, {"width", image.width}, {"height", image.height}, {"hash", std::to_string(h)}};
-}
-
-nlohmann::json read_json_or_null(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return nullptr;
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nullptr;
-  }
-}
-
-// The stylized frames as a dataset on disk in the content's layout, for the scratch ablation's
-// `style4d train`: DyNeRF gets poses_bounds.npy with hwf at the frames' resolution, D-NeRF its
-// transforms files; points3D.ply is copied when there is one.
-void write_dataset_layout(const data::Dataset& content, const fs::path& dir) {
-  const fs::path& root = content.root;
-  if (fs::exists(root / "points3D.ply")) fs::copy_file(root / "points3D.ply", dir / "points3D.ply", fs::copy_options::overwrite_existing);
-  if (content.kind == "dynerf") {
-    data::NpyArray poses = data::read_npy(root / "poses_bounds.npy");
-    for (size_t c = 0; c < poses.shape[0]; ++c)
-      for (size_t k : {4, 9, 14}) poses.values[c * 17 + k] /= content.downscale;  // H, W, focal
-    data::write_npy(dir / "poses_bounds.npy", poses);
-    return;
-  }
-  for (const char* split : {"transforms_train.json", "transforms_val.json", "transforms_test.json"})
-    if (fs::exists(root / split)) fs::copy_file(root / split, dir / split, fs::copy_options::overwrite_existing);
-}
 
 size_t frames_per_camera(const data::Dataset& d) {
   std::map<int, size_t> counts;
@@ -207,108 +165,43 @@ void write_contact_sheet(const scene::TrainedRun& run, const data::Dataset& styl
 
 }  // namespace
 
-StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, const std::atomic<bool>& stop) {
+nlohmann::json measure_style(engine::Context& ctx, const style::StylizeRequest& req, const style::StylizeOutcome& out) {
+  if (!out.complete) throw std::invalid_argument("measure_style: style " + out.name + " has not finished stage 4");
   const auto start = std::chrono::steady_clock::now();
-  style::validate(req.config);
-  // The run is held shared while its style trains: `train --resume` (exclusive) cannot change the
-  // geometry under it, and other styles of the run may train at once (run_lock.h). A folder that is
-  // not a run gets read_trained_run's message.
-  std::optional<run::RunLock> run_lock;
-  if (fs::exists(req.run / "run.json")) run_lock.emplace(req.run, run::RunLock::Mode::shared);
-  const scene::TrainedRun run = scene::read_trained_run(req.run);
-  const std::string name = req.name.empty() ? req.style_image.stem().string() : req.name;
-  if (name.empty() || name == "original" || name.find('/') != std::string::npos)
-    throw std::invalid_argument("--name '" + name + "': a style needs a plain name other than 'original'");
-  const io::ImageF style_image = stylize::read_image_rgb(req.style_image);
-  const std::unique_ptr<stylize::Stylizer> stylizer = stylize::make_stylizer(
-      req.config.stylizer, {.weights = req.weights, .style_size = req.style_size, .context = &ctx});
-  StylizeOutcome out;
-  out.dir = run::style_dir(run.root, name);
-  fs::create_directories(out.dir);
-  const run::RunLock style_lock(out.dir);  // one writer per style
-
-  const nlohmann::json network = req.weights.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json{{"weights", fs::absolute(req.weights).string()},
-                                                                      {"style_size", req.style_size}};
-  const nlohmann::json request = {{"style_image", image_key(req.style_image, style_image)},
-                                  {"network", network},
-                                  {"settings", style::to_json(req.config)}};
-  const nlohmann::json previous = read_json_or_null(out.dir / "request.json");
-  if (req.restart)
-    for (const char* stale : {"checkpoint.s4dckpt", "style.s4dstyle", "run", "eval", "spiral", "stylize.json"})
-      fs::remove_all(out.dir / stale);
-  else if (!previous.is_null() && previous != request)
-    throw std::invalid_argument("style " + name + " of " + run.root.string() + " was started with other settings (" +
-                                out.dir.string() + "/request.json); pass --restart to train it again, or another --name");
-  fs::create_directories(out.dir);
-  util::write_file_atomic(out.dir / "request.json", request.dump(2) + "\n");
-
-  // Stage 3.
-  stylize::StylizeSettings settings{.strength = req.config.strength, .seed = req.config.seed};
-  const nlohmann::json key = {{"stylizer", stylizer->name()}, {"strength", req.config.strength}, {"seed", req.config.seed},
-                              {"style_image", request.at("style_image")}, {"network", network}};
-  const style::StylizedFrames frames = style::stylize_dataset(run.dataset, *stylizer, style_image, settings, key, out.dir / "stylized");
-
-  // Stage 4.
-  nlohmann::json stage4;
-  fs::path eval_dir = out.dir / "eval";
-  if (req.config.method == run::StyleMethod::scratch) {
-    write_dataset_layout(run.dataset, out.dir / "stylized");
-    const fs::path scratch = out.dir / "run";
-    std::unique_ptr<train::Trainer> trainer = fs::exists(scratch / "run.json")
-                                                  ? train::Trainer::resume(ctx, scratch)
-                                                  : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", run.config, scratch);
-    const train::TrainResult r = trainer->run(stop);
-    if (!r.complete) return out;
-    run::StyleFile file;
-    file.method = run::StyleMethod::scratch;
-    file.settings = style::to_json(req.config);
-    file.count = r.num_gaussians;
-    run::write_style_file(run::style_file_path(run.root, name), file);
-    stage4 = {{"seconds", r.seconds}, {"test_psnr_vs_stylized", r.test.psnr}, {"test_ssim_vs_stylized", r.test.ssim}};
-    eval_dir = scratch / "eval";
-  } else {
-    style::StyleTrainer trainer(ctx, run, frames.dataset, name, req.config);
-    const style::StyleResult r = trainer.run(stop);
-    if (!r.complete) return out;
-    stage4 = {{"seconds", r.seconds}, {"iterations", r.iteration}, {"test_psnr_vs_stylized", r.test.psnr},
-              {"test_ssim_vs_stylized", r.test.ssim}, {"stylized_gaussians", r.stylized_gaussians}};
-  }
-
-  // What the result looks like and how consistent it is.
+  const scene::TrainedRun& run = out.run;
+  const style::StylizedFrames& frames = out.frames;
   const scene::TrainedRun with_style = scene::read_trained_run(req.run);  // now lists the new style
   const int spiral = req.spiral_frames > 0 ? req.spiral_frames : static_cast<int>(std::max<size_t>(2, frames_per_camera(run.dataset)));
   const nlohmann::json consistency =
-      spiral_consistency(ctx, with_style, name, out.dir, spiral, *stylizer, style_image, settings);
+      spiral_consistency(ctx, with_style, out.name, out.dir, spiral, *out.stylizer, out.style_image, out.settings);
   double stylized_2d = 0, content_2d = 0;
   for (const auto& s : frames.sequences) stylized_2d += s.stylized_warp_error, content_2d += s.content_warp_error;
   const double sequences = static_cast<double>(std::max<size_t>(1, frames.sequences.size()));
   stylized_2d /= sequences, content_2d /= sequences;
-  write_contact_sheet(run, frames.dataset, eval_dir, out.dir / "contact_sheet.png");
-  const nlohmann::json test_camera = test_camera_consistency(run, frames.dataset, eval_dir);
-
-  out.complete = true;
-  out.summary = {{"style", name},
-                 {"run", fs::absolute(run.root).string()},
-                 {"method", run::method_name(req.config.method)},
-                 {"stylizer", stylizer->name()},
-                 {"style_image", request.at("style_image")},
-                 {"stage3", frames.to_json()},
-                 {"stage4", stage4},
-                 {"warp_error", {{"spiral_styled_render", consistency.at("styled_render")},
-                                 {"spiral_original_render", consistency.at("original_render")},
-                                 {"spiral_stylized_2d", consistency.at("stylized_2d")},
-                                 {"spiral_exact_flow", consistency.at("exact_flow")},
-                                 {"stylized_frames_2d", stylized_2d},
-                                 {"content_frames", content_2d},
-                                 {"spiral_frames", spiral},
-                                 {"test_camera", test_camera}}},
-                 {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
-                 {"device", ctx.info().name},
-                 {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},
-                 {"settings", style::to_json(req.config)}};
-  util::write_file_atomic(out.dir / "stylize.json", out.summary.dump(2) + "\n");
-  return out;
+  write_contact_sheet(run, frames.dataset, out.eval_dir, out.dir / "contact_sheet.png");
+  const nlohmann::json test_camera = test_camera_consistency(run, frames.dataset, out.eval_dir);
+  const nlohmann::json summary = {
+      {"style", out.name},
+      {"run", fs::absolute(run.root).string()},
+      {"method", run::method_name(req.config.method)},
+      {"stylizer", out.stylizer->name()},
+      {"style_image", out.style_image_key},
+      {"stage3", frames.to_json()},
+      {"stage4", out.stage4},
+      {"warp_error", {{"spiral_styled_render", consistency.at("styled_render")},
+                     {"spiral_original_render", consistency.at("original_render")},
+                     {"spiral_stylized_2d", consistency.at("stylized_2d")},
+                     {"spiral_exact_flow", consistency.at("exact_flow")},
+                     {"stylized_frames_2d", stylized_2d},
+                     {"content_frames", content_2d},
+                     {"spiral_frames", spiral},
+                     {"test_camera", test_camera}}},
+      {"seconds", out.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
+      {"device", ctx.info().name},
+      {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},
+      {"settings", style::to_json(req.config)}};
+  util::write_file_atomic(out.dir / "stylize.json", summary.dump(2) + "\n");
+  return summary;
 }
 
-}  // namespace s4d::cli
+}  // namespace s4d::bench

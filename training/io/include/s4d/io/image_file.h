@@ -4,14 +4,14 @@
 
 #include "s4d/io/image_io.h"
 
-namespace s4d::stylize {
+namespace s4d::io {
 
 // RGB [H, W, 3] in [0, 1] (gray is replicated, alpha dropped, 16-bit scaled by 1/65535). Throws
 // std::runtime_error naming the file when it is missing or not a readable image.
-io::ImageF read_image_rgb(const std::filesystem::path& path);
+ImageF read_image_rgb(const std::filesystem::path& path);
 
 // Area-averaging when shrinking, bilinear when enlarging. Throws std::invalid_argument for an empty
 // image or a non-positive size.
-io::ImageF resize_image(const io::ImageF& image, int width, int height);
+ImageF resize_image(const ImageF& image, int width, int height);
 
-}  // namespace s4d::stylize
+}  // namespace s4d::io
