@@ -72,13 +72,19 @@ TEST_CASE("orbit keeps the distance to the pivot and the pivot in view; zoom and
 TEST_CASE("zero input leaves the camera bit for bit") {
   CameraControl c({0, 0, 1}, 1.0);
   c.snap(test_camera(), 4.0);
-  c.orbit(0.3, 0.1);  // off the snapped axes, where re-orthonormalising would round
-  const s4d::splat::Camera before = c.camera(64, 48);
-  c.orbit(0, 0);
-  c.pan(0, 0, 48);
-  c.zoom(0);
-  c.fly(0, 0, 0, 0.1);
-  CHECK(c.camera(64, 48).world_to_cam == before.world_to_cam);
+  // Off the snapped axes and distance, where re-orthonormalising or re-placing the camera rounds.
+  c.orbit(0.3, 0.1);
+  c.zoom(1.3);
+  c.pan(3, -2, 48);
+  for (int i = 0; i < 20; ++i) {
+    const s4d::splat::Camera before = c.camera(64, 48);
+    c.orbit(0, 0);
+    c.pan(0, 0, 48);
+    c.zoom(0);
+    c.fly(0, 0, 0, 0.1);
+    REQUIRE(c.camera(64, 48).world_to_cam == before.world_to_cam);
+    c.orbit(0.05 * i, 0.01);  // the next pose
+  }
 }
 
 TEST_CASE("fly moves camera and pivot along the view axes at the given speed") {
