@@ -42,14 +42,10 @@ struct PackTap {
 S4D_VIEWER_FN PackTap pack_tap(uint x, uint src, uint dst) {
   PackTap t = PackTap(0u, 0u);
   int n = int((2u * x + 1u) * src) - int(dst);
-  if (n <= 0) {
-    t.i0 = 0u;
-    t.num = 0u;
-    return t;
-  }
+  if (n <= 0) return t;  // left of pixel 0's centre: pixel 0 alone
   t.i0 = uint(n) / (2u * dst);
   t.num = uint(n) % (2u * dst);
-  if (t.i0 >= src - 1u) {
+  if (t.i0 >= src - 1u) {  // right of the last pixel's centre: that pixel alone
     t.i0 = src - 1u;
     t.num = 0u;
   }
