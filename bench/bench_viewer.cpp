@@ -4,12 +4,22 @@
 // One JSON line per size on stdout, a table on stderr. Timings are never pass/fail.
 //
 //   s4d_bench_viewer [--sizes 320x240:10000,...] [--repeats 5]
+//   s4d_bench_viewer --run RUN [--orbit 60] [--size 640x480] [--frame-budget-ms 100] [--repeats 3]
 //
 // Scenes are bench/splat_scene's seeded random Gaussians (SH degree 3, a few to tens of pixels
 // wide at any resolution), seen from its camera.
+//
+// With --run, the moving camera: a trained run's original scene at t = 0 along an orbit of N frames
+// (one turn about the viewer's pivot, starting at dataset camera 0), as the window renders it
+// while the camera moves: at AdaptiveResolution's scale under the frame budget ("adaptive"), and at
+// full resolution ("full"). Each repeat runs both orbits back to back, each after one still
+// full-resolution frame (which the policy measures, as in the window). One JSON line per orbit
+// with its fps and mean scale, then the median fps of each mode and their ratio.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
+#include <memory>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -20,7 +30,13 @@
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/scene/download_cloud.h"
 #include "s4d/scene/static_scene.h"
+#include "s4d/scene/trained_run.h"
+#include "s4d/splat/scene_upload.h"
+#include "s4d/viewer/adaptive_resolution.h"
+#include "s4d/viewer/camera_control.h"
+#include "s4d/viewer/dataset_cameras.h"
 #include "s4d/viewer/frame_renderer.h"
 #include "splat_scene.h"
 #include "timing.h"
@@ -36,6 +52,11 @@ struct Point {
 struct Options {
   std::vector<Point> points = {{320, 240, 10000}, {640, 480, 10000}, {640, 480, 100000}, {1280, 720, 100000}};
   int repeats = 5;
+  // The moving camera (--run).
+  std::string run;
+  int orbit_frames = 60;
+  uint32_t width = 640, height = 480;
+  double budget_ms = 100;
 };
 
 Point parse_point(const std::string& s) {
@@ -57,12 +78,24 @@ Options parse(int argc, char** argv) {
       for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
     } else if (a == "--repeats" && i + 1 < argc) {
       o.repeats = std::stoi(argv[++i]);
+    } else if (a == "--run" && i + 1 < argc) {
+      o.run = argv[++i];
+    } else if (a == "--orbit" && i + 1 < argc) {
+      o.orbit_frames = std::stoi(argv[++i]);
+    } else if (a == "--size" && i + 1 < argc) {
+      const Point p = parse_point(std::string(argv[++i]) + ":0");
+      o.width = p.width, o.height = p.height;
+    } else if (a == "--frame-budget-ms" && i + 1 < argc) {
+      o.budget_ms = std::stod(argv[++i]);
     } else {
       throw std::invalid_argument("unknown or incomplete option '" + a +
-                                  "' (usage: s4d_bench_viewer [--sizes WxH:N,...] [--repeats R])");
+                                  "' (usage: s4d_bench_viewer [--sizes WxH:N,...] [--repeats R] | --run RUN "
+                                  "[--orbit N] [--size WxH] [--frame-budget-ms MS] [--repeats R])");
     }
   }
   if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
+  if (o.orbit_frames < 1 || o.width == 0 || o.height == 0 || !(o.budget_ms > 0))
+    throw std::invalid_argument("--orbit, --size and --frame-budget-ms must be positive");
   return o;
 }
 
@@ -89,12 +122,90 @@ s4d::bench::Timing time_frames(s4d::engine::Context& ctx, const Point& pt, int r
   return s4d::bench::summarise_ms(ms);
 }
 
+struct Orbit {
+  double fps = 0, mean_scale = 0, ms_p50 = 0;
+};
+
+// One orbit of the moving camera at `budget_ms` (0: full resolution), after a still full-resolution
+// frame that the policy measures.
+Orbit orbit(s4d::engine::Context& ctx, s4d::scene::SceneSource& source, s4d::viewer::FrameRenderer& renderer,
+            s4d::viewer::CameraControl control, const Options& o, double budget_ms) {
+  s4d::viewer::AdaptiveResolution resolution({.budget_ms = budget_ms});
+  std::vector<double> ms;
+  double total_ms = 0, total_scale = 0;
+  for (int f = -1; f < o.orbit_frames; ++f) {
+    const bool moving = f >= 0;
+    if (moving) control.orbit(2 * std::acos(-1.0) / o.orbit_frames, 0);
+    const double scale = resolution.scale(moving);
+    const auto t0 = std::chrono::steady_clock::now();
+    s4d::engine::Recorder rec(ctx, "bench viewer orbit frame");
+    renderer.render(source, control.camera(o.width, o.height), 0.0, s4d::viewer::PixelOrder::bgra, rec, scale);
+    ctx.run(std::move(rec));
+    const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    resolution.measured(t, scale);
+    if (!moving) continue;
+    ms.push_back(t);
+    total_ms += t, total_scale += scale;
+  }
+  return {.fps = 1000.0 * o.orbit_frames / total_ms,
+          .mean_scale = total_scale / o.orbit_frames,
+          .ms_p50 = s4d::bench::summarise_ms(ms).ms_p50};
+}
+
+int bench_orbit(s4d::engine::Context& ctx, const Options& o) {
+  const s4d::scene::TrainedRun run = s4d::scene::read_trained_run(o.run);
+  const std::unique_ptr<s4d::scene::SceneSource> source = s4d::scene::open_scene(ctx, run);
+  s4d::viewer::FrameRenderer renderer(ctx, run.dataset.background);
+  const std::vector<s4d::io::CameraView> cameras = s4d::viewer::dataset_cameras(run.dataset);
+  const s4d::splat::Camera first = s4d::splat::to_splat_camera(cameras[0]);
+  const double depth =
+      s4d::viewer::median_depth(cameras[0], s4d::scene::download_cloud(ctx, source->at(0.0, first)).means, 1.0);
+  s4d::viewer::CameraControl control(s4d::viewer::estimate_up(cameras), 1.0);
+  control.snap(cameras[0], depth);
+  const auto& info = ctx.info();
+  std::fprintf(stderr, "device: %s (%s)\n%s: %u Gaussians, %d-frame orbit at %ux%u, budget %.0f ms\n%-9s %7s %9s %6s\n",
+               info.name.c_str(), info.driver_info.c_str(), o.run.c_str(), source->size(), o.orbit_frames, o.width,
+               o.height, o.budget_ms, "mode", "fps", "ms p50", "scale");
+  std::vector<double> fps_full, fps_adaptive;
+  for (int r = 0; r < o.repeats; ++r) {
+    for (const bool adaptive : {false, true}) {
+      const Orbit result = orbit(ctx, *source, renderer, control, o, adaptive ? o.budget_ms : 0);
+      (adaptive ? fps_adaptive : fps_full).push_back(result.fps);
+      const json line = {{"bench", "viewer_orbit"},
+                         {"device", info.name},
+                         {"driver", info.driver_name + " " + info.driver_info},
+                         {"run", o.run},
+                         {"n_gaussians", source->size()},
+                         {"width", o.width},
+                         {"height", o.height},
+                         {"frames", o.orbit_frames},
+                         {"mode", adaptive ? "adaptive" : "full"},
+                         {"budget_ms", adaptive ? o.budget_ms : 0},
+                         {"fps", result.fps},
+                         {"ms_p50", result.ms_p50},
+                         {"mean_scale", result.mean_scale}};
+      std::cout << line.dump() << std::endl;
+      std::fprintf(stderr, "%-9s %7.2f %9.1f %6.3f\n", adaptive ? "adaptive" : "full", result.fps, result.ms_p50,
+                   result.mean_scale);
+    }
+  }
+  std::sort(fps_full.begin(), fps_full.end());
+  std::sort(fps_adaptive.begin(), fps_adaptive.end());
+  const double full = fps_full[fps_full.size() / 2], adaptive = fps_adaptive[fps_adaptive.size() / 2];
+  std::cout << json{{"bench", "viewer_orbit_ratio"}, {"fps_full", full}, {"fps_adaptive", adaptive},
+                    {"ratio", adaptive / full}}.dump()
+            << std::endl;
+  std::fprintf(stderr, "median fps: full %.2f, adaptive %.2f, ratio %.2fx\n", full, adaptive, adaptive / full);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
     const Options o = parse(argc, argv);
     s4d::engine::Context ctx;
+    if (!o.run.empty()) return bench_orbit(ctx, o);
     const auto& info = ctx.info();
     std::fprintf(stderr, "device: %s (%s)\n%-11s %9s %9s %9s %7s\n", info.name.c_str(), info.driver_info.c_str(),
                  "image", "gaussians", "ms p50", "ms min", "fps");

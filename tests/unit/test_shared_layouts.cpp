@@ -49,7 +49,7 @@ static_assert(sizeof(AccumulateParams) == 16 && sizeof(ClassifyParams) == 32 && 
 static_assert(sizeof(SlotParams) == 16 && sizeof(SplitParams) == 16);
 static_assert(sizeof(FlowProjectParams) == 96 && sizeof(FlowProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(FlowDisplaceParams) == 16);
-static_assert(sizeof(PackParams) == 16 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(PackParams) == 32 && sizeof(PackParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(NnResizeParams) == 32);
 static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
@@ -151,8 +151,10 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(FlowProjectParams, _pad2)),
       S4D_STRUCT(FlowDisplaceParams, S4D_MEMBER(FlowDisplaceParams, n), S4D_MEMBER(FlowDisplaceParams, _pad0),
                  S4D_MEMBER(FlowDisplaceParams, _pad1), S4D_MEMBER(FlowDisplaceParams, _pad2)),
-      S4D_STRUCT(PackParams, S4D_MEMBER(PackParams, pixels), S4D_MEMBER(PackParams, swap_rb),
-                 S4D_MEMBER(PackParams, _pad0), S4D_MEMBER(PackParams, _pad1)),
+      S4D_STRUCT(PackParams, S4D_MEMBER(PackParams, width), S4D_MEMBER(PackParams, height),
+                 S4D_MEMBER(PackParams, src_width), S4D_MEMBER(PackParams, src_height),
+                 S4D_MEMBER(PackParams, swap_rb), S4D_MEMBER(PackParams, _pad0), S4D_MEMBER(PackParams, _pad1),
+                 S4D_MEMBER(PackParams, _pad2)),
       S4D_STRUCT(NnConvParams, S4D_MEMBER(NnConvParams, cin), S4D_MEMBER(NnConvParams, cout),
                  S4D_MEMBER(NnConvParams, height), S4D_MEMBER(NnConvParams, width), S4D_MEMBER(NnConvParams, tiles_x),
                  S4D_MEMBER(NnConvParams, tiles_y), S4D_MEMBER(NnConvParams, flags), S4D_MEMBER(NnConvParams, _pad0)),

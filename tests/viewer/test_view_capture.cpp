@@ -99,7 +99,7 @@ TEST_CASE("an incomplete run directory names what is missing") {
   CHECK(read_text(dir / "none.log").find("is not a directory") != std::string::npos);
 }
 
-TEST_CASE("a capture with an unknown style, camera or time fails saying what exists") {
+TEST_CASE("a capture with an unknown style, camera, time or a bad frame budget fails saying what is wrong") {
   const fs::path run = s4d::test::trained_run();
   const fs::path dir = s4d::test::fresh_dir("view_bad_request");
   const std::string base = run.string() + " --screenshot " + (dir / "x.png").string();
@@ -109,5 +109,7 @@ TEST_CASE("a capture with an unknown style, camera or time fails saying what exi
   CHECK(read_text(dir / "camera.log").find("cameras 0..3") != std::string::npos);
   CHECK(run_style4d("view", base + " --time 1.5", dir / "time.log") != 0);
   CHECK(read_text(dir / "time.log").find("[0, 1]") != std::string::npos);
+  CHECK(run_style4d("view", base + " --frame-budget-ms -5", dir / "budget.log") != 0);
+  CHECK(read_text(dir / "budget.log").find("--frame-budget-ms") != std::string::npos);
   CHECK(!fs::exists(dir / "x.png"));
 }

@@ -32,6 +32,8 @@ int cmd_view(const std::vector<std::string>& argv) {
       {"record", "record the camera path from the first frame; written on exit as transforms.json", true, "FILE"},
       {"out-dir", "where screenshots (P) and camera paths (R) go (default RUN/viewer)", true, "DIR"},
       {"size", "window size (default: the first camera's aspect, 640..1280 wide)", true, "WxH"},
+      {"frame-budget-ms", "frame time to hold while the view moves by rendering fewer pixels; 0: always full "
+                          "resolution (default 100, or 0 with --exit-after)", true, "MS"},
   };
   Args args(argv, specs);
   if (args.help()) {
@@ -55,6 +57,13 @@ int cmd_view(const std::vector<std::string>& argv) {
   const scene::StyleChoice style = parse_style_choice(args);
   if (auto png = args.get("screenshot")) tools::refuse_run_output(*png, run_dir, "screenshot");
   if (auto dir = args.get("out-dir")) tools::refuse_run_output(*dir, run_dir, "out-dir");
+  const uint32_t exit_after = parse_number<uint32_t>("exit-after", args.get_or("exit-after", "0"));
+  // Test runs (--exit-after) see full-resolution frames unless they ask for the adaptive scale.
+  const std::string budget_text = args.get_or("frame-budget-ms", exit_after ? "0" : "100");
+  const double frame_budget_ms = parse_number<double>("frame-budget-ms", budget_text);
+  if (!(frame_budget_ms >= 0))
+    throw std::invalid_argument("--frame-budget-ms: expected 0 (always full resolution) or a time in ms, got '" +
+                                budget_text + "'");
   const scene::TrainedRun run = scene::read_trained_run(run_dir);
 
   if (args.get("screenshot")) {
@@ -71,13 +80,15 @@ int cmd_view(const std::vector<std::string>& argv) {
                                 .camera = camera,
                                 .time = time,
                                 .play = args.flag("play"),
-                                .exit_after = parse_number<uint32_t>("exit-after", args.get_or("exit-after", "0")),
+                                .exit_after = exit_after,
                                 .out_dir = args.get_or("out-dir", (run_dir / "viewer").string()),
                                 .record = args.get_or("record", "")};
   if (args.get("size")) std::tie(options.width, options.height) = parse_size("size", *args.get("size"));
+  options.frame_budget_ms = frame_budget_ms;
   const viewer::ViewerSummary summary = viewer::run_viewer(run, options);
   std::cout << "presented " << summary.frames << " frames on " << summary.device << ", mean frame "
-            << summary.mean_frame_ms << " ms\n";
+            << summary.mean_frame_ms << " ms; rasterized " << summary.rasterized << " at mean scale "
+            << summary.mean_scale << ", " << summary.mean_rasterized_ms << " ms each\n";
   return 0;
 #else
   throw std::runtime_error("this build has no viewer window (configured with S4D_BUILD_VIEWER=OFF); "

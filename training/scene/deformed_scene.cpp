@@ -48,6 +48,7 @@ DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& cano
 }
 
 splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
+  if (last_ && last_->first == time) return last_->second;  // nothing else writes the deformed buffers
   splat::GaussianParams p = canonical_.params(sh_degree_);
   const uint32_t heads = field_.config().heads;
   auto out = [&](uint32_t bit, engine::Buffer& b) { return (heads & bit) ? &b : nullptr; };
@@ -83,6 +84,7 @@ splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
   if (deformed.quats) p.quats = deformed.quats;
   if (deformed.opacity_logits) p.opacity_logits = deformed.opacity_logits;
   if (deformed.sh) p.sh = deformed.sh;
+  last_.emplace(time, p);
   return p;
 }
 

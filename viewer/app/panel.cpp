@@ -21,6 +21,7 @@ PanelActions draw_panel(const PanelInfo& info, Playback& playback, StyleSelectio
   ImGui::Text("%s", info.device.c_str());
   ImGui::Text("%u Gaussians, %ux%u", info.gaussians, info.width, info.height);
   ImGui::Text("frame %.1f ms (render %.1f ms)", info.frame_ms, info.render_ms);
+  ImGui::Text("rendered at %ux%u", info.render_width, info.render_height);
 
   section("time");
   float t = static_cast<float>(playback.time);

@@ -15,7 +15,8 @@ struct PanelInfo {
   uint32_t gaussians = 0;
   uint32_t width = 0, height = 0;
   double frame_ms = 0;   // wall time of the last frame loop iteration
-  double render_ms = 0;  // rasterize + pack of the last frame
+  double render_ms = 0;  // rasterize + pack of the last frame (near 0 when it reused the last pixels)
+  uint32_t render_width = 0, render_height = 0;  // the last rasterized image (smaller while moving)
   bool dynamic = false;  // the scene moves with time
   const std::vector<std::string>* cameras = nullptr;
   const std::vector<std::string>* styles = nullptr;

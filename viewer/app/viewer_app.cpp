@@ -16,6 +16,7 @@
 #include "s4d/engine/recorder.h"
 #include "s4d/scene/download_cloud.h"
 #include "s4d/splat/scene_upload.h"
+#include "s4d/viewer/adaptive_resolution.h"
 #include "s4d/viewer/camera_control.h"
 #include "s4d/viewer/camera_path.h"
 #include "s4d/viewer/dataset_cameras.h"
@@ -75,6 +76,21 @@ void record_copy(engine::Recorder& rec, const engine::Buffer& pixels, VkImage im
   vkCmdCopyBufferToImage(rec.handle(), pixels.handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
 }
 
+// What a frame shows: when all of it equals the last rendered frame's, that frame's pixels stand.
+struct FrameView {
+  splat::Camera camera;
+  double time = 0;
+  StyleSelection style;
+  PixelOrder order = PixelOrder::rgba;
+};
+
+bool same_view(const FrameView& a, const FrameView& b) {
+  const splat::Camera &p = a.camera, &q = b.camera;
+  return p.world_to_cam == q.world_to_cam && p.fx == q.fx && p.fy == q.fy && p.cx == q.cx && p.cy == q.cy &&
+         p.width == q.width && p.height == q.height && a.time == b.time && a.style.style == b.style.style &&
+         a.style.mix == b.style.mix && a.style.alpha == b.style.alpha && a.order == b.order;
+}
+
 }  // namespace
 
 ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& options) {
@@ -123,8 +139,14 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
                  .cameras = &camera_names,
                  .styles = &run.styles};
   ViewerSummary summary{.device = ctx.info().name};
-  double total_ms = 0;
+  double total_ms = 0, total_scale = 0, total_raster_ms = 0;
+  uint64_t measured = 0;  // rasterized frames whose time was measured (all but a last one)
   uint64_t last_submit = 0;
+  AdaptiveResolution resolution({.budget_ms = options.frame_budget_ms});
+  std::optional<FrameView> shown;  // what renderer.pixels() hold
+  std::chrono::steady_clock::time_point changed_at;  // when the view last changed
+  // The last rasterized frame, measured once its submission completes: start time and scale.
+  std::optional<std::pair<std::chrono::steady_clock::time_point, double>> measuring;
   bool recreate = false;
   auto last = std::chrono::steady_clock::now();
 
@@ -175,6 +197,13 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
 
     // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
     if (last_submit) ctx.wait(last_submit);
+    if (measuring) {  // start of the render to its pixels on screen, the panel's work included
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count();
+      resolution.measured(ms, measuring->second);
+      total_raster_ms += ms, ++measured;
+      measuring.reset();
+    }
     const std::optional<uint32_t> image = swapchain.acquire();
     if (!image) {
       imgui.skip_frame();
@@ -183,7 +212,26 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     }
     const auto t0 = std::chrono::steady_clock::now();
     engine::Recorder rec(ctx, "viewer frame");
-    renderer.render(styles.source(), control.camera(info.width, info.height), playback.time, swapchain.pixel_order(), rec);
+    // Moving: the policy's scale. Still for the policy's settle time: refine to full resolution
+    // once, then reuse those pixels. A screenshot is always of a full-resolution frame.
+    const bool screenshot = in.screenshot || act.screenshot;
+    const FrameView view{.camera = control.camera(info.width, info.height),
+                         .time = playback.time,
+                         .style = styles.shown(),
+                         .order = swapchain.pixel_order()};
+    const bool changed = !shown || !same_view(*shown, view);
+    if (changed) changed_at = t0;
+    const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at).count();
+    if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
+      const double scale = changed && !screenshot ? resolution.scale(true) : 1.0;
+      renderer.render(styles.source(), view.camera, view.time, view.order, rec, scale);
+      shown = view;
+      measuring.emplace(t0, scale);
+      const splat::Camera small = scaled_camera(view.camera, scale);
+      info.render_width = small.width, info.render_height = small.height;
+      ++summary.rasterized;
+      total_scale += scale;
+    }
     record_copy(rec, renderer.pixels(), swapchain.image(*image), swapchain.extent());
     imgui.record(rec.handle(), *image, swapchain.extent());
     last_submit = ctx.submit(std::move(rec), {.wait = swapchain.acquired(),
@@ -194,7 +242,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     info.frame_ms = seconds * 1000;
 
     if (recording) path.add(control, info.width, info.height, playback.time);
-    if (in.screenshot || act.screenshot) {
+    if (screenshot) {
       ctx.wait(last_submit);
       fs::create_directories(out_dir);
       const fs::path file = next_free(out_dir, "screenshot", "png");
@@ -217,6 +265,8 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   if (recording && !path.empty())
     path.write(options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record);
   summary.mean_frame_ms = summary.frames > 1 ? total_ms / static_cast<double>(summary.frames - 1) : 0;
+  summary.mean_scale = summary.rasterized ? total_scale / static_cast<double>(summary.rasterized) : 0;
+  summary.mean_rasterized_ms = measured ? total_raster_ms / static_cast<double>(measured) : 0;
   return summary;
 }
 

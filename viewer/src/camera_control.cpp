@@ -44,6 +44,7 @@ void CameraControl::snap(const io::CameraView& camera, double pivot_depth) {
 }
 
 void CameraControl::rotate_about_pivot(const Vec3& axis, double angle) {
+  if (angle == 0) return;  // no input leaves the pose bit for bit (the viewer reuses still frames)
   position_ = add(pivot_, rotate(sub(position_, pivot_), axis, angle));
   for (Vec3& a : axes_) a = rotate(a, axis, angle);
   // Re-orthonormalise so many small turns do not accumulate drift.
@@ -66,6 +67,7 @@ void CameraControl::pan(double dx, double dy, double height) {
 }
 
 void CameraControl::zoom(double steps) {
+  if (steps == 0) return;
   const double distance = std::max(1e-3, norm(sub(pivot_, position_)) * std::pow(0.9, steps));
   position_ = sub(pivot_, scale(axes_[2], distance));
 }

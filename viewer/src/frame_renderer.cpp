@@ -1,6 +1,10 @@
 #include "s4d/viewer/frame_renderer.h"
 
+#include <stdexcept>
+#include <string>
+
 #include "s4d/primitives/shader_pipeline.h"
+#include "s4d/viewer/adaptive_resolution.h"
 #include "s4d_viewer.h"
 
 namespace s4d::viewer {
@@ -8,19 +12,52 @@ namespace s4d::viewer {
 FrameRenderer::FrameRenderer(engine::Context& ctx, const std::array<float, 3>& background)
     : ctx_(&ctx), background_(background), rasterizer_(ctx, "viewer rasterizer") {}
 
-splat::RenderStats FrameRenderer::render(scene::SceneSource& source, const splat::Camera& cam, double time,
-                                         PixelOrder order, engine::Recorder& rec) {
-  const splat::RenderStats stats = rasterizer_.forward(source.at(time, cam), cam, background_);
-  const uint32_t pixels = cam.width * cam.height;
-  if (pixels_.size() < size_t{pixels} * 4) pixels_ = engine::Buffer(*ctx_, "viewer pixels", size_t{pixels} * 4);
-  width_ = cam.width, height_ = cam.height, order_ = order;
-  const gpu::PackParams params{.pixels = pixels, .swap_rb = order == PixelOrder::bgra ? 1u : 0u, ._pad0 = 0, ._pad1 = 0};
+splat::Camera scaled_camera(const splat::Camera& cam, double scale) {
+  if (scale == 1) return cam;
+  splat::Camera out = cam;
+  out.width = scaled_size(cam.width, scale);
+  out.height = scaled_size(cam.height, scale);
+  const float sx = static_cast<float>(out.width) / static_cast<float>(cam.width);
+  const float sy = static_cast<float>(out.height) / static_cast<float>(cam.height);
+  out.fx = cam.fx * sx, out.cx = cam.cx * sx;
+  out.fy = cam.fy * sy, out.cy = cam.cy * sy;
+  return out;
+}
+
+void record_present_pack(engine::Context& ctx, engine::Recorder& rec, const engine::Buffer& rgb, uint32_t src_width,
+                         uint32_t src_height, const engine::Buffer& pixels, uint32_t width, uint32_t height,
+                         PixelOrder order) {
+  const size_t src = size_t{src_width} * src_height, dst = size_t{width} * height;
+  if (src_width == 0 || src_height == 0 || src_width > width || src_height > height)
+    throw std::invalid_argument("present_pack: source " + std::to_string(src_width) + "x" +
+                                std::to_string(src_height) + " must be non-empty and fit the output " +
+                                std::to_string(width) + "x" + std::to_string(height));
+  if (rgb.size() < src * 12 || pixels.size() < dst * 4)
+    throw std::invalid_argument("present_pack: buffer '" + std::string(rgb.size() < src * 12 ? rgb.name() : pixels.name()) +
+                                "' is too small for " + std::to_string(width) + "x" + std::to_string(height));
+  const gpu::PackParams params{.width = width,
+                               .height = height,
+                               .src_width = src_width,
+                               .src_height = src_height,
+                               .swap_rb = order == PixelOrder::bgra ? 1u : 0u,
+                               ._pad0 = 0,
+                               ._pad1 = 0,
+                               ._pad2 = 0};
   rec.begin_label("present_pack");
-  rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::present_pack),
-               {S4D_BIND(PACK_RGB, rasterizer_.rgb(), 0, size_t{pixels} * 12),
-                S4D_BIND(PACK_PIXELS, pixels_, 0, size_t{pixels} * 4)},
-               params, primitives::ceil_div(pixels, S4D_PACK_WG));
+  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::present_pack),
+               {S4D_BIND(PACK_RGB, rgb, 0, src * 12), S4D_BIND(PACK_PIXELS, pixels, 0, dst * 4)}, params,
+               primitives::ceil_div(dst, S4D_PACK_WG));
   rec.end_label();
+}
+
+splat::RenderStats FrameRenderer::render(scene::SceneSource& source, const splat::Camera& cam, double time,
+                                         PixelOrder order, engine::Recorder& rec, double scale) {
+  const splat::Camera small = scaled_camera(cam, scale);
+  const splat::RenderStats stats = rasterizer_.forward(source.at(time, small), small, background_);
+  const size_t pixels = size_t{cam.width} * cam.height;
+  if (pixels_.size() < pixels * 4) pixels_ = engine::Buffer(*ctx_, "viewer pixels", pixels * 4);
+  width_ = cam.width, height_ = cam.height, order_ = order, scale_ = scale;
+  record_present_pack(*ctx_, rec, rasterizer_.rgb(), small.width, small.height, pixels_, cam.width, cam.height, order);
   return stats;
 }
 

@@ -1,5 +1,6 @@
 // The viewer's camera: a pose moved by orbit, pan, zoom (mouse) and fly (keys), snapped to dataset
-// cameras, with the field of view of the last camera snapped to. Pure CPU math, no window.
+// cameras, with the field of view of the last camera snapped to. Pure CPU math, no window. Zero
+// input leaves the pose unchanged bit for bit, so the viewer can tell a still view.
 #pragma once
 #include <array>
 #include <string>

@@ -3,6 +3,7 @@
 // deform_to): the heads that are on replace the canonical means, scales, rotations, opacities or SH
 // with their deformed values; the others stay canonical.
 #pragma once
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -27,7 +28,9 @@ class DeformedScene final : public SceneSource {
                 std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> static_mask,
                 int sh_degree);
 
-  // Runs the field's forward pass at `time` (the camera is not read) and waits for it.
+  // Runs the field's forward pass at `time` (the camera is not read) and waits for it; the same time
+  // as the last call returns the last result without running it again (a viewer orbiting a paused
+  // scene).
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return canonical_.size(); }
   bool dynamic() const override { return true; }
@@ -44,6 +47,7 @@ class DeformedScene final : public SceneSource {
   // last) the ranges [first, end) in static_runs_, deformed with the rest and then copied back.
   uint32_t static_count_ = 0;
   std::vector<std::pair<uint32_t, uint32_t>> static_runs_;
+  std::optional<std::pair<double, splat::GaussianParams>> last_;  // the last at()'s time and result
 };
 
 }  // namespace s4d::scene
