@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "s4d/nn/weights.h"
+
 namespace s4d::nn {
 
 namespace {

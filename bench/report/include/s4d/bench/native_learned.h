@@ -1,7 +1,7 @@
 // The learned metrics `style4d bench` computes natively on the GPU from --metric-weights DIR:
 // content_lpips (stylised vs original frame) and style_lpips (frame vs the style image resized to
 // the frame) with LPIPS-VGG, dists (consecutive stylised frames, DISTS(f_t+1, f_t)) and
-// style_loss_gram (frame vs style image) with VGG19. Each network loads once per call; a key whose
+// style_loss_gram (frame vs style image) with VGG19, ckdn (pyiqa's ckdn(frame, style image)). Each network loads once per call; a key whose
 // files are absent from DIR (or with no DIR) gets the reason and the file names. Files, in DIR, as
 // tools/convert_weights.py writes them from:
 //   vgg16.safetensors           torchvision vgg16-397923af.pth    ("features.<i>.weight/bias")
@@ -11,6 +11,7 @@
 //   dists.safetensors           DISTS_pytorch/weights.pt          ("alpha", "beta")
 //   vgg_normalised.safetensors  AdaIN vgg_normalised.pth          ("0", "2", ...; --gram-vgg normalised, default)
 //   vgg19.safetensors           torchvision vgg19-dcbb9e9d.pth    ("features.<i>"; --gram-vgg torchvision)
+//   ckdn.safetensors            pyiqa CKDN_model_best-38b27dc6.pth  ("net.qse_1.weight", ...)
 #pragma once
 #include <filesystem>
 #include <map>
@@ -21,6 +22,7 @@
 
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
+#include "s4d/metrics/ckdn.h"
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/gram_loss.h"
 #include "s4d/metrics/lpips.h"
@@ -52,7 +54,7 @@ class NativeLearned {
   std::string convention(const std::string& key) const;
 
   // Appends one frame's values to per_frame for the keys in `keys` (empty: all): content_lpips
-  // (stylised, original); with a style image style_lpips and style_loss_gram; when the frame
+  // (stylised, original); with a style image style_lpips, style_loss_gram and ckdn; when the frame
   // follows the previous call's frame in its video (`follows`), dists of the pair. The style image's
   // features are cached per path and size, the previous frame's DISTS stages until the next call.
   void score_frame(const io::ImageF& stylised, const io::ImageF& original, const std::filesystem::path& style_image,
@@ -64,6 +66,7 @@ class NativeLearned {
   std::unique_ptr<metrics::Lpips> lpips_;
   std::unique_ptr<metrics::GramStyleLoss> gram_;
   std::unique_ptr<metrics::Dists> dists_;
+  std::unique_ptr<metrics::Ckdn> ckdn_;
   std::map<std::string, std::string> unavailable_;
   // Style image caches: the image itself, its LPIPS taps at a frame size, its Gram matrices.
   mutable std::filesystem::path style_path_;
