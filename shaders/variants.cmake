@@ -64,4 +64,6 @@ set(S4D_SHADER_VARIANTS
   "nn_attn_scores|nn/nn_attn_scores.comp"
   "nn_softmax_rows|nn/nn_softmax_rows.comp"
   "nn_attn_apply|nn/nn_attn_apply.comp"
+  # ResNet (CKDN)
+  "nn_subsample2|nn/nn_subsample2.comp"
 )

@@ -149,8 +149,8 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
-// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample.
-TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling match their twins exactly") {
+// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample, nn_subsample2.
+TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and subsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
     const auto x = test::random_chw(3, h, w, rng);
@@ -159,6 +159,10 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling mat
     CHECK(max_rel(pooled, ref::maxpool2_ceil(to_double(x)).v) == 0.0);
     const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
     CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
+    const auto sub = nn::download(context(), run([&](engine::Recorder& r) { return nn::subsample2(r, gx); }));
+    const auto sub_twin = ref::subsample2(to_double(x));
+    REQUIRE(sub.size() == size_t{3} * ((h + 1) / 2) * ((w + 1) / 2));
+    CHECK(max_rel(sub, sub_twin.v) == 0.0);
   }
   // Floor mode (torchvision's VGG) through the same kernel: odd last rows and columns are dropped.
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {2, 3}}) {

@@ -198,6 +198,10 @@ Tensor l2pool(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_l2pool, (x.h + 1) / 2, (x.w + 1) / 2, "l2pool");
 }
 
+Tensor subsample2(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_subsample2, (x.h + 1) / 2, (x.w + 1) / 2, "subsample2");
+}
+
 Tensor upsample2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_upsample, 2 * x.h, 2 * x.w, "upsample");
 }

@@ -47,6 +47,8 @@ Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad = 0);
 // DISTS's L2pooling(filter_size=5, stride=2): sqrt(conv(x^2, [1 2 1]^T [1 2 1] / 16, stride 2,
 // zero padding 1) + 1e-12) per channel: [c, ceil(h/2), ceil(w/2)].
 Tensor l2pool(engine::Recorder& rec, const Tensor& x);
+// x[c, 2 y, 2 x]: [c, ceil(h / 2), ceil(w / 2)]; conv1x1 of it is Conv2d(k=1, stride=2).
+Tensor subsample2(engine::Recorder& rec, const Tensor& x);
 // Upsample(scale_factor=2, mode='nearest').
 Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 

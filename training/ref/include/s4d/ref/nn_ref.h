@@ -173,6 +173,16 @@ Chw<T> upsample2(const Chw<T>& x) {
   return y;
 }
 
+// x[c, 2 y, 2 x]: [c, ceil(h / 2), ceil(w / 2)] (a 1x1 stride-2 convolution's sampling).
+template <class T>
+Chw<T> subsample2(const Chw<T>& x) {
+  Chw<T> y(x.c, (x.h + 1) / 2, (x.w + 1) / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) y.at(ch, py, px) = x.at(ch, 2 * py, 2 * px);
+  return y;
+}
+
 // AdaIN's calc_mean_std: [2, c] = per-channel means, then sqrt(unbiased variance + eps).
 template <class T>
 std::vector<T> mean_std(const Chw<T>& x, T eps) {
