@@ -3,7 +3,8 @@
 // and one for the degraded reference y ("dte"), each Conv2d(3, 64, 7, stride 2, padding 3, no bias,
 // no BatchNorm or ReLU after it), MaxPool2d(3, 2, padding 1) and torchvision's layer1 (3 Bottlenecks,
 // 256 channels). Their difference (x - y) goes through layer2 ("csp": 4 Bottlenecks, 512 channels,
-// the stride 2 in the first block's 3x3 convolution, as torchvision's ResNet v1.5), a global average
+// the stride 2 in the first block's 3x3 convolution, as torchvision's ResNet v1.5; stride-2
+// convolutions run as subsample2 of, or before, the tiled stride-1 kernels), a global average
 // and the MLP fc_ = Linear(512, 2048), ReLU, Linear(2048, 2048), ReLU, Linear(2048, 1) (dropout off);
 // the score is the sigmoid of that logit (host). aux_csp and fc1_ are in the checkpoint but not in
 // the forward pass.
