@@ -1,11 +1,16 @@
 // The fused style-MLP rasterizer (GaussianParams::style) against the plain rasterizer on the same
-// random scene (splat_scene.h) and device: wall-clock forward() and backward() of each, measured
-// alternately so load changes on a shared machine hit both alike. One JSON line per (size,
+// scene (splat_scene.h) and device: wall-clock forward() and backward() of each, measured
+// alternately so load changes on a shared machine hit both alike, with tile instances,
+// pixel-Gaussian pairs and the time of each stage (run::stage_ms_json). One JSON line per (scene,
 // variant) on stdout, with the 1-minute load average around the point; a table on stderr. The
-// smallest size's style image is checked against the CPU twin. Timings are never pass/fail.
+// smallest scene's style image is checked against the CPU twin. Timings are never pass/fail.
 //
-//   s4d_bench_style_splat [--sizes 128x128:1000,...] [--repeats 5] [--depth ndc|relative] [--cas]
+//   s4d_bench_style_splat [--sizes 128x128:1000,... | --ply F --cameras transforms.json [--camera K]
+//                          | --suite peer] [--repeats 5] [--depth ndc|relative] [--cas]
 //
+// The scenes are s4d_bench_splat's: --sizes seeded random ones, --ply a 3DGS PLY seen by camera K
+// (default 0) of a transforms.json, --suite peer the PyTorch peer's kind of scene (peer_scene.h) at
+// 1,000 Gaussians @ 128x128, 10,000 @ 256x256 and 100,000 @ 512x512.
 // The MLPs are SuperGaussians' initialisation: weights uniform in (-0.5, 0.5), biases zero.
 #include <nlohmann/json.hpp>
 
@@ -26,6 +31,10 @@
 #include "s4d/engine/context.h"
 #include "s4d/ref/style_raster_ref.h"
 #include "s4d/splat/rasterizer.h"
+#include "peer_scene.h"
+#include "scene_options.h"
+#include "s4d/engine/stage_timer.h"
+#include "s4d/run/stage_times.h"
 #include "splat_bench.h"
 #include "splat_scene.h"
 
@@ -36,30 +45,19 @@ using namespace s4d;
 
 constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
 
-struct Options {
-  std::vector<bench::SplatPoint> points = {{128, 128, 1000}, {256, 256, 10000}};
+struct Options : bench::SceneOptions {
+  Options() { points = {{128, 128, 1000}, {256, 256, 10000}}; }
   int repeats = 5;
   ref::StyleDepth depth = ref::StyleDepth::ndc;
   bool cas = false;
 };
 
-bench::SplatPoint parse_point(const std::string& s) {
-  const size_t x = s.find('x'), colon = s.find(':');
-  if (x == std::string::npos || colon == std::string::npos || colon < x)
-    throw std::invalid_argument("size '" + s + "' is not WxH:N");
-  return {.width = static_cast<uint32_t>(std::stoul(s.substr(0, x))),
-          .height = static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
-          .gaussians = static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
-}
-
 std::optional<Options> parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i], value = i + 1 < argc ? argv[i + 1] : "";
-    if (a == "--sizes" && !value.empty()) {
-      o.points.clear();
-      std::stringstream ss(argv[++i]);
-      for (std::string tok; std::getline(ss, tok, ',');) o.points.push_back(parse_point(tok));
+    if (bench::parse_scene_option(argc, argv, i, o)) {
+      continue;
     } else if (a == "--repeats" && !value.empty()) {
       o.repeats = std::stoi(argv[++i]);
     } else if (a == "--depth" && (value == "ndc" || value == "relative")) {
@@ -73,7 +71,10 @@ std::optional<Options> parse(int argc, char** argv) {
       throw std::invalid_argument("unknown or incomplete option '" + a + "'");
     }
   }
-  if (o.points.empty() || o.repeats < 1) throw std::invalid_argument("need at least one size and one repeat");
+  bench::check_scene_options(o);
+  if (o.repeats < 1) throw std::invalid_argument("need at least one repeat");
+  if (o.peer_suite) o.points = bench::kPeerSuite;
+  if (!o.ply.empty()) o.points = {{}};  // one scene, from the files
   return o;
 }
 
@@ -127,7 +128,7 @@ struct Device {
              .sh = &sh,
              .count = static_cast<uint32_t>(g.size()),
              .sh_degree = static_cast<uint32_t>(g.sh_degree),
-             .sh_coeffs = bench::kSceneShCoeffs};
+             .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
     styled = plain;
     styled.style = &style;
     grads = {.v_means = &v_means,
@@ -142,22 +143,38 @@ struct Device {
 struct Measured {
   std::vector<double> fwd, bwd;
   splat::RenderStats stats;
+  engine::StageTotals stages;
 };
 
 void run_once(splat::Rasterizer& r, const splat::GaussianParams& p, Device& d, const splat::Camera& cam,
               Measured& m, bool record) {
+  engine::StageTimer timer(r.context(), run::kStepStages);  // one per run: the variants alternate
+  std::optional<engine::StageTimer::Window> window(std::in_place, record ? &timer : nullptr);
   const auto t0 = std::chrono::steady_clock::now();
   m.stats = r.forward(p, cam, kBackground);
   const double fwd = ms_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
   r.backward(p, {.v_rgb = &d.v_rgb}, d.grads);
   const double bwd = ms_since(t1);
-  if (record) m.fwd.push_back(fwd), m.bwd.push_back(bwd);
+  window.reset();
+  if (record) m.fwd.push_back(fwd), m.bwd.push_back(bwd), m.stages += timer.totals();
 }
 
-// Measures one point; false when the twin check fails.
-bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint& pt, const Options& o, bool twin) {
-  const bench::SplatScene scene = bench::make_splat_scene(pt.width, pt.height, pt.gaussians, 1);
+// The scene of one point: a random one, the peer's, or the files'.
+bench::SplatScene make_scene(const bench::SplatPoint& pt, const Options& o) {
+  if (!o.ply.empty()) return bench::load_splat_scene(o.ply, o.cameras, o.camera);
+  if (o.peer_suite) {
+    const bench::PeerScene peer = bench::make_peer_scene(pt.gaussians, pt.width, pt.height);
+    return bench::to_splat_scene(peer.cloud, peer.cameras[0]);
+  }
+  return bench::make_splat_scene(pt.width, pt.height, pt.gaussians, 1);
+}
+
+// Measures one scene; false when the twin check fails.
+bool run_point(engine::Context& ctx, const json& device, const bench::SplatScene& scene, const Options& o, bool twin) {
+  const bench::SplatPoint pt{.width = static_cast<uint32_t>(scene.camera.width),
+                             .height = static_cast<uint32_t>(scene.camera.height),
+                             .gaussians = static_cast<uint32_t>(scene.gaussians.size())};
   ref::StyleMlp<float> mlp;
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(-0.5f, 0.5f);
@@ -186,7 +203,10 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint
 
   bool ok = true;
   json base = device;
+  base["scene"] = !o.ply.empty() ? "file" : o.peer_suite ? "peer" : "random";
+  if (!o.ply.empty()) base.update({{"ply", o.ply}, {"cameras", o.cameras}, {"camera", o.camera}});
   base.update({{"bench", "style_splat"},
+               {"sh_degree", scene.gaussians.sh_degree},
                {"width", pt.width},
                {"height", pt.height},
                {"n_gaussians", pt.gaussians},
@@ -198,11 +218,17 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint
                {"repeats", o.repeats},
                {"loadavg_1m_before", load_before},
                {"loadavg_1m_after", load_after}});
+  const size_t pixels_n = size_t{pt.width} * pt.height;
   for (const bool style : {false, true}) {
     const bench::Timing& f = style ? sf : pf;
     const bench::Timing& b = style ? sb : pb;
+    const bench::PixelPairs pairs = bench::count_pixel_pairs(ctx, style ? styled : plain, pixels_n);
     json line = base;
     line.update({{"variant", style ? "style" : "plain"},
+                 {"pixel_pairs_listed", uint64_t{(style ? ms : mp).stats.instances} * S4D_TILE_PIXELS},
+                 {"pixel_pairs_evaluated", pairs.evaluated},
+                 {"pixel_pairs_blended", pairs.blended},
+                 {"stage_ms", run::stage_ms_json((style ? ms : mp).stages, static_cast<uint64_t>(o.repeats))},
                  {"ms_fwd_p50", f.ms_p50}, {"ms_fwd_min", f.ms_min}, {"ms_fwd_max", f.ms_max},
                  {"ms_bwd_p50", b.ms_p50}, {"ms_bwd_min", b.ms_min}, {"ms_bwd_max", b.ms_max},
                  {"fwd_ratio_to_plain", f.ms_p50 / pf.ms_p50}, {"bwd_ratio_to_plain", b.ms_p50 / pb.ms_p50}});
@@ -227,7 +253,8 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatPoint
 
 int main(int argc, char** argv) {
   const char* usage =
-      "usage: s4d_bench_style_splat [--sizes WxH:N,...] [--repeats R] [--depth ndc|relative] [--cas]\n";
+      "usage: s4d_bench_style_splat [--sizes WxH:N,... | --ply F --cameras transforms.json [--camera K] | --suite peer]\n"
+      "                             [--repeats R] [--depth ndc|relative] [--cas]\n";
   std::optional<Options> parsed;
   try {
     parsed = parse(argc, argv);
@@ -253,7 +280,7 @@ int main(int argc, char** argv) {
     for (size_t i = 1; i < o.points.size(); ++i)
       if (pixels(o.points[i]) < pixels(o.points[twin_at])) twin_at = i;
     for (size_t i = 0; i < o.points.size(); ++i)
-      all_ok = run_point(ctx, device, o.points[i], o, i == twin_at) && all_ok;
+      all_ok = run_point(ctx, device, make_scene(o.points[i], o), o, i == twin_at) && all_ok;
   } catch (const std::exception& e) {
     std::cerr << "s4d_bench_style_splat: error: " << e.what() << "\n";
     return 1;

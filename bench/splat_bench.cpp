@@ -14,9 +14,8 @@
 #include "s4d/engine/buffer_from.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/primitives/shader_pipeline.h"
-#include "s4d/splat/rasterizer.h"
+#include "s4d/run/stage_times.h"
 #include "s4d_splat.h"
-#include "splat_scene.h"
 
 namespace s4d::bench {
 
@@ -42,7 +41,7 @@ struct DeviceScene {
               .sh = &sh,
               .count = static_cast<uint32_t>(g.size()),
               .sh_degree = static_cast<uint32_t>(g.sh_degree),
-              .sh_coeffs = kSceneShCoeffs};
+              .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
   }
   size_t bytes() const { return means.size() + log_scales.size() + quats.size() + opacity_logits.size() + sh.size(); }
 };
@@ -96,10 +95,20 @@ double max_abs_diff(const std::vector<float>& gpu, const std::vector<float>& twi
 
 }  // namespace
 
-SplatTiming bench_splat(engine::Context& ctx, SplatPoint point, int repeats, bool backward, bool check_twin,
+PixelPairs count_pixel_pairs(engine::Context& ctx, const splat::Rasterizer& raster, size_t pixels) {
+  const auto sum = [&](const engine::Buffer& b) {
+    const std::vector<uint32_t> v = ctx.download<uint32_t>(b, pixels);
+    return std::accumulate(v.begin(), v.end(), uint64_t{0});
+  };
+  return {.blended = sum(raster.contributors()), .evaluated = sum(raster.last_contributor())};
+}
+
+SplatTiming bench_splat(engine::Context& ctx, const SplatScene& scene, int repeats, bool backward, bool check_twin,
                         uint32_t seed) {
+  const SplatPoint point{.width = static_cast<uint32_t>(scene.camera.width),
+                         .height = static_cast<uint32_t>(scene.camera.height),
+                         .gaussians = static_cast<uint32_t>(scene.gaussians.size())};
   SplatTiming t{.point = point};
-  const SplatScene scene = make_splat_scene(point.width, point.height, point.gaussians, seed);
   const splat::Camera cam = to_gpu_camera(scene.camera);
   const size_t pixels = size_t{point.width} * point.height;
   const DeviceScene dev(ctx, scene.gaussians);
@@ -109,7 +118,9 @@ SplatTiming bench_splat(engine::Context& ctx, SplatPoint point, int repeats, boo
 
   std::vector<double> fwd_ms, fwdbwd_ms;
   splat::RenderStats stats;
+  engine::StageTimer timer(ctx, run::kStepStages);
   for (int r = -1; r < repeats; ++r) {  // run -1 grows the buffers and compiles pipelines; not counted
+    const engine::StageTimer::Window window(r < 0 ? nullptr : &timer);
     const auto t0 = std::chrono::steady_clock::now();
     stats = raster.forward(dev.params, cam, kBackground);
     const auto t1 = std::chrono::steady_clock::now();
@@ -119,14 +130,16 @@ SplatTiming bench_splat(engine::Context& ctx, SplatPoint point, int repeats, boo
     fwd_ms.push_back(ms_between(t0, t1));
     if (backward) fwdbwd_ms.push_back(ms_between(t0, t2));
   }
+  t.stages = timer.totals();
   t.fwd = summarise_ms(std::move(fwd_ms));
   if (backward) t.fwdbwd = summarise_ms(std::move(fwdbwd_ms));
   t.instances = stats.instances;
   t.longest_tile_list = stats.longest_tile_list;
   t.tiles = primitives::ceil_div(point.width, S4D_TILE_SIZE) * primitives::ceil_div(point.height, S4D_TILE_SIZE);
   t.pixel_pairs_listed = uint64_t{stats.instances} * S4D_TILE_PIXELS;
-  const std::vector<uint32_t> contributors = ctx.download<uint32_t>(raster.contributors(), pixels);
-  t.pixel_pairs_blended = std::accumulate(contributors.begin(), contributors.end(), uint64_t{0});
+  const PixelPairs pairs = count_pixel_pairs(ctx, raster, pixels);
+  t.pixel_pairs_blended = pairs.blended;
+  t.pixel_pairs_evaluated = pairs.evaluated;
   t.device_bytes = raster.device_bytes() + dev.bytes() + (grads ? grads->bytes() : 0);
 
   if (check_twin) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 namespace s4d::bench {
 
@@ -35,6 +37,30 @@ SplatScene make_splat_scene(uint32_t width, uint32_t height, uint32_t n, uint32_
       for (int ch = 0; ch < 3; ++ch) g.sh.push_back(k == 0 ? 1.2f * u(rng) : 0.3f * u(rng));
   }
   return s;
+}
+
+SplatScene to_splat_scene(const io::GaussianCloud& cloud, const io::CameraView& view) {
+  SplatScene s;
+  s.gaussians = {.means = cloud.means,
+                 .log_scales = cloud.log_scales,
+                 .quats = cloud.quats,
+                 .opacity_logits = cloud.opacity_logits,
+                 .sh = cloud.sh,
+                 .colors = {},
+                 .sh_degree = cloud.sh_degree};
+  for (size_t k = 0; k < 16; ++k) s.camera.world_to_cam[k] = static_cast<float>(view.world_to_cam[k]);
+  s.camera.fx = static_cast<float>(view.fx), s.camera.fy = static_cast<float>(view.fy);
+  s.camera.cx = static_cast<float>(view.cx), s.camera.cy = static_cast<float>(view.cy);
+  s.camera.width = view.width, s.camera.height = view.height;
+  return s;
+}
+
+SplatScene load_splat_scene(const std::filesystem::path& ply, const std::filesystem::path& cameras, size_t camera) {
+  const std::vector<io::CameraView> views = io::read_nerf_cameras(cameras);
+  if (camera >= views.size())
+    throw std::invalid_argument(cameras.string() + ": field 'frames': camera " + std::to_string(camera) +
+                                " asked for, the file has " + std::to_string(views.size()));
+  return to_splat_scene(io::read_ply_gaussians(ply), views[camera]);
 }
 
 splat::Camera to_gpu_camera(const ref::Camera<float>& cam) {

@@ -48,7 +48,8 @@ set(S4D_SHADER_VARIANTS
   "present_pack|viewer/present_pack.comp"
   "nn_conv3x3|nn/nn_conv3x3.comp|S4D_NN_CONV_PAD_ZERO=0"
   "nn_conv3x3_zero|nn/nn_conv3x3.comp|S4D_NN_CONV_PAD_ZERO=1"
-  "nn_conv1x1|nn/nn_conv1x1.comp"
+  "nn_conv1x1|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=0"
+  "nn_conv1x1_rows|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=1"
   "nn_conv_strided|nn/nn_conv_strided.comp"
   "nn_relu|nn/nn_relu.comp"
   "nn_maxpool|nn/nn_maxpool.comp"
@@ -63,7 +64,11 @@ set(S4D_SHADER_VARIANTS
   "nn_resize_nearest|nn/nn_resize_nearest.comp"
   "nn_attn_scores|nn/nn_attn_scores.comp"
   "nn_softmax_rows|nn/nn_softmax_rows.comp"
-  "nn_attn_apply|nn/nn_attn_apply.comp"
+  "nn_attn_apply|nn/nn_attn_apply.comp|S4D_NN_ATTN_AVERAGE=0"
+  "nn_attn_average|nn/nn_attn_apply.comp|S4D_NN_ATTN_AVERAGE=1"
+  "nn_layernorm|nn/nn_layernorm.comp"
+  "nn_gelu|nn/nn_gelu.comp"
+  "nn_vit_embed|nn/nn_vit_embed.comp"
   # ResNet (CKDN)
   "nn_subsample2|nn/nn_subsample2.comp"
 )

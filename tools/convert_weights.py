@@ -12,6 +12,10 @@ KIND (docs/bench.md, "Learned metrics", has the table of files):
   dists                  DISTS_pytorch/weights.pt ("alpha", "beta"), or pyiqa's DISTS_weights-f5e65c96.pth,
                          whose VGG16 ("stage<s>.<i>") also becomes vgg16.safetensors
   vgg_normalised         AdaIN's vgg_normalised.pth (nn.Sequential names "0", "2", ...)
+  dino_vitb16            DINO's dino_vitbase16_pretrain.pth (vision_transformer.py names: cls_token,
+                         pos_embed, patch_embed.proj, blocks.<i>.norm1/attn.qkv/attn.proj/norm2/mlp.fc1/
+                         mlp.fc2, norm) -> dino_vitb16.safetensors; width, depth, patch and grid are read
+                         from the shapes (ViT-B/16: 768, 12, 16, 14) and every tensor checked against them
   ckdn                   pyiqa's CKDN_model_best-38b27dc6.pth (pyiqa's CKDN module: "net.qse_1.weight", ...)
                          -> ckdn.safetensors with the tensors its forward pass reads (the branch stems
                          qse_*/dte_*, csp, fc_; aux_csp, fc1_ and num_batches_tracked are dropped)
@@ -75,6 +79,33 @@ def adain_vgg_normalised():
         spec.update(conv(str(index), v, cin, 3))
         cin, index = v, index + 3
     return spec
+
+
+def dino_vit(path, t):
+    """DINO vision_transformer.py's state dict, its dimensions taken from cls_token [1, 1, D],
+    patch_embed.proj.weight [D, 3, P, P], pos_embed [1, 1 + g^2, D], the blocks.<i> present and
+    blocks.0.mlp.fc1.weight [M, D]."""
+    for name in ("cls_token", "pos_embed", "patch_embed.proj.weight", "blocks.0.mlp.fc1.weight"):
+        if name not in t:
+            raise ConvertError("%s: missing %s (DINO ViT)" % (path, name))
+    d, p, m = t["cls_token"].shape[-1], t["patch_embed.proj.weight"].shape[-1], t["blocks.0.mlp.fc1.weight"].shape[0]
+    g = int(round((t["pos_embed"].shape[1] - 1) ** 0.5))
+    depth = 0
+    while "blocks.%d.norm1.weight" % depth in t:
+        depth += 1
+    spec = {"cls_token": [1, 1, d], "pos_embed": [1, 1 + g * g, d], "norm.weight": [d], "norm.bias": [d],
+            "patch_embed.proj.weight": [d, 3, p, p], "patch_embed.proj.bias": [d]}
+    for i in range(depth):
+        b = "blocks.%d." % i
+        for name, shape in (("norm1", [d]), ("norm2", [d])):
+            spec.update({b + name + ".weight": shape, b + name + ".bias": shape})
+        for name, cout, cin in (("attn.qkv", 3 * d, d), ("attn.proj", d, d), ("mlp.fc1", m, d), ("mlp.fc2", d, m)):
+            spec.update({b + name + ".weight": [cout, cin], b + name + ".bias": [cout]})
+    out = check(path, t, spec, "DINO ViT (width %d, %d blocks, patch %d, grid %d, MLP %d)" % (d, depth, p, g, m))
+    if (d, depth, p, g, m) != (768, 12, 16, 14, 3072):
+        print("note: %s is not DINO ViT-B/16 (width %d, %d blocks, patch %d); VBench's subject consistency uses "
+              "dino_vitbase16_pretrain.pth" % (path, d, depth, p))
+    return out
 
 
 def ckdn():
@@ -224,13 +255,19 @@ def convert(kind, path):
         if backbone:
             out["vgg16.safetensors"] = check(path, backbone, torchvision_vgg("vgg16"), "DISTS's VGG16 (stage*)")
         return out
+    if kind == "dino_vitb16":
+        # DINO's full training checkpoints hold student/teacher dicts with heads: the pretrain file is the backbone.
+        refuse_unknown(path, t, [r"cls_token", r"pos_embed", r"patch_embed\.proj\.(weight|bias)", r"norm\.(weight|bias)",
+                                 r"blocks\.\d+\.(norm1|norm2|attn\.qkv|attn\.proj|mlp\.fc1|mlp\.fc2)\.(weight|bias)"], kind)
+        return {"dino_vitb16.safetensors": dino_vit(path, t)}
     if kind == "ckdn":
         refuse_unknown(path, t, [r"net\.(qse|dte)_1\.weight",
                                  r"net\.(qse_2|dte_2|csp|aux_csp)\.\d+\.(conv\d|bn\d|downsample\.[01])\."
                                  r"(weight|bias|running_mean|running_var|num_batches_tracked)",
                                  r"net\.(fc_|fc1_)\.[036]\.(weight|bias)"], kind)
         return {"ckdn.safetensors": check(path, t, ckdn(), "pyiqa CKDN")}
-    raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, ckdn)" % kind)
+    raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, dino_vitb16, "
+                       "ckdn)" % kind)
 
 
 def main(argv):

@@ -139,7 +139,8 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     };
     for (const auto& [key, why] : o.learned->unavailable())
       if (scored_here(key)) r.unavailable[key] = why;
-    if (styl.size() < 2 && o.learned->computes("dists") && scored_here("dists")) r.unavailable["dists"] = "needs at least 2 frames";
+    for (const char* key : {"dists", "dino_score"})
+      if (styl.size() < 2 && o.learned->computes(key) && scored_here(key)) r.unavailable[key] = "needs at least 2 frames";
     if (o.style_image.empty())
       for (const char* key : {"style_lpips", "style_loss_gram", "ckdn"})
         if (o.learned->computes(key) && scored_here(key))

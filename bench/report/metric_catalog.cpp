@@ -31,7 +31,7 @@ std::vector<MetricEntry> build() {
        needs("vgg16.safetensors and dists.safetensors", "torchvision vgg16-397923af.pth and DISTS_pytorch/weights.pt")},
       {"warp_loss", "Warp", false, "native (s4d::metrics::warp_error)", "", std::nullopt},
       {"dino_score", "Subject", true, "VBench subject consistency (DINO ViT-B/16)", "CLS cosine to previous and first frame",
-       needs("", "DINO ViT-B/16 dino_vitbase16_pretrain.pth")},
+       needs("dino_vitb16.safetensors", "DINO's ViT-B/16 dino_vitbase16_pretrain.pth")},
       {"ckdn", "CKDN", true, "pyiqa ckdn", "x = stylised frame, y = style image, 288x288 centre crop",
        needs("ckdn.safetensors", "pyiqa's CKDN_model_best-38b27dc6.pth")},
       {"style_lpips", "Style LPIPS", false, "LPIPS v0.1 VGG or AlexNet (frame vs style image resized to the frame)", "[0,1] -> [-1,1]",

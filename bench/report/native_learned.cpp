@@ -19,6 +19,7 @@ constexpr const char* kLpipsAlex = "lpips_alex.safetensors";
 constexpr const char* kVggNormalised = "vgg_normalised.safetensors";
 constexpr const char* kVgg19 = "vgg19.safetensors";
 constexpr const char* kDists = "dists.safetensors";
+constexpr const char* kDino = "dino_vitb16.safetensors";
 constexpr const char* kCkdn = "ckdn.safetensors";
 
 bool wanted(const std::vector<std::string>& keys, const char* key) {
@@ -58,7 +59,8 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
 }  // namespace
 
 const std::vector<std::string>& native_learned_keys() {
-  static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram", "ckdn"};
+  static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram",
+                                                   "dino_score", "ckdn"};
   return keys;
 }
 
@@ -106,6 +108,10 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
                     ? std::string(", or pass --gram-vgg ") + (normalised ? "torchvision to use the vgg19.safetensors there"
                                                                          : "normalised to use the vgg_normalised.safetensors there")
                     : "");
+  if (all_present(options, {kDino}))
+    dino_ = std::make_unique<metrics::DinoSubject>(ctx, io::SafetensorsFile(*options.weights_dir / kDino));
+  else
+    unavailable_["dino_score"] = missing(options, {kDino}, "DINO's dino_vitbase16_pretrain.pth");
   if (all_present(options, {kCkdn}))
     ckdn_ = std::make_unique<metrics::Ckdn>(ctx, io::SafetensorsFile(*options.weights_dir / kCkdn));
   else
@@ -118,6 +124,11 @@ bool NativeLearned::computes(const std::string& key) const {
 }
 
 std::string NativeLearned::impl(const std::string& key) const {
+  if (key == "dino_score") {
+    const nn::VitShape& s = dino_->shape();
+    return "native DINO ViT (dino_vitb16.safetensors: width " + std::to_string(s.width) + ", " + std::to_string(s.depth) +
+           " blocks, " + std::to_string(s.heads) + " heads, patch " + std::to_string(s.patch) + ") on the GPU";
+  }
   if (key == "ckdn") return "native CKDN, two ResNet-50 stems + layer2 + MLP (ckdn.safetensors) on the GPU";
   if (key == "dists") return "native DISTS, VGG16 with L2 pooling (vgg16.safetensors + dists.safetensors) on the GPU";
   if (key == "style_loss_gram")
@@ -137,6 +148,10 @@ std::string NativeLearned::convention(const std::string& key) const {
     return "DISTS(f_t+1, f_t) of consecutive stylised frames: RGB [0,1], no resize (pyiqa), stage 0 the raw input, "
            "VGG16 relu1_2..relu5_3 of the ImageNet-normalised input with L2 pooling, global per-channel statistics, "
            "c1 = c2 = 1e-6; mean over pairs";
+  if (key == "dino_score")
+    return "VBench subject consistency: dino_transform(224) (uint8 frame, shorter side 224 bilinear without antialiasing, "
+           "rounded to uint8, ImageNet mean/std, no crop), L2-normalised class token f_i, s_i = (max(0, cos(f_i-1, f_i)) + "
+           "max(0, cos(f_0, f_i))) / 2 for i >= 1";
   if (key == "style_loss_gram")
     return std::string("relu1_1..relu5_1 Gram matrices F F^T / (C H W), sum over layers of the mean squared "
                        "difference, frame vs the style image at its own size; ") +
@@ -185,6 +200,12 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
     metrics::DistsFeatures current = dists_->features(stylised);
     if (follows && previous_) per_frame["dists"].push_back(dists_->distance(current, *previous_));
     previous_ = std::move(current);
+  }
+  if (dino_ && wanted(keys, "dino_score")) {
+    std::vector<double> current = dino_->features(stylised);
+    if (!follows || !dino_first_) dino_first_ = current;
+    else per_frame["dino_score"].push_back(metrics::subject_pair_score(*dino_first_, dino_previous_, current));
+    dino_previous_ = std::move(current);
   }
 }
 

@@ -11,6 +11,7 @@
 #include "s4d/engine/check.h"
 #include "s4d/engine/pipeline.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/engine/stage_timer.h"
 
 namespace s4d::engine {
 
@@ -295,6 +296,8 @@ uint64_t Context::submit(Recorder&& recorder, const SubmitSync& sync) {
                   .signalSemaphoreCount = signal_count,
                   .pSignalSemaphores = signals};
   VkResult r = vkQueueSubmit(queue_, 1, &si, VK_NULL_HANDLE);
+  if (stage_timer_ && r >= 0) stage_timer_->submitted(std::move(recorder.marks_), value);
+  if (stage_timer_ && r < 0) stage_timer_->dropped(std::move(recorder.marks_));
   if (r < 0) vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);  // never submitted: free it now
   if (r == VK_ERROR_DEVICE_LOST) device_lost("vkQueueSubmit");
   S4D_VK_CHECK(r);
@@ -319,6 +322,7 @@ void Context::wait(uint64_t value) {
     S4D_VK_CHECK(r);
     completed_ = value;
   }
+  if (stage_timer_) stage_timer_->completed(completed_);
   collect_retired();
 }
 

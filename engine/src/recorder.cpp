@@ -32,18 +32,25 @@ Recorder::Recorder(Context& ctx, const std::string& name) : ctx_(&ctx) {
 }
 
 Recorder::Recorder(Recorder&& other) noexcept
-    : ctx_(other.ctx_), cmd_(std::exchange(other.cmd_, VK_NULL_HANDLE)), finished_(other.finished_) {}
+    : ctx_(other.ctx_), cmd_(std::exchange(other.cmd_, VK_NULL_HANDLE)), finished_(other.finished_),
+      marks_(std::exchange(other.marks_, {})) {}
 
 Recorder::~Recorder() {
   // A recorder dropped without being submitted frees its command buffer right away.
   if (cmd_ != VK_NULL_HANDLE && !finished_) {
     vkFreeCommandBuffers(ctx_->device(), ctx_->command_pool(), 1, &cmd_);
     ctx_->recorder_closed();
+    if (StageTimer* t = ctx_->stage_timer()) t->dropped(std::move(marks_));
   }
+}
+
+void Recorder::mark_stage() {
+  if (StageTimer* t = ctx_->stage_timer()) t->mark(*this, marks_);
 }
 
 VkCommandBuffer Recorder::finish() {
   if (finished_ || cmd_ == VK_NULL_HANDLE) throw std::logic_error("command buffer submitted twice");
+  if (StageTimer* t = ctx_->stage_timer()) t->close(*this, marks_);
   // A host wait alone does not make device writes visible to host reads of mapped memory.
   VkMemoryBarrier to_host{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                           .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -159,6 +166,7 @@ void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> b
                                                                                     : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
                  .pBufferInfo = &infos[i]};
   }
+  mark_stage();
   begin_label(pipeline.name());
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
   if (!writes.empty())
@@ -172,6 +180,7 @@ void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> b
 }
 
 void Recorder::barrier() {
+  mark_stage();
   VkMemoryBarrier mb{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
@@ -185,6 +194,7 @@ void Recorder::copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t s
     throw std::invalid_argument("copy of " + std::to_string(bytes) + " bytes from '" + src.name() + "' to '" + dst.name() +
                                 "' overruns a buffer");
   if (bytes == 0) return;
+  mark_stage();
   VkBufferCopy region{.srcOffset = src_offset, .dstOffset = dst_offset, .size = bytes};
   vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &region);
 }
@@ -196,6 +206,7 @@ void Recorder::fill(const Buffer& dst, uint32_t value, size_t bytes, size_t offs
   if (bytes % 4)
     throw std::invalid_argument("fill of buffer '" + dst.name() + "': range must be 4-byte aligned and inside the buffer");
   if (bytes == 0) return;
+  mark_stage();
   vkCmdFillBuffer(cmd_, dst.handle(), offset, bytes, value);
 }
 

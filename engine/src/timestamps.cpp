@@ -23,17 +23,21 @@ TimestampQueries::~TimestampQueries() {
   ctx_.retire([device, pool] { vkDestroyQueryPool(device, pool, nullptr); });
 }
 
-double TimestampQueries::elapsed_ms(uint32_t from, uint32_t to) const {
-  if (from >= count_ || to >= count_) throw std::out_of_range("timestamp query index past the pool's " + std::to_string(count_));
-  uint64_t t[2];
-  S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, from, 1, sizeof(uint64_t), &t[0], sizeof(uint64_t),
+double TimestampQueries::elapsed_ms(uint32_t from, uint32_t to) const { return ticks_ms(ticks(from), ticks(to)); }
+
+uint64_t TimestampQueries::ticks(uint32_t index) const {
+  if (index >= count_) throw std::out_of_range("timestamp query index past the pool's " + std::to_string(count_));
+  uint64_t t = 0;
+  S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, index, 1, sizeof(uint64_t), &t, sizeof(uint64_t),
                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
-  S4D_VK_CHECK(vkGetQueryPoolResults(ctx_.device(), pool_, to, 1, sizeof(uint64_t), &t[1], sizeof(uint64_t),
-                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+  return t;
+}
+
+double TimestampQueries::ticks_ms(uint64_t from, uint64_t to) const {
   // Masked: the counter may wrap between the two queries.
   const uint32_t bits = ctx_.info().timestamp_valid_bits;
   const uint64_t mask = bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << bits) - 1;
-  return static_cast<double>((t[1] - t[0]) & mask) * static_cast<double>(ctx_.info().timestamp_period_ns) * 1e-6;
+  return static_cast<double>((to - from) & mask) * static_cast<double>(ctx_.info().timestamp_period_ns) * 1e-6;
 }
 
 }  // namespace s4d::engine

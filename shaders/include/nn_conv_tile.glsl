@@ -5,6 +5,15 @@
 // The includer declares the push constants `p` (NnConvParams) and the output buffer `y` first.
 
 #define CONV_ACC (S4D_NN_CONV_COUT * S4D_NN_CONV_PIX)
+// The workgroup's shape: S4D_NN_CONV_WG_X x S4D_NN_CONV_WG_Y, or with S4D_NN_CONV_ROWS (nn_conv1x1_rows,
+// for one-row tensors such as a transformer's tokens) S4D_NN_CONV_ROWS_WG_X x 1.
+#if defined(S4D_NN_CONV_ROWS) && S4D_NN_CONV_ROWS
+#define CONV_WG_X S4D_NN_CONV_ROWS_WG_X
+#define CONV_WG_Y 1
+#else
+#define CONV_WG_X S4D_NN_CONV_WG_X
+#define CONV_WG_Y S4D_NN_CONV_WG_Y
+#endif
 
 struct ConvTile {
   bool valid;  // some pixel of the strip is inside the image (and the block inside the channels)
@@ -17,8 +26,8 @@ ConvTile conv_tile() {
   ConvTile t;
   uint g = flat_group_id(), tiles = p.tiles_x * p.tiles_y, tile = g % tiles;
   t.co0 = (g / tiles) * S4D_NN_CONV_COUT;
-  t.x0 = ((tile % p.tiles_x) * S4D_NN_CONV_WG_X + gl_LocalInvocationID.x) * S4D_NN_CONV_PIX;
-  t.y = (tile / p.tiles_x) * S4D_NN_CONV_WG_Y + gl_LocalInvocationID.y;
+  t.x0 = ((tile % p.tiles_x) * CONV_WG_X + gl_LocalInvocationID.x) * S4D_NN_CONV_PIX;
+  t.y = (tile / p.tiles_x) * CONV_WG_Y + gl_LocalInvocationID.y;
   t.valid = t.co0 < p.cout && t.x0 < p.width && t.y < p.height;
   [[unroll]] for (uint j = 0; j < S4D_NN_CONV_COUT; ++j) t.co[j] = min(t.co0 + j, p.cout - 1);
   return t;

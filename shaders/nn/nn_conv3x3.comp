@@ -11,13 +11,14 @@
 #include "s4d_nn.h"
 #include "flat_group.glsl"
 
-layout(local_size_x = S4D_NN_CONV_WG_X, local_size_y = S4D_NN_CONV_WG_Y) in;
 layout(push_constant) uniform Push { NnConvParams p; };
 layout(std430, binding = S4D_B_CONV_IN) readonly buffer In { float x[]; };
 layout(std430, binding = S4D_B_CONV_WEIGHT) readonly buffer Weight { float weight[]; };
 layout(std430, binding = S4D_B_CONV_BIAS) readonly buffer Bias { float bias[]; };
 layout(std430, binding = S4D_B_CONV_OUT) buffer Out { float y[]; };  // read by S4D_NN_FLAG_ACCUMULATE
 #include "nn_conv_tile.glsl"
+
+layout(local_size_x = CONV_WG_X, local_size_y = CONV_WG_Y) in;
 
 // Reflection padding 1: index -1 reads 1, index n reads n - 2 (the host requires n >= 2). Columns
 // past n + 1 (strip pixels outside the image) are clamped; their outputs are dropped.

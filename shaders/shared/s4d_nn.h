@@ -21,6 +21,10 @@
 #define S4D_NN_CONV_WG_Y 8
 #define S4D_NN_CONV_PIX 4
 #define S4D_NN_CONV_COUT 8
+// nn_conv1x1_rows: nn_conv1x1 for tensors of one row (a transformer's tokens [c, 1, n]), where an
+// 8-row workgroup would leave 7 of its rows idle: S4D_NN_CONV_ROWS_WG_X x 1 invocations, a tile of
+// 256 pixels.
+#define S4D_NN_CONV_ROWS_WG_X 64
 #define S4D_NN_FLAG_RELU 1u        // ReLU on the output
 #define S4D_NN_FLAG_ACCUMULATE 2u  // out += conv(in) (residual connections)
 #define S4D_B_CONV_IN 0      // [cin, h, w]
@@ -80,6 +84,26 @@
 #define S4D_B_ATTN_V 1        // [c, n_s] values
 #define S4D_B_ATTN_CONTENT 2  // [c, n_c] normalised content features
 #define S4D_B_ATTN_OUT 3      // [c, n_c]; the chunk's columns are written
+
+// Vision transformer pieces (DINO ViT, training/nn/dino_vit.h). Tokens are a [C, 1, N] tensor: one
+// column per token, the class token first, so 1x1 convolutions are the Linear layers.
+// nn_layernorm: LayerNorm over the channels of each token (PyTorch LayerNorm(C, eps)): mean, then
+// the centred biased variance, one invocation per token looping over C three times.
+#define S4D_B_LN_IN 0      // [c, count]
+#define S4D_B_LN_WEIGHT 1  // [c]
+#define S4D_B_LN_BIAS 2    // [c]
+#define S4D_B_LN_OUT 3     // [c, count]
+// nn_gelu: x = x Phi(x) in place, Phi the normal CDF (PyTorch GELU(approximate='none')), through
+// erfc of Abramowitz & Stegun 7.1.26 (absolute error under 1.5e-7), so x < 0 keeps its small values.
+#define S4D_B_GELU_DATA 0  // [n], in place
+// nn_vit_embed: out[c, 0] = pos[c, 0] and out[c, t] = patches[c, t - 1] + pos[c, t] for t >= 1,
+// where the host folds the class token into pos[:, 0] (NnEltParams: n = c * tokens, count = tokens).
+#define S4D_B_VIT_PATCHES 0  // [c, tokens - 1]: the patch embedding's [c, gh, gw]
+#define S4D_B_VIT_POS 1      // [c, tokens]
+#define S4D_B_VIT_OUT 2      // [c, tokens]
+// nn_attn_average (nn_attn_apply with S4D_NN_ATTN_AVERAGE): out[c, first + i] = sum_j P[i, j] V[c, j],
+// the attention of a transformer, bindings S4D_B_ATTN_P, S4D_B_ATTN_V and S4D_B_ATTN_AVG_OUT (no content).
+#define S4D_B_ATTN_AVG_OUT 2  // [c, n_c]; the chunk's columns are written
 
 S4D_NAMESPACE_BEGIN
 

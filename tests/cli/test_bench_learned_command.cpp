@@ -118,6 +118,7 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   // Without the folder: the keys say which files to supply.
   const auto none = run_bench(f, "", "none").at("results")[0];
   CHECK(none.at("content_lpips").at("unavailable").get<std::string>().find("--metric-weights DIR") != std::string::npos);
+  CHECK(none.at("dino_score").at("unavailable").get<std::string>().find("dino_vitb16.safetensors") != std::string::npos);
   // A folder with only dists.safetensors (nothing loads: every network lacks a file): each key names
   // what its network is missing.
   const fs::path partial_dir = f.root / "partial_weights";
@@ -131,6 +132,8 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   CHECK(dists_why.find("add vgg16.safetensors to " + partial_dir.string() + " (--metric-weights; dists.safetensors is there)") !=
         std::string::npos);
   CHECK(partial.at("style_loss_gram").at("unavailable").get<std::string>().find("vgg_normalised.safetensors") != std::string::npos);
+  CHECK(partial.at("dino_score").at("unavailable").get<std::string>().find("add dino_vitb16.safetensors to " + partial_dir.string()) !=
+        std::string::npos);
   const std::string ckdn_why = partial.at("ckdn").at("unavailable").get<std::string>();
   CHECK(ckdn_why.find("add ckdn.safetensors to " + partial_dir.string()) != std::string::npos);
   CHECK(ckdn_why.find("CKDN_model_best-38b27dc6.pth") != std::string::npos);

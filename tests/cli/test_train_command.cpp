@@ -55,6 +55,27 @@ std::vector<double> loss_column(const fs::path& csv) {
 // Starts style4d with stdout and stderr in `log`; returns its pid.
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
+// train.json's per-stage times: every named stage that ran took time, and the stages add up to no
+// more than the steps' wall time. GPU timestamps and the host clock are different clocks read at
+// different moments: 1 % + 1 ms of slack (the stages added up to 96 % of the steps' time in the
+// static run here; the rest is host work: uploads, waits, recording).
+void check_stage_ms(const nlohmann::json& train, uint32_t iterations, std::initializer_list<const char*> ran) {
+  REQUIRE(train.contains("stage_ms"));
+  const nlohmann::json& s = train["stage_ms"];
+  CHECK(s["iterations"] == iterations);
+  CHECK((s["clock"] == "gpu timestamps" || s["clock"] == "host wall clock"));
+  double sum = 0;
+  for (const auto& [name, stage] : s["stages"].items()) {
+    sum += stage["ms"].get<double>();
+    CHECK(stage["ms_per_iteration"].get<double>() == doctest::Approx(stage["ms"].get<double>() / iterations));
+  }
+  for (const char* name : ran) CHECK_MESSAGE(s["stages"][name]["ms"].get<double>() > 0, name);
+  CHECK(sum == doctest::Approx(s["stages_sum_ms"].get<double>()));
+  const double step_ms = s["step_ms"].get<double>();
+  CHECK(step_ms <= 1000 * train["seconds"].get<double>());
+  CHECK(sum <= step_ms * 1.01 + 1.0);
+}
+
 TEST_CASE("train writes the run contract and learns the scene") {
   const fs::path dir = test::fresh_dir("train_ok");
   const fs::path run = dir / "run";
@@ -63,6 +84,8 @@ TEST_CASE("train writes the run contract and learns the scene") {
   const nlohmann::json j = read_json(run / "train.json");
   for (const char* key : {"test_psnr", "test_ssim", "seconds", "num_gaussians", "settings"}) CHECK(j.contains(key));
   CHECK(j["complete"] == true);
+  check_stage_ms(j, 240, {"project", "sort", "raster", "loss", "backward", "adam", "densify"});
+  CHECK(j["stage_ms"]["stages"]["field"]["ms"] == 0.0);  // the static stage has no field
   const io::GaussianCloud cloud = io::read_ply_gaussians(run / "geometry" / "gaussians.ply");
   CHECK(cloud.size() == j["num_gaussians"].get<size_t>());
   CHECK(fs::exists(run / "eval" / "cam00_0000.png"));
@@ -79,6 +102,7 @@ TEST_CASE("train writes the run contract and learns the scene") {
   // Resuming a finished run changes nothing.
   REQUIRE(test::run_style4d("train", "--resume " + run.string(), dir / "resume.log") == 0);
   CHECK(read_json(run / "train.json")["num_gaussians"] == j["num_gaussians"]);
+  CHECK(read_json(run / "train.json")["stage_ms"] == j["stage_ms"]);  // it trained no step
 }
 
 // llvmpipe runs compute workgroups on LP_NUM_THREADS threads; with one, the order of the float
@@ -128,6 +152,7 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   // Both stages ran: the 4DGS stage is scored per frame of the test camera and beats the static one.
   const nlohmann::json j = read_json(whole / "train.json");
   CHECK(j["stage"] == "fine");
+  check_stage_ms(j, 100, {"project", "sort", "raster", "loss", "backward", "field", "adam", "densify"});
   REQUIRE(j["test_views"].size() == 3);
   CHECK(j["test_views"][1]["time"].get<double>() == doctest::Approx(0.5));
   REQUIRE(j["static"]["test_views"].size() == 3);

@@ -21,11 +21,12 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
-from reference_nets import Ckdn, adain_vgg
+from reference_nets import Ckdn, adain_vgg, dino_state_dict
 import torch
 import torch.nn as nn
 import torchvision
 from torchvision.models.vgg import cfgs, make_layers
+from torchvision.models.vision_transformer import VisionTransformer
 
 FAILURES = []
 
@@ -154,6 +155,18 @@ def main():
     p, _, out = convert("vgg_normalised", adain)
     same(os.path.join(out, "vgg_normalised.safetensors"), adain, "AdaIN vgg_normalised")
 
+    # DINO's dino_vitbase16_pretrain.pth: ViT-B/16 under vision_transformer.py's names (torchvision's
+    # VisionTransformer renamed, reference_nets.dino_state_dict), a plain state dict of the backbone.
+    dino = dino_state_dict(VisionTransformer(image_size=224, patch_size=16, num_layers=12, num_heads=12, hidden_dim=768,
+                                             mlp_dim=3072))
+    p, _, out = convert("dino_vitb16", dino, name="dino_vitbase16_pretrain.pth")
+    check(p.returncode == 0 and "note:" not in p.stdout, "DINO ViT-B/16 converts without a note (%s)" % p.stderr.strip())
+    same(os.path.join(out, "dino_vitb16.safetensors"), dino, "DINO ViT-B/16")
+    small = dino_state_dict(VisionTransformer(image_size=32, patch_size=16, num_layers=2, num_heads=2, hidden_dim=128, mlp_dim=256))
+    p, _, out = convert("dino_vitb16", small, name="dino_small.pth")
+    check(p.returncode == 0 and "is not DINO ViT-B/16 (width 128, 2 blocks, patch 16)" in p.stdout,
+          "a smaller DINO ViT converts with a note: " + p.stdout.strip().splitlines()[-1])
+
     # pyiqa's CKDN: the whole module's state (both stems, csp and the unused aux_csp and fc1_, BatchNorm
     # buffers with num_batches_tracked); the file keeps what the forward pass reads, BatchNorm unfolded.
     ckdn = Ckdn().state_dict()
@@ -190,6 +203,13 @@ def main():
     nan["beta"] = ab["beta"].clone()
     nan["beta"][0, 7, 0, 0] = float("nan")
     refused("dists", nan, ["beta", "not finite"], "a NaN")
+    bad_qkv = dict(small)
+    bad_qkv["blocks.1.attn.qkv.weight"] = torch.zeros(3 * 128, 64)
+    refused("dino_vitb16", bad_qkv, ["blocks.1.attn.qkv.weight", "[384, 64]", "[384, 128]"], "a DINO qkv of the wrong width")
+    refused("dino_vitb16", dict(small, **{"head.last_layer.weight": torch.zeros(4, 128)}), ["unexpected tensor 'head.last_layer.weight'"],
+            "DINO's training head (a full checkpoint, not the pretrain file)")
+    refused("dino_vitb16", {k: v for k, v in small.items() if k != "blocks.1.mlp.fc2.bias"}, ["missing blocks.1.mlp.fc2.bias"],
+            "a missing DINO bias")
     with open(os.path.join(work, "not_a_checkpoint.pth"), "w") as f:
         f.write("hello")
     p = run_converter("vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x"))

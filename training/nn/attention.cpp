@@ -63,39 +63,70 @@ void softmax_rows(engine::Recorder& rec, Tensor& scores) {
   rec.barrier();
 }
 
-void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, const Tensor& content, uint32_t first,
-                     Tensor& out) {
+namespace {
+
+// nn_attn_apply with the content, nn_attn_average without.
+void apply_rows(engine::Recorder& rec, const Tensor& p, const Tensor& v, const Tensor* content, uint32_t first, Tensor& out) {
   if (p.c != 1 || p.w != v.plane())
     fail("weights " + p.shape() + " do not match values " + v.shape());
-  if (content.c != v.c || out.c != v.c || out.h != content.h || out.w != content.w)
-    fail("values " + v.shape() + ", content " + content.shape() + " and output " + out.shape() + " do not match");
-  check_rows(content, first, p.h);
+  const Tensor& rows_of = content != nullptr ? *content : out;
+  if (rows_of.c != v.c || out.c != v.c || out.h != rows_of.h || out.w != rows_of.w)
+    fail("values " + v.shape() + ", content " + rows_of.shape() + " and output " + out.shape() + " do not match");
+  check_rows(rows_of, first, p.h);
   check_loop(p.w, "style positions");
-  const auto pc = params(v.c, content.plane(), v.plane(), first, p.h);
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_apply),
-               {S4D_BIND(ATTN_P, p.buffer), S4D_BIND(ATTN_V, v.buffer), S4D_BIND(ATTN_CONTENT, content.buffer),
-                S4D_BIND(ATTN_OUT, out.buffer)},
-               pc, ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
+  const auto pc = params(v.c, rows_of.plane(), v.plane(), first, p.h);
+  if (content != nullptr)
+    rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_apply),
+                 {S4D_BIND(ATTN_P, p.buffer), S4D_BIND(ATTN_V, v.buffer), S4D_BIND(ATTN_CONTENT, content->buffer),
+                  S4D_BIND(ATTN_OUT, out.buffer)},
+                 pc, ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
+  else
+    rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_attn_average),
+                 {S4D_BIND(ATTN_P, p.buffer), S4D_BIND(ATTN_V, v.buffer), S4D_BIND(ATTN_AVG_OUT, out.buffer)}, pc,
+                 ceil_div(size_t{v.c} * p.h, S4D_NN_WG));
   rec.barrier();
 }
 
-Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,
-                 size_t max_score_bytes) {
-  if (q.h != content.h || q.w != content.w || k.h != v.h || k.w != v.w)
-    fail("queries " + q.shape() + " / content " + content.shape() + " or keys " + k.shape() + " / values " +
-         v.shape() + " differ in size");
+// The chunked attention of q over k, v, with AdaAttN's statistics applied to `content` or (null)
+// the plain weighted average.
+Tensor chunked(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor* content,
+               size_t max_score_bytes) {
+  if (k.h != v.h || k.w != v.w || (content != nullptr && (q.h != content->h || q.w != content->w)))
+    fail("queries " + q.shape() + (content != nullptr ? " / content " + content->shape() : std::string()) + " or keys " +
+         k.shape() + " / values " + v.shape() + " differ in size");
   const size_t row_bytes = k.plane() * sizeof(float);
   const size_t budget = std::min<size_t>(max_score_bytes, rec.context().info().max_storage_buffer_range);
   if (row_bytes > budget) fail(std::to_string(k.plane()) + " style positions: one score row is over the budget");
   const auto chunk = static_cast<uint32_t>(std::min<size_t>(q.plane(), budget / row_bytes));
-  Tensor out = make_tensor(rec.context(), "attention", v.c, content.h, content.w);
+  Tensor out = make_tensor(rec.context(), "attention", v.c, q.h, q.w);
   for (uint32_t first = 0; first < q.plane(); first += chunk) {
     const auto rows = static_cast<uint32_t>(std::min<size_t>(chunk, q.plane() - first));
     Tensor s = attention_scores(rec, q, k, first, rows);
     softmax_rows(rec, s);
-    attention_apply(rec, s, v, content, first, out);
+    apply_rows(rec, s, v, content, first, out);
   }
   return out;
+}
+
+}  // namespace
+
+void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, const Tensor& content, uint32_t first,
+                     Tensor& out) {
+  apply_rows(rec, p, v, &content, first, out);
+}
+
+void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, uint32_t first, Tensor& out) {
+  apply_rows(rec, p, v, nullptr, first, out);
+}
+
+Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,
+                 size_t max_score_bytes) {
+  return chunked(rec, q, k, v, &content, max_score_bytes);
+}
+
+Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
+                             size_t max_score_bytes) {
+  return chunked(rec, q, k, v, nullptr, max_score_bytes);
 }
 
 }  // namespace s4d::nn

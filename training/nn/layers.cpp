@@ -45,12 +45,15 @@ Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32
   if (into == nullptr) out = make_tensor(rec.context(), w.name, w.cout, x.h, x.w);
   Tensor& y = into != nullptr ? *into : out;
   if (y.c != w.cout || y.h != x.h || y.w != x.w) fail(layer, "output " + y.shape() + " does not match");
+  // One-row tensors (a transformer's tokens) take the variant with one-row workgroups.
+  const bool rows = id == shaders::Id::nn_conv1x1 && x.h == 1;
+  if (rows) id = shaders::Id::nn_conv1x1_rows;
   const gpu::NnConvParams p{.cin = w.cin,
                             .cout = w.cout,
                             .height = x.h,
                             .width = x.w,
-                            .tiles_x = ceil_div(x.w, S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX),
-                            .tiles_y = ceil_div(x.h, S4D_NN_CONV_WG_Y),
+                            .tiles_x = ceil_div(x.w, (rows ? S4D_NN_CONV_ROWS_WG_X : S4D_NN_CONV_WG_X) * S4D_NN_CONV_PIX),
+                            .tiles_y = rows ? 1u : ceil_div(x.h, S4D_NN_CONV_WG_Y),
                             .flags = flags,
                             ._pad0 = 0};
   rec.dispatch(shader_pipeline(rec.context(), id),
@@ -109,7 +112,7 @@ Tensor weighted_sum(engine::Recorder& rec, const Tensor& a, const Tensor& b, flo
 
 ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
                         std::span<const float> weight, std::span<const float> bias) {
-  if (k == 0 || k > 11) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1..11");
+  if (k == 0 || k > 16) fail("conv " + name, "kernel size " + std::to_string(k) + " is not 1..16");
   if (weight.size() != size_t{cout} * cin * k * k || bias.size() != cout)
     fail("conv " + name, std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
                              " biases do not match " + std::to_string(cin) + " -> " + std::to_string(cout));
@@ -117,6 +120,14 @@ ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t 
   w.weight = engine::buffer_from(ctx, name + " weight", weight);
   w.bias = engine::buffer_from(ctx, name + " bias", bias);
   return w;
+}
+
+NormWeights upload_norm(engine::Context& ctx, const std::string& name, uint32_t channels, std::span<const float> weight,
+                        std::span<const float> bias) {
+  if (weight.size() != channels || bias.size() != channels)
+    fail("layernorm " + name, std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
+                                  " biases for " + std::to_string(channels) + " channels");
+  return {name, channels, engine::buffer_from(ctx, name + " weight", weight), engine::buffer_from(ctx, name + " bias", bias)};
 }
 
 Tensor conv3x3(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
@@ -262,6 +273,39 @@ Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
 
 Tensor subtract(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
   return weighted_sum(rec, a, b, 1.0f, -1.0f, "subtract");
+}
+
+Tensor layernorm(engine::Recorder& rec, const Tensor& x, const NormWeights& w, float eps) {
+  const std::string layer = "layernorm " + w.name;
+  if (x.c != w.channels) fail(layer, "expects " + std::to_string(w.channels) + " channels, got " + x.shape());
+  check_loop(layer, x.c, "channels " + std::to_string(x.c));
+  Tensor y = make_tensor(rec.context(), w.name, x.c, x.h, x.w);
+  const gpu::NnStatsParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .eps = eps, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_layernorm),
+               {S4D_BIND(LN_IN, x.buffer), S4D_BIND(LN_WEIGHT, w.weight), S4D_BIND(LN_BIAS, w.bias), S4D_BIND(LN_OUT, y.buffer)},
+               p, ceil_div(x.plane(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
+void gelu_inplace(engine::Recorder& rec, Tensor& x) {
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(x.count()), .count = 0, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_gelu), {S4D_BIND(GELU_DATA, x.buffer)}, p,
+               ceil_div(x.count(), S4D_NN_WG));
+  rec.barrier();
+}
+
+Tensor vit_embed(engine::Recorder& rec, const Tensor& patches, const Tensor& pos) {
+  if (pos.c != patches.c || pos.h != 1 || pos.plane() != patches.plane() + 1)
+    fail("vit_embed", "position embedding " + pos.shape() + " does not match patches " + patches.shape() +
+                          " (needs [c, 1, 1 + h w])");
+  Tensor y = make_tensor(rec.context(), "tokens", pos.c, 1, pos.w);
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = pos.w, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_vit_embed),
+               {S4D_BIND(VIT_PATCHES, patches.buffer), S4D_BIND(VIT_POS, pos.buffer), S4D_BIND(VIT_OUT, y.buffer)}, p,
+               ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
 }
 
 Tensor resize_nearest(engine::Recorder& rec, const Tensor& x, uint32_t out_h, uint32_t out_w) {

@@ -25,4 +25,9 @@ ConvWeights load_linear(engine::Context& ctx, const io::SafetensorsFile& file, c
   return load(ctx, file, prefix, in, out, 1, {out, in});
 }
 
+NormWeights load_norm(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t channels) {
+  return upload_norm(ctx, file.path().filename().string() + " " + prefix, channels, file.read(prefix + ".weight", {channels}),
+                     file.read(prefix + ".bias", {channels}));
+}
+
 }  // namespace s4d::nn

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
 #include "s4d/engine/device_info.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/engine/stage_timer.h"
 #include "s4d/primitives/iota.h"
 #include "s4d/primitives/scan.h"
 #include "s4d/primitives/shader_pipeline.h"
@@ -189,6 +191,7 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   // Submission 1: project, sort by depth, count tiles in depth order, scan to offsets.
   {
     engine::Recorder rec(*ctx_, name_ + " project");
+    std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
     rec.dispatch(
         shader_pipeline(*ctx_, shaders::Id::project_fwd),
         {S4D_BIND(PROJ_MEANS, *g.means), S4D_BIND(PROJ_LOG_SCALES, *g.log_scales), S4D_BIND(PROJ_QUATS, *g.quats),
@@ -202,6 +205,7 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
                    {S4D_BIND(SQUAD_MEANS, *g.means), S4D_BIND(SQUAD_LOG_SCALES, *g.log_scales),
                     S4D_BIND(SQUAD_QUATS, *g.quats), S4D_BIND(SQUAD_QUADRIC, quadric_)},
                    pp, ceil_div(n, S4D_SPLAT_WG));
+    stage.emplace(*ctx_, "sort");
     primitives::cmd_iota(rec, sorted_ids_, n);
     rec.barrier();
     primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
@@ -234,6 +238,7 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   // tile's range, blend.
   {
     engine::Recorder rec(*ctx_, name_ + " raster");
+    std::optional<engine::StageScope> stage(std::in_place, *ctx_, "sort");
     rec.fill(ranges_, 0, size_t{num_tiles} * 8);
     const gpu::BinningParams ep{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::emit_instances),
@@ -256,6 +261,7 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats),
                  {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
                  ceil_div(num_tiles, S4D_SPLAT_WG));
+    stage.emplace(*ctx_, "raster");
     if (g.style != nullptr) {
       rec.dispatch(
           shader_pipeline(*ctx_, shaders::Id::style_raster_fwd),
@@ -328,6 +334,7 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
 
   engine::Recorder rec(*ctx_, name_ + " backward");
+  const engine::StageScope stage(*ctx_, "backward");
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
   if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
   rec.barrier();

@@ -16,6 +16,7 @@
 #include "s4d/run/run_json.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/run/run_size.h"
+#include "s4d/run/stage_times.h"
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/time_estimate.h"
@@ -214,6 +215,8 @@ struct Trainer::Impl::Steps final : RunnerStage {
   Recovery& recovery() override { return m.recovery; }
 
   double step() override {
+    const engine::StageTimer::Window window(m.stage_timer);
+    ++m.timed_steps;
     ++m.iteration;
     value = m.fine() ? m.fine_step() : m.static_step();
     return value.loss;
@@ -231,6 +234,8 @@ struct Trainer::Impl::Steps final : RunnerStage {
   }
   double periodic_test() override { return m.evaluate(spread_views(m.test_views, kPeriodicTestViews)).psnr; }
   void after_step() override {
+    const engine::StageTimer::Window window(m.stage_timer);
+    const engine::StageScope timed(m.ctx, "densify");
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.mask_due()) m.update_mask();
   }
@@ -267,6 +272,12 @@ struct Trainer::Impl::Steps final : RunnerStage {
 
 TrainResult Trainer::run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
+  engine::StageTimer timer(m.ctx, run::kStepStages);
+  struct Installed {  // the timer is gone once run() returns
+    Impl& m;
+    ~Installed() { m.stage_timer = nullptr; }
+  } installed{m};
+  m.stage_timer = &timer;
   StageRunner runner(m.run.loss_csv(), "stage,iteration,loss,l1,ssim,gaussians,seconds");
   Impl::Steps steps(m, std::chrono::steady_clock::now());
   while (true) {

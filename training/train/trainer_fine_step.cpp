@@ -2,6 +2,7 @@
 // gradients summed over a batch of views.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "s4d/primitives/add.h"
@@ -41,6 +42,7 @@ splat::GaussianParams Trainer::Impl::deform_to(double time) {
   const uint32_t bits[model::kAttrCount] = {S4D_DEFORM_HEAD_POS, S4D_DEFORM_HEAD_SCALES, S4D_DEFORM_HEAD_ROTATIONS,
                                             S4D_DEFORM_HEAD_OPACITY, S4D_DEFORM_HEAD_SH};
   auto out = [&](model::Attr a) { return head(bits[a]) ? &deformed[a] : nullptr; };
+  const engine::StageScope timed(ctx, "field");
   engine::Recorder rec(ctx, "deform");
   field->record_forward(rec, canonical(), static_cast<float>(time),
                         {out(model::kMeans), out(model::kLogScales), out(model::kQuats), out(model::kOpacity), out(model::kSh)});
@@ -70,6 +72,7 @@ const data::View& Trainer::Impl::next_fine_view(bool front) {
 optim::LossValue Trainer::Impl::fine_step() {
   const uint32_t batch = std::max<uint32_t>(1, config.fine_batch);
   {
+    const engine::StageScope timed(ctx, "field");
     engine::Recorder rec(ctx, "zero field gradients");
     field->record_zero_grads(rec);
     ctx.run(std::move(rec));
@@ -91,13 +94,16 @@ optim::LossValue Trainer::Impl::fine_step() {
                &scratch_grad[model::kOpacity], &scratch_grad[model::kSh], nullptr};
     rast.backward(params, {.v_rgb = &v_rgb}, grads);
     engine::Recorder rec(ctx, "field backward");
+    std::optional<engine::StageScope> timed(std::in_place, ctx, "field");
     field->record_backward(rec, canonical(), static_cast<float>(view.time),
                            {grads.v_means, head(S4D_DEFORM_HEAD_SCALES) ? grads.v_log_scales : nullptr,
                             head(S4D_DEFORM_HEAD_ROTATIONS) ? grads.v_quats : nullptr,
                             head(S4D_DEFORM_HEAD_OPACITY) ? grads.v_opacity_logits : nullptr,
                             head(S4D_DEFORM_HEAD_SH) ? grads.v_sh : nullptr});
+    timed.emplace(ctx, "densify");
     if (stats) densifier.record_accumulate_batch_add(rec, *gaussians, rast, batch_stats);
     rec.barrier();
+    timed.emplace(ctx, "backward");  // the batch's gradient sum
     if (b > 0)
       for (uint32_t a = 0; a < model::kAttrCount; ++a)
         primitives::cmd_add(rec, gaussians->grad(model::Attr(a)), scratch_grad[a],
@@ -109,10 +115,13 @@ optim::LossValue Trainer::Impl::fine_step() {
   // The batch's loss is a sum of per-view means, so the regularisers weigh `batch` times as much
   // to keep 4DGaussians' ratio (it averages over the batch).
   const float w = static_cast<float>(batch);
+  std::optional<engine::StageScope> timed(std::in_place, ctx, "field");
   field->record_regularisers(rec, {config.plane_tv_weight * w, config.time_smoothness_weight * w,
                                    config.l1_time_planes_weight * w});
+  timed.emplace(ctx, "densify");
   if (stats) densifier.record_accumulate_batch_end(rec, *gaussians, batch_stats);
   rec.barrier();
+  timed.emplace(ctx, "adam");
   record_adam(rec);
   ctx.run(std::move(rec));
   return mean;

@@ -15,6 +15,7 @@
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
+#include "s4d/engine/stage_timer.h"
 #include "s4d/densify/densifier.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
@@ -66,6 +67,9 @@ struct Trainer::Impl {
   // measured and again after densification.
   uint32_t static_count = 0;
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
+  // Times the stages of this session's steps (train.json "stage_ms"); set while run() runs.
+  engine::StageTimer* stage_timer = nullptr;
+  uint64_t timed_steps = 0;
 
   run::Stage stage = run::Stage::coarse;
   uint32_t iteration = 0;  // within the stage

@@ -1,4 +1,7 @@
 // Trainer::Impl's tests, the change from the static to the fine stage, and train.json.
+#include <fstream>
+
+#include "s4d/run/stage_times.h"
 #include "s4d/util/atomic_file.h"
 #include "trainer_impl.h"
 
@@ -10,6 +13,13 @@ nlohmann::json scores_json(const Evaluation& e) {
   nlohmann::json views = nlohmann::json::array();
   for (const ViewScore& s : e.views) views.push_back({{"name", s.name}, {"time", s.time}, {"psnr", s.psnr}, {"ssim", s.ssim}});
   return views;
+}
+
+// The "stage_ms" of an earlier train.json; null when there is none or it does not parse.
+nlohmann::json previous_stage_ms(const fs::path& train_json) {
+  std::ifstream in(train_json);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_object() && j.contains("stage_ms") ? j["stage_ms"] : nlohmann::json();
 }
 
 }  // namespace
@@ -55,6 +65,9 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"data", fs::absolute(dataset.root).string()},
                       {"dataset", facts},
                       {"settings", run::to_json(config)}};
+  // This session's step times; a session that trained no step (resuming a finished run) keeps the last.
+  if (stage_timer && timed_steps > 0) j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);
+  else if (const nlohmann::json last = previous_stage_ms(run.train_json()); !last.is_null()) j["stage_ms"] = last;
   util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
 }
 }  // namespace s4d::train

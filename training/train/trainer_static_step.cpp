@@ -12,6 +12,7 @@ namespace s4d::train {
 using namespace detail;
 
 void Trainer::Impl::set_learning_rates(uint32_t step) {
+  const engine::StageScope timed(ctx, "adam");
   const double e = dataset.extent;
   const uint32_t span = stage_iterations();
   const optim::LogLinearSchedule means{config.means_lr * e, config.means_lr_final * e, span};
@@ -36,6 +37,7 @@ splat::Camera Trainer::Impl::load_target(const data::View& view) {
 }
 
 optim::LossValue Trainer::Impl::record_loss(const splat::Camera& cam, float ssim_weight) {
+  const engine::StageScope timed(ctx, "loss");
   engine::Recorder rec(ctx, "training loss");
   loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, ssim_weight, v_rgb);
   ctx.run(std::move(rec));
@@ -43,6 +45,7 @@ optim::LossValue Trainer::Impl::record_loss(const splat::Camera& cam, float ssim
 }
 
 void Trainer::Impl::record_adam(engine::Recorder& rec) {
+  const engine::StageScope timed(ctx, "adam");
   model::TrainableGaussians& g = *gaussians;
   const uint32_t count = g.size();
   for (uint32_t a = model::kMeans; a < model::kSh; ++a) {
@@ -66,8 +69,12 @@ optim::LossValue Trainer::Impl::static_step() {
   rast.backward(params, {.v_rgb = &v_rgb}, gaussians->grads());
   set_learning_rates(iteration);
   engine::Recorder rec(ctx, "training update");
-  if (iteration < config.densify_until) densifier.record_accumulate(rec, *gaussians, rast);
+  if (iteration < config.densify_until) {
+    const engine::StageScope timed(ctx, "densify");
+    densifier.record_accumulate(rec, *gaussians, rast);
+  }
   record_adam(rec);
+  const engine::StageScope timed(ctx, "adam");
   ctx.run(std::move(rec));
   return value;
 }

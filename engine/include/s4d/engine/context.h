@@ -22,6 +22,7 @@ namespace s4d::engine {
 class Buffer;
 class Pipeline;
 class Recorder;
+class StageTimer;
 
 struct ContextOptions {
   bool validation = false;  // enable VK_LAYER_KHRONOS_validation and count its errors
@@ -140,6 +141,10 @@ class Context {
   // operations. For callers that meet device loss outside submit/wait (presentation).
   [[noreturn]] void device_lost(const char* where);
 
+  // The stage timer installed on this context (StageTimer installs and removes itself), or nullptr.
+  StageTimer* stage_timer() const { return stage_timer_; }
+  void set_stage_timer(StageTimer* timer) { stage_timer_ = timer; }
+
   // Recorders still recording: objects retired meanwhile may be used by their coming submission.
   void recorder_opened() { ++open_recorders_; }
   void recorder_closed() { --open_recorders_; }
@@ -175,6 +180,7 @@ class Context {
   VkPhysicalDeviceMemoryProperties memory_props_{};
   bool unified_memory_ = false;
   uint64_t memory_in_use_ = 0, memory_peak_ = 0;
+  StageTimer* stage_timer_ = nullptr;
 
   struct Retired {
     uint64_t after;  // timeline value that must complete first

@@ -2,6 +2,8 @@
 // through dispatch(), which binds buffers by their S4D_B_* ids, checks them and the push constants
 // against the pipeline's reflected layout and splits group counts past the device limit into a 2-D
 // grid (kernels recover the flat group index with flat_group_id() from shaders/include/flat_group.glsl).
+// With a stage timer installed on the context (stage_timer.h), every command first lets it write a
+// timestamp where the stage changes.
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -11,6 +13,8 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+
+#include "s4d/engine/stage_timer.h"
 
 namespace s4d::engine {
 
@@ -92,9 +96,14 @@ class Recorder {
   VkCommandBuffer finish();
 
  private:
+  friend class Context;
+  // Before each command: a timestamp where the stage timer's stage changes (nothing without a timer).
+  void mark_stage();
+
   Context* ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
   bool finished_ = false;
+  StageMarks marks_;
 };
 
 }  // namespace s4d::engine

@@ -22,6 +22,10 @@ class TimestampQueries {
   uint32_t count() const { return count_; }
   // Milliseconds between query `from` and query `to`; waits for both results.
   double elapsed_ms(uint32_t from, uint32_t to) const;
+  // The device's counter at query `index`; waits for the result.
+  uint64_t ticks(uint32_t index) const;
+  // Milliseconds from counter value `from` to `to` (of any pool of the same device).
+  double ticks_ms(uint64_t from, uint64_t to) const;
 
  private:
   Context& ctx_;

@@ -1,4 +1,5 @@
 // AdaAttN's attention (Liu et al. 2021; kernels nn_attn_scores, nn_softmax_rows, nn_attn_apply,
+// and a transformer's, nn_attn_average in place of nn_attn_apply;
 // twins in ref/nn_ref.h): for content positions i and style positions j, P = softmax_j(Q_i . K_j),
 // M = P V, S = sqrt(relu(P V^2 - M^2)), out = S * content + M. The score matrix is built for a chunk
 // of content positions at a time, so it fits one storage buffer whatever the content size.
@@ -19,6 +20,14 @@ void softmax_rows(engine::Recorder& rec, Tensor& scores);
 // [c, hs, ws] and content, out [c, h, w].
 void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, const Tensor& content, uint32_t first,
                      Tensor& out);
+
+// out[:, first + i] = sum_j p[i, j] v[:, j] for the rows i of p [1, rows, n_s], v [c, hs, ws], out
+// [c, h, w]: a transformer's attention output.
+void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, uint32_t first, Tensor& out);
+// softmax_j(q_i . k_j) v_j over all positions i of q (scale q beforehand), chunked as attention():
+// [v.c, q.h, q.w]. Needs dk and the key positions <= S4D_NN_MAX_LOOP.
+Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
+                             size_t max_score_bytes = size_t{64} << 20);
 
 // The whole attention over content positions in chunks whose scores take at most
 // `max_score_bytes` (and the device's storage-buffer range). Needs dk and n_s <= S4D_NN_MAX_LOOP.

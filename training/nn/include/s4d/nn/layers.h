@@ -13,13 +13,25 @@
 
 namespace s4d::nn {
 
-// One Conv2d (k = 1..11) or Linear (k = 1) layer's parameters on the device.
+// One Conv2d (k = 1..16: up to a ViT's 16x16 patches) or Linear (k = 1) layer's parameters on the device.
 struct ConvWeights {
   std::string name;  // for messages and buffer names, e.g. "vgg_normalised.safetensors 2"
   uint32_t cin = 0, cout = 0, k = 1;
   engine::Buffer weight;  // [cout, cin, k, k]
   engine::Buffer bias;    // [cout]
 };
+
+// One LayerNorm(channels) layer's parameters on the device.
+struct NormWeights {
+  std::string name;
+  uint32_t channels = 0;
+  engine::Buffer weight;  // [channels]
+  engine::Buffer bias;    // [channels]
+};
+
+// Throws std::invalid_argument when the value counts do not match the shape.
+NormWeights upload_norm(engine::Context& ctx, const std::string& name, uint32_t channels, std::span<const float> weight,
+                        std::span<const float> bias);
 
 // Throws std::invalid_argument when the value counts do not match the shape.
 ConvWeights upload_conv(engine::Context& ctx, const std::string& name, uint32_t cin, uint32_t cout, uint32_t k,
@@ -72,6 +84,13 @@ Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alph
 Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b);
 // a - b, both of a's shape.
 Tensor subtract(engine::Recorder& rec, const Tensor& a, const Tensor& b);
+// LayerNorm over the channels of every pixel: a transformer's tokens, [c, 1, n]. Needs c <= S4D_NN_MAX_LOOP.
+Tensor layernorm(engine::Recorder& rec, const Tensor& x, const NormWeights& w, float eps);
+// GELU (exact, erf) in place.
+void gelu_inplace(engine::Recorder& rec, Tensor& x);
+// A vision transformer's tokens [c, 1, 1 + gh gw]: pos [c, 1, 1 + gh gw] (the class token folded into
+// its first column) plus, from the second column on, the patch embeddings [c, gh, gw] in row-major order.
+Tensor vit_embed(engine::Recorder& rec, const Tensor& patches, const Tensor& pos);
 // Nearest-neighbour resize to out_h x out_w: PyTorch's interpolate(size=...) default mode, source
 // index floor(dst * in / out) (exact integers here; see nn_resize_nearest.comp).
 Tensor resize_nearest(engine::Recorder& rec, const Tensor& x, uint32_t out_h, uint32_t out_w);

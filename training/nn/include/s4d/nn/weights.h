@@ -19,4 +19,7 @@ ConvWeights load_conv(engine::Context& ctx, const io::SafetensorsFile& file, con
 ConvWeights load_linear(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t in,
                         uint32_t out);
 
+// LayerNorm(channels): "<prefix>.weight" and "<prefix>.bias", [channels] each.
+NormWeights load_norm(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t channels);
+
 }  // namespace s4d::nn

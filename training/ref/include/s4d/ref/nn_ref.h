@@ -312,6 +312,51 @@ Chw<T> attention_apply(const std::vector<T>& p, const Chw<T>& v, const Chw<T>& c
   return y;
 }
 
+// A transformer's attention output out[c, i] = sum_j P[i, j] V[c, j] ([c] x the rows of p).
+template <class T>
+Chw<T> attention_average(const std::vector<T>& p, const Chw<T>& v) {
+  const size_t n_s = size_t{v.h} * v.w, rows = p.size() / n_s;
+  Chw<T> y(v.c, 1, static_cast<uint32_t>(rows));
+  for (uint32_t c = 0; c < v.c; ++c)
+    for (size_t i = 0; i < rows; ++i)
+      for (size_t j = 0; j < n_s; ++j) y.v[c * rows + i] += p[i * n_s + j] * v.v[c * n_s + j];
+  return y;
+}
+
+// LayerNorm(C, eps) of every pixel (token) over the channels: biased variance, then weight, bias.
+template <class T>
+Chw<T> layernorm(Chw<T> x, const std::vector<T>& weight, const std::vector<T>& bias, T eps) {
+  const size_t n = size_t{x.h} * x.w;
+  for (size_t t = 0; t < n; ++t) {
+    T sum = 0, centred = 0;
+    for (uint32_t ch = 0; ch < x.c; ++ch) sum += x.v[ch * n + t];
+    const T mean = sum / T(x.c);
+    for (uint32_t ch = 0; ch < x.c; ++ch) centred += (x.v[ch * n + t] - mean) * (x.v[ch * n + t] - mean);
+    const T inv = T(1) / std::sqrt(centred / T(x.c) + eps);
+    for (uint32_t ch = 0; ch < x.c; ++ch) x.v[ch * n + t] = (x.v[ch * n + t] - mean) * inv * weight[ch] + bias[ch];
+  }
+  return x;
+}
+
+// GELU(approximate='none'): x Phi(x) = x (1 + erf(x / sqrt 2)) / 2, as x erfc(-x / sqrt 2) / 2 so
+// that large negative x keep their tiny values.
+template <class T>
+Chw<T> gelu(Chw<T> x) {
+  for (T& e : x.v) e = e * std::erfc(-e / std::sqrt(T(2))) / T(2);
+  return x;
+}
+
+// A vision transformer's tokens [c, 1, 1 + gh gw]: column 0 pos[:, 0] (the class token and its
+// position embedding), column t the patch embedding t - 1 (row-major over [gh, gw]) plus pos[:, t].
+template <class T>
+Chw<T> vit_embed(const Chw<T>& patches, const Chw<T>& pos) {
+  const size_t n = size_t{patches.h} * patches.w + 1;
+  Chw<T> y = pos;
+  for (uint32_t ch = 0; ch < patches.c; ++ch)
+    for (size_t t = 1; t < n; ++t) y.v[ch * n + t] += patches.v[ch * (n - 1) + t - 1];
+  return y;
+}
+
 // The whole attention: softmax(Q^T K) weighted statistics of V applied to the content.
 template <class T>
 Chw<T> attention(const Chw<T>& q, const Chw<T>& k, const Chw<T>& v, const Chw<T>& content) {

@@ -105,6 +105,8 @@ class Rasterizer {
   const engine::Buffer& alpha() const { return alpha_; }          // float [H*W], 1 - T_final
   const engine::Buffer& depth() const { return depth_; }          // float [H*W], sum depth_i alpha_i T_i
   const engine::Buffer& contributors() const { return count_; }   // u32 [H*W]
+  // u32 [H*W]: 1 + position in the pixel's tile list of its last blended Gaussian (0: none).
+  const engine::Buffer& last_contributor() const { return last_; }
   // Per-Gaussian intermediates of the last forward (layouts in s4d_splat.h).
   const engine::Buffer& xy() const { return xy_; }
   const engine::Buffer& conic_opacity() const { return conic_opacity_; }

@@ -1,0 +1,29 @@
+// The scene options the splat benches share (issue 21's like-for-like runs): --sizes WxH:N,...,
+// --ply F --cameras transforms.json [--camera K] (a standard 3DGS scene), --suite peer.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "splat_bench.h"
+
+namespace s4d::bench {
+
+// The PyTorch peer's sizes (issue 21).
+extern const std::vector<SplatPoint> kPeerSuite;
+
+struct SceneOptions {
+  std::vector<SplatPoint> points;  // --sizes
+  std::string ply, cameras;
+  size_t camera = 0;
+  bool peer_suite = false;
+};
+
+// "WxH:N" -> point; throws std::invalid_argument on anything else.
+SplatPoint parse_point(const std::string& s);
+// Takes argv[i] (and its value, advancing i) when it is a scene option; false when it is not one.
+bool parse_scene_option(int argc, char** argv, int& i, SceneOptions& o);
+// Throws std::invalid_argument when the scene options contradict each other.
+void check_scene_options(const SceneOptions& o);
+
+}  // namespace s4d::bench
