@@ -69,4 +69,6 @@ set(S4D_SHADER_VARIANTS
   "nn_layernorm|nn/nn_layernorm.comp"
   "nn_gelu|nn/nn_gelu.comp"
   "nn_vit_embed|nn/nn_vit_embed.comp"
+  # ResNet (CKDN)
+  "nn_subsample2|nn/nn_subsample2.comp"
 )

@@ -16,6 +16,9 @@ KIND (docs/bench.md, "Learned metrics", has the table of files):
                          pos_embed, patch_embed.proj, blocks.<i>.norm1/attn.qkv/attn.proj/norm2/mlp.fc1/
                          mlp.fc2, norm) -> dino_vitb16.safetensors; width, depth, patch and grid are read
                          from the shapes (ViT-B/16: 768, 12, 16, 14) and every tensor checked against them
+  ckdn                   pyiqa's CKDN_model_best-38b27dc6.pth (pyiqa's CKDN module: "net.qse_1.weight", ...)
+                         -> ckdn.safetensors with the tensors its forward pass reads (the branch stems
+                         qse_*/dte_*, csp, fc_; aux_csp, fc1_ and num_batches_tracked are dropped)
 Every tensor's name and shape is checked against the network's definition; the state-dict names are
 kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 to compare with
 the publisher's (torchvision and pyiqa file names end in a prefix of it). Needs torch to read .pth.
@@ -103,6 +106,35 @@ def dino_vit(path, t):
         print("note: %s is not DINO ViT-B/16 (width %d, %d blocks, patch %d); VBench's subject consistency uses "
               "dino_vitbase16_pretrain.pth" % (path, d, depth, p))
     return out
+
+
+def ckdn():
+    """pyiqa archs/ckdn_arch.py's CKDN (module "net"): two ResNet-50 stems, Conv2d(3, 64, 7, bias=False)
+    qse_1/dte_1 and torchvision's layer1 qse_2/dte_2 (3 Bottlenecks of width 64), layer2 csp (4 of
+    width 128, the first with the downsample), the MLP fc_ = Linear(512, 2048), ReLU, Dropout,
+    Linear(2048, 2048), ReLU, Dropout, Linear(2048, 1). Convolutions have no bias; each has a BatchNorm2d."""
+    def bn(prefix, c):
+        return {prefix + "." + p: [c] for p in ("weight", "bias", "running_mean", "running_var")}
+
+    def layer(prefix, cin, planes, blocks):
+        spec = {}
+        for i in range(blocks):
+            p, inp = "%s.%d" % (prefix, i), cin if i == 0 else 4 * planes
+            for n, (cout, c, k) in enumerate([(planes, inp, 1), (planes, planes, 3), (4 * planes, planes, 1)], 1):
+                spec["%s.conv%d.weight" % (p, n)] = [cout, c, k, k]
+                spec.update(bn("%s.bn%d" % (p, n), cout))
+            if i == 0:
+                spec[p + ".downsample.0.weight"] = [4 * planes, inp, 1, 1]
+                spec.update(bn(p + ".downsample.1", 4 * planes))
+        return spec
+
+    spec = {"net.qse_1.weight": [64, 3, 7, 7], "net.dte_1.weight": [64, 3, 7, 7]}
+    spec.update(layer("net.qse_2", 64, 64, 3))
+    spec.update(layer("net.dte_2", 64, 64, 3))
+    spec.update(layer("net.csp", 256, 128, 4))
+    for index, out, inp in [(0, 2048, 512), (3, 2048, 2048), (6, 1, 2048)]:
+        spec.update({"net.fc_.%d.weight" % index: [out, inp], "net.fc_.%d.bias" % index: [out]})
+    return spec
 
 
 def lpips_heads(kind):
@@ -228,8 +260,14 @@ def convert(kind, path):
         refuse_unknown(path, t, [r"cls_token", r"pos_embed", r"patch_embed\.proj\.(weight|bias)", r"norm\.(weight|bias)",
                                  r"blocks\.\d+\.(norm1|norm2|attn\.qkv|attn\.proj|mlp\.fc1|mlp\.fc2)\.(weight|bias)"], kind)
         return {"dino_vitb16.safetensors": dino_vit(path, t)}
-    raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, dino_vitb16)"
-                       % kind)
+    if kind == "ckdn":
+        refuse_unknown(path, t, [r"net\.(qse|dte)_1\.weight",
+                                 r"net\.(qse_2|dte_2|csp|aux_csp)\.\d+\.(conv\d|bn\d|downsample\.[01])\."
+                                 r"(weight|bias|running_mean|running_var|num_batches_tracked)",
+                                 r"net\.(fc_|fc1_)\.[036]\.(weight|bias)"], kind)
+        return {"ckdn.safetensors": check(path, t, ckdn(), "pyiqa CKDN")}
+    raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, dino_vitb16, "
+                       "ckdn)" % kind)
 
 
 def main(argv):

@@ -142,7 +142,7 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     for (const char* key : {"dists", "dino_score"})
       if (styl.size() < 2 && o.learned->computes(key) && scored_here(key)) r.unavailable[key] = "needs at least 2 frames";
     if (o.style_image.empty())
-      for (const char* key : {"style_lpips", "style_loss_gram"})
+      for (const char* key : {"style_lpips", "style_loss_gram", "ckdn"})
         if (o.learned->computes(key) && scored_here(key))
           r.unavailable[key] = "no style image: this method is the unstylised original scene";
   }

@@ -33,7 +33,7 @@ std::vector<MetricEntry> build() {
       {"dino_score", "Subject", true, "VBench subject consistency (DINO ViT-B/16)", "CLS cosine to previous and first frame",
        needs("dino_vitb16.safetensors", "DINO's ViT-B/16 dino_vitbase16_pretrain.pth")},
       {"ckdn", "CKDN", true, "pyiqa ckdn", "x = stylised frame, y = style image, 288x288 centre crop",
-       needs("", "CKDN_model_best-38b27dc6.pth")},
+       needs("ckdn.safetensors", "pyiqa's CKDN_model_best-38b27dc6.pth")},
       {"style_lpips", "Style LPIPS", false, "LPIPS v0.1 VGG or AlexNet (frame vs style image resized to the frame)", "[0,1] -> [-1,1]",
        needs("vgg16.safetensors and lpips_vgg.safetensors (or alexnet.safetensors and lpips_alex.safetensors with --lpips-net alex)",
              "torchvision vgg16-397923af.pth / alexnet-owt-7be5be79.pth and LPIPS v0.1 weights/v0.1/vgg.pth / alex.pth")},

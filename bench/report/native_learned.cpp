@@ -20,6 +20,7 @@ constexpr const char* kVggNormalised = "vgg_normalised.safetensors";
 constexpr const char* kVgg19 = "vgg19.safetensors";
 constexpr const char* kDists = "dists.safetensors";
 constexpr const char* kDino = "dino_vitb16.safetensors";
+constexpr const char* kCkdn = "ckdn.safetensors";
 
 bool wanted(const std::vector<std::string>& keys, const char* key) {
   return keys.empty() || std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -59,7 +60,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
 
 const std::vector<std::string>& native_learned_keys() {
   static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram",
-                                                   "dino_score"};
+                                                   "dino_score", "ckdn"};
   return keys;
 }
 
@@ -111,6 +112,10 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
     dino_ = std::make_unique<metrics::DinoSubject>(ctx, io::SafetensorsFile(*options.weights_dir / kDino));
   else
     unavailable_["dino_score"] = missing(options, {kDino}, "DINO's dino_vitbase16_pretrain.pth");
+  if (all_present(options, {kCkdn}))
+    ckdn_ = std::make_unique<metrics::Ckdn>(ctx, io::SafetensorsFile(*options.weights_dir / kCkdn));
+  else
+    unavailable_["ckdn"] = missing(options, {kCkdn}, "pyiqa's CKDN_model_best-38b27dc6.pth");
 }
 
 bool NativeLearned::computes(const std::string& key) const {
@@ -124,6 +129,7 @@ std::string NativeLearned::impl(const std::string& key) const {
     return "native DINO ViT (dino_vitb16.safetensors: width " + std::to_string(s.width) + ", " + std::to_string(s.depth) +
            " blocks, " + std::to_string(s.heads) + " heads, patch " + std::to_string(s.patch) + ") on the GPU";
   }
+  if (key == "ckdn") return "native CKDN, two ResNet-50 stems + layer2 + MLP (ckdn.safetensors) on the GPU";
   if (key == "dists") return "native DISTS, VGG16 with L2 pooling (vgg16.safetensors + dists.safetensors) on the GPU";
   if (key == "style_loss_gram")
     return std::string("native VGG19 (") +
@@ -134,6 +140,10 @@ std::string NativeLearned::impl(const std::string& key) const {
 }
 
 std::string NativeLearned::convention(const std::string& key) const {
+  if (key == "ckdn")
+    return "pyiqa ckdn(x = stylised frame, y = style image): RGB [0,1], shorter side to 329 (x bicubic antialiased, y "
+           "nearest), 288x288 centre crop, ImageNet mean/std, sigmoid of the MLP on the global average of "
+           "layer2(stem_x(x) - stem_y(y)); mean over frames";
   if (key == "dists")
     return "DISTS(f_t+1, f_t) of consecutive stylised frames: RGB [0,1], no resize (pyiqa), stage 0 the raw input, "
            "VGG16 relu1_2..relu5_3 of the ImageNet-normalised input with L2 pooling, global per-channel statistics, "
@@ -185,6 +195,7 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
     if (!style_gram_) style_gram_ = gram_->grams(style_);
     per_frame["style_loss_gram"].push_back(metrics::gram_loss(gram_->grams(stylised), *style_gram_));
   }
+  if (ckdn_ && !style_image.empty() && wanted(keys, "ckdn")) per_frame["ckdn"].push_back((*ckdn_)(stylised, style_));
   if (dists_ && wanted(keys, "dists")) {
     metrics::DistsFeatures current = dists_->features(stylised);
     if (follows && previous_) per_frame["dists"].push_back(dists_->distance(current, *previous_));

@@ -164,8 +164,9 @@ struct NnBlendParams {
 };
 
 // Push constants of nn_maxpool (2x2, stride 2, ceil or floor mode by the output size),
-// nn_maxpool3s2 (3x3, stride 2, floor mode: AlexNet), nn_l2pool (3x3 Hann window, stride 2),
-// nn_upsample (nearest, x2) and nn_resize_nearest (any size).
+// nn_maxpool3s2 (3x3, stride 2, floor mode, zero (AlexNet) or one (ResNet) padding row and column
+// per side that no window takes its maximum from), nn_l2pool (3x3 Hann window, stride 2),
+// nn_upsample (nearest, x2), nn_subsample2 (x[c, 2y, 2x]) and nn_resize_nearest (any size).
 struct NnResizeParams {
   uint channels;
   uint in_height;
@@ -173,7 +174,7 @@ struct NnResizeParams {
   uint out_height;
   uint out_width;
   uint n_out;  // channels * out_height * out_width
-  uint _pad0;
+  uint pad;    // nn_maxpool3s2's padding (0 or 1); 0 for the others
   uint _pad1;
 };
 

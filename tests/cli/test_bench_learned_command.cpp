@@ -134,6 +134,9 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   CHECK(partial.at("style_loss_gram").at("unavailable").get<std::string>().find("vgg_normalised.safetensors") != std::string::npos);
   CHECK(partial.at("dino_score").at("unavailable").get<std::string>().find("add dino_vitb16.safetensors to " + partial_dir.string()) !=
         std::string::npos);
+  const std::string ckdn_why = partial.at("ckdn").at("unavailable").get<std::string>();
+  CHECK(ckdn_why.find("add ckdn.safetensors to " + partial_dir.string()) != std::string::npos);
+  CHECK(ckdn_why.find("CKDN_model_best-38b27dc6.pth") != std::string::npos);
   // A folder holding the other network's files: --lpips-net alex asks for the AlexNet files and points
   // at the VGG ones there; --gram-vgg torchvision likewise at vgg_normalised.
   const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex --gram-vgg torchvision", "alex")

@@ -76,14 +76,16 @@ TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
 }
 
 // Kernel nn_conv_strided.
-TEST_CASE("strided convolutions of any kernel size (AlexNet's 11x11 stride 4, 5x5, a ViT's 16x16 patches) match their twin") {
+TEST_CASE("strided convolutions of any kernel size (AlexNet's 11x11 stride 4, 5x5, a ViT's 16x16 patches, ResNet's 7x7 stride 2) match their twin") {
   std::mt19937 rng(13);
   struct Case {
     uint32_t cin, cout, k, stride, pad, h, w;
   };
-  // The last: a ViT's 16x16 stride-16 patch embedding, the image's last 5 rows and 2 columns unseen.
+  // Then a ViT's 16x16 stride-16 patch embedding, the image's last 5 rows and 2 columns unseen, and
+  // ResNet's (CKDN) 7x7 stride-2 stem, 3x3 stride-2 and 1x1 stride-2 convolutions.
   for (const Case c : {Case{3, 5, 11, 4, 2, 35, 31}, Case{4, 6, 5, 1, 2, 9, 7}, Case{6, 3, 3, 1, 1, 5, 4}, Case{2, 3, 3, 2, 0, 7, 8},
-                       Case{3, 9, 16, 16, 0, 37, 50}}) {
+                       Case{3, 9, 16, 16, 0, 37, 50}, Case{3, 4, 7, 2, 3, 13, 10}, Case{5, 3, 3, 2, 1, 9, 6},
+                       Case{6, 4, 1, 2, 0, 7, 9}}) {
     const auto x = test::random_chw(c.cin, c.h, c.w, rng);
     const auto params = test::random_conv(c.cin, c.cout, c.k, rng);
     const auto gx = test::upload(x);
@@ -149,8 +151,8 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
-// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample.
-TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling match their twins exactly") {
+// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample, nn_subsample2.
+TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and subsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
     const auto x = test::random_chw(3, h, w, rng);
@@ -159,6 +161,10 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling mat
     CHECK(max_rel(pooled, ref::maxpool2_ceil(to_double(x)).v) == 0.0);
     const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
     CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
+    const auto sub = nn::download(context(), run([&](engine::Recorder& r) { return nn::subsample2(r, gx); }));
+    const auto sub_twin = ref::subsample2(to_double(x));
+    REQUIRE(sub.size() == size_t{3} * ((h + 1) / 2) * ((w + 1) / 2));
+    CHECK(max_rel(sub, sub_twin.v) == 0.0);
   }
   // Floor mode (torchvision's VGG) through the same kernel: odd last rows and columns are dropped.
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {2, 3}}) {
@@ -173,6 +179,17 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling and nearest upsampling mat
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool3s2(r, gx); }));
     CHECK(max_rel(pooled, ref::maxpool3s2(to_double(x)).v) == 0.0);
+  }
+  // With padding 1 (ResNet's stem): floor((in - 1) / 2) + 1 outputs, border windows partly outside;
+  // all-negative inputs so a padded zero winning would show.
+  for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 9}, {1, 2}, {8, 6}}) {
+    const auto x = test::random_chw(3, h, w, rng, -2.0f, -0.5f);
+    const auto gx = test::upload(x);
+    const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool3s2(r, gx, 1); }));
+    const auto twin = ref::maxpool3s2(to_double(x), 1);
+    REQUIRE(pooled.size() == twin.v.size());
+    CHECK(twin.h == (h - 1) / 2 + 1);
+    CHECK(max_rel(pooled, twin.v) == 0.0);
   }
   auto x = test::random_chw(2, 9, 11, rng);
   auto gx = test::upload(x);
@@ -216,7 +233,12 @@ TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match
     const auto stats =
         context().download<float>(run([&](engine::Recorder& r) { return nn::mean_std(r, gx, 1e-5f); }), 2 * size_t{c});
     // Float partial sums against double: measured 2.0e-7 (300x300).
-    CHECK(max_rel(stats, ref::mean_std(to_double(x), 1e-5)) < 2e-6);
+    const std::vector<double> stats_twin = ref::mean_std(to_double(x), 1e-5);
+    CHECK(max_rel(stats, stats_twin) < 2e-6);
+    // global_average: the means alone, as a [c, 1, 1] tensor.
+    const auto means = nn::download(context(), run([&](engine::Recorder& r) { return nn::global_average(r, gx); }));
+    REQUIRE(means.size() == c);
+    CHECK(max_rel(means, std::vector<double>(stats_twin.begin(), stats_twin.begin() + c)) < 2e-6);  // as the means above
     const auto a = nn::download(context(), run([&](engine::Recorder& r) { return nn::squares_over_sum(r, gx); }));
     CHECK(max_rel(a, ref::squares_over_sum(to_double(x))) < 2e-6);  // measured 3.7e-7 (300x300)
   }
@@ -261,6 +283,11 @@ TEST_CASE("adain, its content blend, normalisation, channel scaling and blending
   std::vector<double> blend_twin(content.v.size());
   for (size_t i = 0; i < blend_twin.size(); ++i) blend_twin[i] = 0.3 * content.v[i] + 0.7 * other.v[i];
   CHECK(max_rel(blended, blend_twin) < 2e-7);  // two products and a sum in float: measured 6.2e-8
+  // subtract (CKDN's branch difference): one rounding of a - b.
+  const auto diff = nn::download(context(), run([&](engine::Recorder& r) { return nn::subtract(r, gc, go); }));
+  std::vector<double> diff_twin(content.v.size());
+  for (size_t i = 0; i < diff_twin.size(); ++i) diff_twin[i] = double(content.v[i]) - double(other.v[i]);
+  CHECK(max_rel(diff, diff_twin) < 1e-7);  // measured 0 (float a - b is the exact difference rounded once)
 }
 
 TEST_CASE("layers refuse mismatched shapes before recording anything") {

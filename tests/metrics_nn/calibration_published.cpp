@@ -1,10 +1,11 @@
 // The native learned metrics against their published calibration values (METRICS.md 5 and 9):
 // pyiqa's ResultsCalibra pairs (TID2013 crops, dist_dir/I03..I19 against ref_dir/I03..I19, no
-// resize) scored by the authors' own code: DISTS 0.4742, 0.1424, 0.0682, 0.0287, 0.3123 and LPIPS
-// v0.1 AlexNet ([0, 1] inputs, 2x - 1) 0.7237, 0.2572, 0.0508, 0.0521, 0.4253.
+// resize) scored by the authors' own code: DISTS 0.4742, 0.1424, 0.0682, 0.0287, 0.3123, LPIPS
+// v0.1 AlexNet ([0, 1] inputs, 2x - 1) 0.7237, 0.2572, 0.0508, 0.0521, 0.4253 and CKDN (ckdn(dist,
+// ref), the authors' PIL preprocessing) 0.2833, 0.5766, 0.6367, 0.6579, 0.5999.
 //
 // Needs what cannot ship with the project: the published weights converted by
-// tools/convert_weights.py (S4D_METRIC_WEIGHTS: vgg16, dists, alexnet, lpips_alex .safetensors)
+// tools/convert_weights.py (S4D_METRIC_WEIGHTS: vgg16, dists, alexnet, lpips_alex, ckdn .safetensors)
 // and the calibration images (S4D_CALIBRATION_DIR: a copy of pyiqa's ResultsCalibra with ref_dir/
 // and dist_dir/). Each metric runs when its files are there; otherwise it is reported as skipped
 // with what is missing, and when nothing could run the program exits 77 (ctest: skipped).
@@ -20,6 +21,7 @@
 
 #include "s4d/engine/context.h"
 #include "s4d/io/safetensors.h"
+#include "s4d/metrics/ckdn.h"
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/lpips.h"
 #include "s4d/io/image_file.h"
@@ -34,11 +36,16 @@ const std::vector<std::string> kImages = {"I03", "I04", "I06", "I08", "I19"};
 // (DISTS I06, LPIPS I03). 1e-3 allows both roundings plus float32 accumulation on another device.
 // No measured worst case: neither the weights nor the images are on the machines this was written on.
 constexpr double kTolerance = 1e-3;
+// CKDN: pyiqa resizes tensors with torchvision where the authors used PIL, and its own port scores
+// 0.2840, 0.5650, 0.6263, 0.6414, 0.5935 (2.5 % from the authors' at I08); pyiqa's test allows a
+// relative 3 %, and so does this one.
+constexpr double kCkdnRelativeTolerance = 0.03;
 
 struct Calibration {
   std::string metric;
   std::vector<std::string> weights;  // files under S4D_METRIC_WEIGHTS
   std::vector<double> published;     // per kImages
+  double relative_tolerance = 0;     // 0: kTolerance absolute
 };
 
 fs::path env_path(const char* name) {
@@ -69,6 +76,7 @@ int main() {
   const std::vector<Calibration> calibrations = {
       {"dists", {"vgg16.safetensors", "dists.safetensors"}, {0.4742, 0.1424, 0.0682, 0.0287, 0.3123}},
       {"lpips_alex", {"alexnet.safetensors", "lpips_alex.safetensors"}, {0.7237, 0.2572, 0.0508, 0.0521, 0.4253}},
+      {"ckdn", {"ckdn.safetensors"}, {0.2833, 0.5766, 0.6367, 0.6579, 0.5999}, kCkdnRelativeTolerance},
   };
   int ran = 0, failed = 0;
   try {
@@ -83,7 +91,11 @@ int main() {
       std::function<double(const io::ImageF&, const io::ImageF&)> score;
       std::unique_ptr<metrics::Dists> dists;
       std::unique_ptr<metrics::Lpips> lpips;
-      if (c.metric == "dists") {
+      std::unique_ptr<metrics::Ckdn> ckdn;
+      if (c.metric == "ckdn") {
+        ckdn = std::make_unique<metrics::Ckdn>(*ctx, io::SafetensorsFile(weights / c.weights[0]));
+        score = [&](const io::ImageF& a, const io::ImageF& b) { return (*ckdn)(a, b); };
+      } else if (c.metric == "dists") {
         dists = std::make_unique<metrics::Dists>(*ctx, io::SafetensorsFile(weights / c.weights[0]),
                                                  io::SafetensorsFile(weights / c.weights[1]));
         score = [&](const io::ImageF& a, const io::ImageF& b) { return (*dists)(a, b); };
@@ -97,7 +109,7 @@ int main() {
         const io::ImageF dist = io::read_image_rgb(images / "dist_dir" / (kImages[k] + ".bmp"));
         const io::ImageF ref = io::read_image_rgb(images / "ref_dir" / (kImages[k] + ".bmp"));
         const double value = score(dist, ref), error = std::abs(value - c.published[k]);
-        const bool ok = error <= kTolerance;
+        const bool ok = c.relative_tolerance > 0 ? error <= c.relative_tolerance * c.published[k] : error <= kTolerance;
         failed += ok ? 0 : 1;
         std::printf("%s %s: %.9g, published %.4f, error %.1e %s\n", c.metric.c_str(), kImages[k].c_str(), value,
                     c.published[k], error, ok ? "ok" : "FAILED");

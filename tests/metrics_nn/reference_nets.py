@@ -31,3 +31,35 @@ def dino_state_dict(vit):
         out[b + "attn.qkv.weight"] = layer.self_attention.in_proj_weight
         out[b + "attn.qkv.bias"] = layer.self_attention.in_proj_bias
     return {k: v.detach().clone().float().contiguous() for k, v in out.items()}
+
+
+class CkdnResNet(nn.Module):
+    """CKDN's two-branch ResNet (Zheng et al. 2021; pyiqa archs/ckdn_arch.py's ResNet, module "net")
+    assembled from torchvision's ResNet-50 modules: per branch conv1 (7x7 stride 2, no BN/ReLU after
+    it in CKDN), ResNet's MaxPool2d(3, 2, 1) and layer1; the difference restored - reference through
+    layer2 ("csp"), global average, MLP 512-2048-2048-1 with dropout, sigmoid. aux_csp and fc1_ exist
+    in the published state dict but not in the forward pass."""
+
+    def __init__(self):
+        super().__init__()
+        import torchvision
+        restored, reference = torchvision.models.resnet50(), torchvision.models.resnet50()
+        self.qse_1, self.qse_2, self.csp = restored.conv1, restored.layer1, restored.layer2
+        self.dte_1, self.dte_2, self.aux_csp = reference.conv1, reference.layer1, reference.layer2
+        self.maxpool, self.avgpool = restored.maxpool, nn.AdaptiveAvgPool2d(1)
+        mlp = lambda: nn.Sequential(nn.Linear(512, 2048), nn.ReLU(True), nn.Dropout(), nn.Linear(2048, 2048), nn.ReLU(True),
+                                    nn.Dropout(), nn.Linear(2048, 1))
+        self.fc_, self.fc1_ = mlp(), mlp()
+
+    def forward(self, x, y):
+        import torch
+        d = self.qse_2(self.maxpool(self.qse_1(x))) - self.dte_2(self.maxpool(self.dte_1(y)))
+        return torch.sigmoid(self.fc_(torch.flatten(self.avgpool(self.csp(d)), 1)))
+
+
+class Ckdn(nn.Module):
+    """pyiqa's CKDN module, whose state dict (CKDN_model_best-38b27dc6.pth) names everything "net.*"."""
+
+    def __init__(self):
+        super().__init__()
+        self.net = CkdnResNet()

@@ -21,7 +21,7 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
-from reference_nets import adain_vgg, dino_state_dict
+from reference_nets import Ckdn, adain_vgg, dino_state_dict
 import torch
 import torch.nn as nn
 import torchvision
@@ -167,6 +167,15 @@ def main():
     check(p.returncode == 0 and "is not DINO ViT-B/16 (width 128, 2 blocks, patch 16)" in p.stdout,
           "a smaller DINO ViT converts with a note: " + p.stdout.strip().splitlines()[-1])
 
+    # pyiqa's CKDN: the whole module's state (both stems, csp and the unused aux_csp and fc1_, BatchNorm
+    # buffers with num_batches_tracked); the file keeps what the forward pass reads, BatchNorm unfolded.
+    ckdn = Ckdn().state_dict()
+    used = {k: v for k, v in ckdn.items()
+            if not k.startswith(("net.aux_csp.", "net.fc1_.")) and not k.endswith("num_batches_tracked")}
+    p, _, out = convert("ckdn", ckdn, name="CKDN_model_best-pyiqa.pth")
+    check(p.returncode == 0, "pyiqa's CKDN file converts (%s)" % p.stderr.strip())
+    same(os.path.join(out, "ckdn.safetensors"), used, "pyiqa CKDN without aux_csp, fc1_ and num_batches_tracked")
+
     # Errors: one line naming the file and the tensor, exit code 1, nothing written.
     bad_files = []
 
@@ -185,6 +194,11 @@ def main():
     missing = {k: v for k, v in vgg16.items() if k != "features.28.bias"}
     refused("vgg16", missing, ["missing features.28.bias"], "a missing bias")
     refused("dists", dict(ab, gamma=torch.rand(3)), ["unexpected tensor 'gamma'"], "an unknown tensor")
+    no_var = {k: v for k, v in ckdn.items() if k != "net.csp.0.downsample.1.running_var"}
+    refused("ckdn", no_var, ["missing net.csp.0.downsample.1.running_var"], "a CKDN without a BatchNorm statistic")
+    narrow = dict(ckdn, **{"net.fc_.0.weight": torch.rand(2048, 256)})
+    refused("ckdn", narrow, ["net.fc_.0.weight", "[2048, 256]", "[2048, 512]"], "a CKDN MLP of the wrong width")
+    refused("ckdn", vgg16, ["unexpected tensor 'features.0.weight'"], "a VGG16 as CKDN")
     nan = dict(ab)
     nan["beta"] = ab["beta"].clone()
     nan["beta"][0, 7, 0, 0] = float("nan")

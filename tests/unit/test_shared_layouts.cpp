@@ -169,7 +169,7 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnResizeParams, S4D_MEMBER(NnResizeParams, channels), S4D_MEMBER(NnResizeParams, in_height),
                  S4D_MEMBER(NnResizeParams, in_width), S4D_MEMBER(NnResizeParams, out_height),
                  S4D_MEMBER(NnResizeParams, out_width), S4D_MEMBER(NnResizeParams, n_out),
-                 S4D_MEMBER(NnResizeParams, _pad0), S4D_MEMBER(NnResizeParams, _pad1)),
+                 S4D_MEMBER(NnResizeParams, pad), S4D_MEMBER(NnResizeParams, _pad1)),
       S4D_STRUCT(NnStatsParams, S4D_MEMBER(NnStatsParams, channels), S4D_MEMBER(NnStatsParams, count),
                  S4D_MEMBER(NnStatsParams, eps), S4D_MEMBER(NnStatsParams, _pad0)),
       S4D_STRUCT(NnAdainParams, S4D_MEMBER(NnAdainParams, channels), S4D_MEMBER(NnAdainParams, count),

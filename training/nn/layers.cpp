@@ -65,7 +65,7 @@ Tensor conv(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32
 }
 
 Tensor resize(engine::Recorder& rec, const Tensor& x, shaders::Id id, uint32_t out_h, uint32_t out_w,
-              const char* what) {
+              const char* what, uint32_t pad = 0) {
   Tensor y = make_tensor(rec.context(), what, x.c, out_h, out_w);
   const gpu::NnResizeParams p{.channels = x.c,
                               .in_height = x.h,
@@ -73,7 +73,7 @@ Tensor resize(engine::Recorder& rec, const Tensor& x, shaders::Id id, uint32_t o
                               .out_height = out_h,
                               .out_width = out_w,
                               .n_out = static_cast<uint32_t>(y.count()),
-                              ._pad0 = 0,
+                              .pad = pad,
                               ._pad1 = 0};
   rec.dispatch(shader_pipeline(rec.context(), id), {S4D_BIND(RESIZE_IN, x.buffer), S4D_BIND(RESIZE_OUT, y.buffer)}, p,
                ceil_div(y.count(), S4D_NN_WG));
@@ -197,13 +197,20 @@ Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
 }
 
-Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x) {
-  if (x.h < 3 || x.w < 3) fail("maxpool3s2", "needs H, W >= 3, got " + x.shape());
-  return resize(rec, x, shaders::Id::nn_maxpool3s2, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1, "maxpool3s2");
+Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad) {
+  if (pad > 1) fail("maxpool3s2", "padding " + std::to_string(pad) + " is not 0 or 1");
+  if (x.h + 2 * pad < 3 || x.w + 2 * pad < 3)
+    fail("maxpool3s2", "needs H, W >= " + std::to_string(3 - 2 * pad) + " with padding " + std::to_string(pad) + ", got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_maxpool3s2, (x.h + 2 * pad - 3) / 2 + 1, (x.w + 2 * pad - 3) / 2 + 1, "maxpool3s2",
+                pad);
 }
 
 Tensor l2pool(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_l2pool, (x.h + 1) / 2, (x.w + 1) / 2, "l2pool");
+}
+
+Tensor subsample2(engine::Recorder& rec, const Tensor& x) {
+  return resize(rec, x, shaders::Id::nn_subsample2, (x.h + 1) / 2, (x.w + 1) / 2, "subsample2");
 }
 
 Tensor upsample2(engine::Recorder& rec, const Tensor& x) {
@@ -218,6 +225,13 @@ engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps) {
                {S4D_BIND(STATS_IN, x.buffer), S4D_BIND(STATS_OUT, stats)}, p, x.c);
   rec.barrier();
   return stats;
+}
+
+Tensor global_average(engine::Recorder& rec, const Tensor& x) {
+  Tensor means;
+  means.buffer = mean_std(rec, x);  // the first x.c values; the standard deviations after them go unread
+  means.c = x.c, means.h = 1, means.w = 1;
+  return means;
 }
 
 Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x) {
@@ -255,6 +269,10 @@ Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alph
 
 Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
   return weighted_sum(rec, a, b, 1.0f, 1.0f, "add");
+}
+
+Tensor subtract(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
+  return weighted_sum(rec, a, b, 1.0f, -1.0f, "subtract");
 }
 
 Tensor layernorm(engine::Recorder& rec, const Tensor& x, const NormWeights& w, float eps) {

@@ -53,16 +53,22 @@ void relu_inplace(engine::Recorder& rec, Tensor& x);
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
 // MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
-// MaxPool2d(3, 2) (floor mode, torchvision's AlexNet): [c, (h - 3) / 2 + 1, (w - 3) / 2 + 1]; needs H, W >= 3.
-Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x);
+// MaxPool2d(3, 2, pad) (floor mode; pad 0: torchvision's AlexNet, pad 1: ResNet's stem):
+// [c, (h + 2 pad - 3) / 2 + 1, (w + 2 pad - 3) / 2 + 1]; pad is 0 or 1, H, W >= 3 - 2 pad.
+Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad = 0);
 // DISTS's L2pooling(filter_size=5, stride=2): sqrt(conv(x^2, [1 2 1]^T [1 2 1] / 16, stride 2,
 // zero padding 1) + 1e-12) per channel: [c, ceil(h/2), ceil(w/2)].
 Tensor l2pool(engine::Recorder& rec, const Tensor& x);
+// x[c, 2 y, 2 x]: [c, ceil(h / 2), ceil(w / 2)]; conv1x1 of it is Conv2d(k=1, stride=2).
+Tensor subsample2(engine::Recorder& rec, const Tensor& x);
 // Upsample(scale_factor=2, mode='nearest').
 Tensor upsample2(engine::Recorder& rec, const Tensor& x);
 
 // [2, c]: per-channel means, then sqrt(unbiased variance + eps) (AdaIN's calc_mean_std). Needs H*W >= 2.
 engine::Buffer mean_std(engine::Recorder& rec, const Tensor& x, float eps = 1e-5f);
+// AdaptiveAvgPool2d(1): [c, 1, 1], the per-channel means of mean_std (its buffer also holds the
+// standard deviations, after the means). Needs H*W >= 2.
+Tensor global_average(engine::Recorder& rec, const Tensor& x);
 // [c, 1, 1]: sum(x^2) / sum(x) per channel (MCC's style weighting). Needs H*W >= 2.
 Tensor squares_over_sum(engine::Recorder& rec, const Tensor& x);
 // alpha (sigma_s (x - mu_c) / sigma_c + mu_s) + (1 - alpha) x, with stats from mean_std.
@@ -76,6 +82,8 @@ void scale_channels(engine::Recorder& rec, Tensor& x, const engine::Buffer& fact
 Tensor blend(engine::Recorder& rec, const Tensor& a, const Tensor& b, float alpha);
 // a + b, both of a's shape.
 Tensor add(engine::Recorder& rec, const Tensor& a, const Tensor& b);
+// a - b, both of a's shape.
+Tensor subtract(engine::Recorder& rec, const Tensor& a, const Tensor& b);
 // LayerNorm over the channels of every pixel: a transformer's tokens, [c, 1, n]. Needs c <= S4D_NN_MAX_LOOP.
 Tensor layernorm(engine::Recorder& rec, const Tensor& x, const NormWeights& w, float eps);
 // GELU (exact, erf) in place.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace s4d::ref {
@@ -80,16 +81,19 @@ Chw<T> conv3x3_zero_pad(const Chw<T>& x, const std::vector<T>& weight, const std
   return conv2d(x, weight, bias, cout, 3, 1, 1, with_relu);
 }
 
-// MaxPool2d(3, 2) (floor mode).
+// MaxPool2d(3, 2, pad) (floor mode; pad 0 or 1, padded positions never win).
 template <class T>
-Chw<T> maxpool3s2(const Chw<T>& x) {
-  Chw<T> y(x.c, (x.h - 3) / 2 + 1, (x.w - 3) / 2 + 1);
+Chw<T> maxpool3s2(const Chw<T>& x, uint32_t pad = 0) {
+  Chw<T> y(x.c, (x.h + 2 * pad - 3) / 2 + 1, (x.w + 2 * pad - 3) / 2 + 1);
   for (uint32_t ch = 0; ch < x.c; ++ch)
     for (uint32_t py = 0; py < y.h; ++py)
       for (uint32_t px = 0; px < y.w; ++px) {
-        T m = x.at(ch, 2 * py, 2 * px);
+        T m = -std::numeric_limits<T>::infinity();
         for (uint32_t dy = 0; dy < 3; ++dy)
-          for (uint32_t dx = 0; dx < 3; ++dx) m = std::max(m, x.at(ch, 2 * py + dy, 2 * px + dx));
+          for (uint32_t dx = 0; dx < 3; ++dx) {
+            const int64_t sy = int64_t{2 * py + dy} - pad, sx = int64_t{2 * px + dx} - pad;
+            if (sy >= 0 && sy < x.h && sx >= 0 && sx < x.w) m = std::max(m, x.at(ch, uint32_t(sy), uint32_t(sx)));
+          }
         y.at(ch, py, px) = m;
       }
   return y;
@@ -166,6 +170,16 @@ Chw<T> upsample2(const Chw<T>& x) {
   for (uint32_t ch = 0; ch < x.c; ++ch)
     for (uint32_t py = 0; py < y.h; ++py)
       for (uint32_t px = 0; px < y.w; ++px) y.at(ch, py, px) = x.at(ch, py / 2, px / 2);
+  return y;
+}
+
+// x[c, 2 y, 2 x]: [c, ceil(h / 2), ceil(w / 2)] (a 1x1 stride-2 convolution's sampling).
+template <class T>
+Chw<T> subsample2(const Chw<T>& x) {
+  Chw<T> y(x.c, (x.h + 1) / 2, (x.w + 1) / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) y.at(ch, py, px) = x.at(ch, 2 * py, 2 * px);
   return y;
 }
 
