@@ -70,17 +70,19 @@ for setting in ("tuned", "paper"):
                  "test_psnr_vs_stylized": s["stage4"]["test_psnr_vs_stylized"],
                  "test_ssim_vs_stylized": s["stage4"]["test_ssim_vs_stylized"],
                  "warp_spiral_exact_flow": w["spiral_exact_flow"]["styled_render"],
-                 "warp_spiral_dis": w["spiral_styled_render"], "warp_test_camera": w["test_camera"]["styled_render"],
+                 "warp_spiral_dis": w["spiral_styled_render"], "warp_test_camera": (w["test_camera"] or {}).get("styled_render"),
                  "warp_stylized_frames_2d": w["stylized_frames_2d"], "device": s["device"],
                  "contact_sheet": str(d / "contact_sheet.png")})
 json.dump({"run": str(run), "rows": rows}, open(out / "style_settings.json", "w"), indent=2)
+def cell(v):
+    return f"{v:.4f}" if isinstance(v, float) else "-"  # no test camera sequence (D-NeRF's test views)
 md = ["| setting | steps (MLP steps) | views/step | MLP lr | train s | test PSNR vs stylized (dB) | SSIM | "
       "warp, spiral exact flow | warp, spiral DIS | warp, test camera |", "|---|---|---|---|---|---|---|---|---|---|"]
 for r in rows:
     lr = f"{r['mlp_lr']:g}" + (f" -> {r['mlp_lr_final']:g}" if r["mlp_lr_final"] else "")
     md.append(f"| {r['setting']} | {r['iterations']} ({r['mlp_iterations']}) | {r['batch']} | {lr} | {r['train_seconds']:.0f} | "
               f"{r['test_psnr_vs_stylized']:.2f} | {r['test_ssim_vs_stylized']:.3f} | {r['warp_spiral_exact_flow']:.4f} | "
-              f"{r['warp_spiral_dis']:.4f} | {r['warp_test_camera']:.4f} |")
+              f"{r['warp_spiral_dis']:.4f} | {cell(r['warp_test_camera'])} |")
 (out / "style_settings.md").write_text("\n".join(md) + "\n")
 print("\n".join(md))
 try:
