@@ -12,6 +12,7 @@
 #include "s4d/metrics/flow.h"
 #include "s4d/metrics/warp_loss.h"
 #include "s4d/run/checkpoint.h"
+#include "s4d/run/style_file.h"
 #include "s4d/stylize/warp_error.h"
 #include "style_fixture.h"
 
@@ -211,4 +212,29 @@ TEST_CASE("stylize refuses other settings under an existing name, an unknown met
   CHECK(test::read_text(log).find("/no/such.png") != std::string::npos);
   CHECK(test::run_style4d("render", "--run " + r.run.string() + " --style nosuch --path test --out " + (r.root / "x").string(), log) != 0);
   CHECK(test::read_text(log).find("no style nosuch") != std::string::npos);
+}
+
+TEST_CASE("--style-setting paper trains the MLPs from the first step, two views a step, and is recorded for resume checks") {
+  const fs::path dir = styled("paper", "--style-setting paper --iters 20 --spiral-frames 2");
+  const nlohmann::json settings = read_json(dir / "stylize.json").at("settings");
+  CHECK(settings.at("setting") == "paper");
+  CHECK(settings.at("mlp_iterations") == 20);
+  CHECK(settings.at("batch") == 2);
+  CHECK(settings.at("mlp_lr") == 1e-4);
+  CHECK(settings.at("mlp_lr_final") == 1e-5);
+  CHECK(settings.at("mlp_init") == "uniform");
+  CHECK(read_json(dir / "request.json").at("settings") == settings);
+  // The style file holds the MLPs and the same settings.
+  const run::StyleFile file = run::read_style_file(run::style_file_path(test::run4d().run, "paper"));
+  REQUIRE(file.method == run::StyleMethod::full);
+  CHECK(file.settings == settings);
+  CHECK(std::any_of(file.mlp.begin(), file.mlp.end(), [](float w) { return w != 0; }));
+  // The same name with the tuned setting is other settings.
+  const test::Run4d& r = test::run4d();
+  const fs::path log = r.root / "stylize_paper_refused.log";
+  CHECK(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle + " --name paper --iters 20 --mlp-iters 20 --spiral-frames 2",
+                          log) != 0);
+  CHECK(test::read_text(log).find("--restart") != std::string::npos);
+  CHECK(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle + " --style-setting fast", log) != 0);
+  CHECK(test::read_text(log).find("setting 'fast' is not tuned or paper") != std::string::npos);
 }

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <utility>
 #include <vector>
 
 #include "s4d/io/safetensors.h"
@@ -136,6 +137,37 @@ ref::Chw<double> twin_mcc(const NetParams& mcc, const ref::Chw<double>& fc, cons
   auto out = conv(mcc, "MCCN.out_conv", c, false);
   for (size_t i = 0; i < out.v.size(); ++i) out.v[i] += fc.v[i];  // residual on the un-normalised features
   return out;
+}
+
+AdaattnParams random_adaattn(const nn::VggWidths& widths, std::mt19937& rng) {
+  const auto& w = widths.level;
+  AdaattnParams p{random_vgg(widths, 5, rng), {}, {}, {}};
+  const uint32_t k3 = w[0] + w[1] + w[2], k4 = k3 + w[3], k5 = k4 + w[4];
+  p.attn3["f"] = random_conv(k3, k3, 1, rng);
+  p.attn3["g"] = random_conv(k3, k3, 1, rng);
+  p.attn3["h"] = random_conv(w[2], w[2], 1, rng);
+  for (const auto& [prefix, key] : {std::pair{"attn_adain_4_1.", k4}, {"attn_adain_5_1.", k5}}) {
+    p.transformer[std::string(prefix) + "f"] = random_conv(key, key, 1, rng);
+    p.transformer[std::string(prefix) + "g"] = random_conv(key, key, 1, rng);
+    p.transformer[std::string(prefix) + "h"] = random_conv(w[3], w[3], 1, rng);
+  }
+  p.transformer["merge_conv"] = random_conv(w[3], w[3], 3, rng);
+  p.decoder["decoder_layer_1.1"] = random_conv(w[3], w[2], 3, rng);
+  p.decoder["decoder_layer_2.1"] = random_conv(2 * w[2], w[2], 3, rng);
+  for (const char* i : {"decoder_layer_2.4", "decoder_layer_2.7"}) p.decoder[i] = random_conv(w[2], w[2], 3, rng);
+  p.decoder["decoder_layer_2.10"] = random_conv(w[2], w[1], 3, rng);
+  p.decoder["decoder_layer_2.14"] = random_conv(w[1], w[1], 3, rng);
+  p.decoder["decoder_layer_2.17"] = random_conv(w[1], w[0], 3, rng);
+  p.decoder["decoder_layer_2.21"] = random_conv(w[0], w[0], 3, rng);
+  p.decoder["decoder_layer_2.24"] = random_conv(w[0], 3, 3, rng);
+  return p;
+}
+
+void write_adaattn(const std::filesystem::path& dir, const AdaattnParams& params) {
+  write_params(dir / "vgg_normalised.safetensors", params.vgg);
+  write_params(dir / "net_adaattn_3.safetensors", params.attn3);
+  write_params(dir / "net_transformer.safetensors", params.transformer);
+  write_params(dir / "net_decoder.safetensors", params.decoder);
 }
 
 }  // namespace s4d::test

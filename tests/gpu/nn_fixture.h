@@ -41,6 +41,15 @@ NetParams random_mcc(const nn::VggWidths& widths, std::mt19937& rng);
 // "<prefix>.weight" [cout, cin, k, k] ([cout, cin] for Linear) and "<prefix>.bias" [cout] for every layer.
 void write_params(const std::filesystem::path& path, const NetParams& params);
 
+// AdaAttN's four networks (vgg_normalised up to relu5_1, the relu3_1 module, the transformer and the
+// decoder; docs/stylization.md's names), random at any widths, and written as the files the adaattn
+// stylizer reads from a weights folder.
+struct AdaattnParams {
+  NetParams vgg, attn3, transformer, decoder;
+};
+AdaattnParams random_adaattn(const nn::VggWidths& widths, std::mt19937& rng);
+void write_adaattn(const std::filesystem::path& dir, const AdaattnParams& params);
+
 // relu<level>_1 of an RGB image, and the decoder's image of relu4_1-shaped features.
 ref::Chw<double> twin_encode(const NetParams& vgg, ref::Chw<double> x, int level);
 ref::Chw<double> twin_decode(const NetParams& decoder, ref::Chw<double> x);

@@ -52,33 +52,9 @@ ref::Chw<double> twin_key(const std::vector<ref::Chw<double>>& levels, int last)
   return ref::concat_channels(parts);
 }
 
-struct Weights {
-  test::NetParams vgg, attn3, transformer, decoder;
-};
+using Weights = test::AdaattnParams;
 
-Weights random_weights(std::mt19937& rng) {
-  const auto& w = kTiny.level;
-  Weights p{test::random_vgg(kTiny, 5, rng), {}, {}, {}};
-  const uint32_t k3 = w[0] + w[1] + w[2], k4 = k3 + w[3], k5 = k4 + w[4];
-  p.attn3["f"] = test::random_conv(k3, k3, 1, rng);
-  p.attn3["g"] = test::random_conv(k3, k3, 1, rng);
-  p.attn3["h"] = test::random_conv(w[2], w[2], 1, rng);
-  for (const auto& [prefix, key] : {std::pair{"attn_adain_4_1.", k4}, {"attn_adain_5_1.", k5}}) {
-    p.transformer[std::string(prefix) + "f"] = test::random_conv(key, key, 1, rng);
-    p.transformer[std::string(prefix) + "g"] = test::random_conv(key, key, 1, rng);
-    p.transformer[std::string(prefix) + "h"] = test::random_conv(w[3], w[3], 1, rng);
-  }
-  p.transformer["merge_conv"] = test::random_conv(w[3], w[3], 3, rng);
-  p.decoder["decoder_layer_1.1"] = test::random_conv(w[3], w[2], 3, rng);
-  p.decoder["decoder_layer_2.1"] = test::random_conv(2 * w[2], w[2], 3, rng);
-  for (const char* i : {"decoder_layer_2.4", "decoder_layer_2.7"}) p.decoder[i] = test::random_conv(w[2], w[2], 3, rng);
-  p.decoder["decoder_layer_2.10"] = test::random_conv(w[2], w[1], 3, rng);
-  p.decoder["decoder_layer_2.14"] = test::random_conv(w[1], w[1], 3, rng);
-  p.decoder["decoder_layer_2.17"] = test::random_conv(w[1], w[0], 3, rng);
-  p.decoder["decoder_layer_2.21"] = test::random_conv(w[0], w[0], 3, rng);
-  p.decoder["decoder_layer_2.24"] = test::random_conv(w[0], 3, 3, rng);
-  return p;
-}
+Weights random_weights(std::mt19937& rng) { return test::random_adaattn(kTiny, rng); }
 
 // AdaAttN(content, style) through the twins; `grid` is where each style level is subsampled to
 // (0: not), written out by hand for the test's sizes.
@@ -125,12 +101,7 @@ ref::Chw<double> twin_adaattn(const Weights& p, const ref::Chw<float>& content, 
   return conv3("decoder_layer_2.24", x, false);
 }
 
-void write(const test::ScratchDir& dir, const Weights& p) {
-  test::write_params(dir / "vgg_normalised.safetensors", p.vgg);
-  test::write_params(dir / "net_adaattn_3.safetensors", p.attn3);
-  test::write_params(dir / "net_transformer.safetensors", p.transformer);
-  test::write_params(dir / "net_decoder.safetensors", p.decoder);
-}
+void write(const test::ScratchDir& dir, const Weights& p) { test::write_adaattn(dir.path(), p); }
 
 }  // namespace
 

@@ -113,3 +113,37 @@ TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
   CHECK(message({{"depth_input", "far"}}).find("depth_input 'far'") != std::string::npos);
   CHECK(message({{"tv_weight", -1}}).find("tv_weight") != std::string::npos);
 }
+
+TEST_CASE("the paper setting trains the MLPs from the start, 1e-4 -> 1e-5, two views a step; tuned is the default") {
+  const style::StyleConfig tuned = style::style_setting("tuned"), paper = style::style_setting("paper");
+  CHECK(style::to_json(tuned) == style::to_json(style::StyleConfig{}));
+  CHECK(tuned.batch == 1);
+  CHECK(tuned.mlp_lr_final == 0);
+  CHECK(paper.setting == "paper");
+  CHECK(paper.mlp_iterations == paper.iterations);
+  CHECK(paper.mlp_init == "uniform");
+  CHECK(paper.mlp_lr == 1e-4);
+  CHECK(paper.mlp_lr_final == 1e-5);
+  CHECK(paper.batch == 2);
+  CHECK(paper.tv_weight == tuned.tv_weight);
+  CHECK_THROWS_WITH_AS(style::style_setting("fast"), "style settings: setting 'fast' is not tuned or paper", std::invalid_argument);
+
+  // A shorter stage 4 keeps the paper's MLPs on for all of it, and tuned's for its last steps.
+  style::StyleConfig p = paper, t = tuned;
+  style::set_iterations(p, 200);
+  style::set_iterations(t, 400);
+  CHECK(p.mlp_iterations == 200);
+  CHECK(t.mlp_iterations == 300);
+
+  // Absent fields take the named setting's defaults; the setting is recorded, so a resumed style
+  // with the other one differs.
+  const style::StyleConfig r = style::style_config_from_json({{"setting", "paper"}, {"iterations", 200}});
+  CHECK(style::to_json(r) == style::to_json(p));
+  CHECK(style::to_json(r) != style::to_json(style::style_config_from_json({{"iterations", 200}, {"mlp_iterations", 200}})));
+  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"setting", "paper"}, {"batch", 0}}), "style settings: batch must be positive",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"setting", 2}}), "style settings: field 'setting' has the wrong type",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"mlp_lr_final", -1e-5}}), "style settings: learning rates must be >= 0",
+                       std::invalid_argument);
+}

@@ -33,16 +33,18 @@ float parse_float(const std::string& option, const std::string& text) {
 }
 
 style::StyleConfig config_from_args(const Args& args) {
-  style::StyleConfig c;
+  style::StyleConfig c = style::style_setting(args.get_or("style-setting", "tuned"));
   if (auto v = args.get("method")) c.method = style::method_setting(*v);
   if (auto v = args.get("stylizer")) c.stylizer = *v;
   if (auto v = args.get("strength")) c.strength = parse_float("strength", *v);
-  if (auto v = args.get("iters")) c.iterations = parse_number<uint32_t>("iters", *v);
+  if (auto v = args.get("iters")) style::set_iterations(c, parse_number<uint32_t>("iters", *v));
   if (auto v = args.get("mlp-iters")) c.mlp_iterations = parse_number<uint32_t>("mlp-iters", *v);
+  if (auto v = args.get("batch")) c.batch = parse_number<uint32_t>("batch", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
   if (auto v = args.get("tv-weight")) c.tv_weight = parse_float("tv-weight", *v);
   if (auto v = args.get("mlp-lr")) c.mlp_lr = parse_float("mlp-lr", *v);
+  if (auto v = args.get("mlp-lr-final")) c.mlp_lr_final = parse_float("mlp-lr-final", *v);
   if (auto v = args.get("depth-input")) {
     const std::optional<run::DepthInput> input = run::parse_depth_input(*v);
     if (!input) throw std::invalid_argument("--depth-input: expected ndc or relative, got '" + *v + "'");
@@ -77,16 +79,22 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"strength", "stage 3: 0 keeps the content, 1 the full stylization (default 1)", true, "S"},
       {"method", "full (per-Gaussian MLPs, the paper), colors (no MLPs), scratch (4DGS retrained on the "
                  "stylized frames) (default full)", true, "M"},
+      {"style-setting", "stage 4's defaults: tuned (ours) or paper (Style4D's: MLPs from the start, their learning "
+                        "rate 1e-4 -> 1e-5, 2 views a step); the options below override them (default tuned)", true, "S"},
       {"iters", "stage 4 iterations (default 1500)", true, "N"},
-      {"mlp-iters", "method full: the last N iterations also train the MLPs (default 300; the others train "
-                    "colours and opacities only, on the plain rasterizer)", true, "N"},
+      {"mlp-iters", "method full: the last N iterations also train the MLPs (default: tuned 300, paper all; the "
+                    "others train colours and opacities only, on the plain rasterizer)", true, "N"},
+      {"batch", "stage 4 training views per step, gradients summed (default: tuned 1, paper 2)", true, "N"},
       {"seed", "seed of the stylizer and of stage 4 (default 0)", true, "N"},
       {"checkpoint-every", "stage 4 iterations between checkpoints (default 500)", true, "N"},
       {"tv-weight", "weight of the image TV term (default 0.05)", true, "W"},
-      {"mlp-lr", "learning rate of the style MLPs (default 2.5e-4)", true, "LR"},
+      {"mlp-lr", "learning rate of the style MLPs (default: tuned 2.5e-4, paper 1e-4)", true, "LR"},
+      {"mlp-lr-final", "the MLPs' rate decays log-linearly from --mlp-lr to this over their steps; 0 keeps it "
+                       "(default: tuned 0, paper 1e-5)", true, "LR"},
       {"depth-input", "how the MLP reads the ray-hit depth: relative (t* - centre depth) or ndc (default relative)", true, "D"},
       {"depth-scale", "relative depth scale (default 0: 1 / (3 x median Gaussian scale))", true, "S"},
-      {"mlp-init", "identity (SuperGaussians' with a zero last layer: adds nothing at first) or uniform (SuperGaussians) (default identity)", true, "I"},
+      {"mlp-init", "identity (SuperGaussians' with a zero last layer: adds nothing at first) or uniform (SuperGaussians) "
+                   "(default: tuned identity, paper uniform)", true, "I"},
       {"input-sigmoid", "squash the MLP inputs with a sigmoid (SuperGaussians)", false, ""},
       {"region", "stylize only the Gaussians whose centre lies in this world box (min then max corner); "
                  "the rest keep the original look", true, "x0,y0,z0,x1,y1,z1"},

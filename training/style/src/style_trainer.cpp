@@ -13,7 +13,9 @@
 #include "s4d/optim/adam.h"
 #include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
+#include "s4d/optim/lr_schedule.h"
 #include "s4d/optim/tv_loss.h"
+#include "s4d/primitives/add.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/scene/cached_scene.h"
 #include "s4d/scene/styled_scene.h"
@@ -108,7 +110,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   float depth_scale = 1;
   bool full = false;
   // Trained per-Gaussian arrays, their gradients and Adam moments: [0] SH deltas, [1] opacity deltas, [2] MLPs.
-  std::array<engine::Buffer, 3> param, grad, m, v;
+  // batch_grad: a batch's later views' gradients, added to grad (config.batch > 1 only).
+  std::array<engine::Buffer, 3> param, grad, m, v, batch_grad;
   std::array<size_t, 3> floats{};
   engine::Buffer sh, opacity, target, v_rgb, v_means, v_scales, v_quats;
   splat::StyleMlp mlp_desc{};
@@ -145,6 +148,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
       grad[k] = zeros(ctx, std::string("style ") + names[k] + " grad", floats[k]);
       m[k] = zeros(ctx, std::string("style ") + names[k] + " adam m", floats[k]);
       v[k] = zeros(ctx, std::string("style ") + names[k] + " adam v", floats[k]);
+      if (config.batch > 1) batch_grad[k] = zeros(ctx, std::string("style ") + names[k] + " batch grad", floats[k]);
     }
     std::vector<float> mlp = full ? initial_mlp(count, config.mlp_init, config.seed) : std::vector<float>{};
     region_count = count;
@@ -244,6 +248,13 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   // Method full's MLPs train from this step on (earlier steps are colours only).
   bool mlp_on() const { return full && done + config.mlp_iterations > config.iterations; }
 
+  // The MLPs' learning rate at step `done` (1-based), which is their step done - (iterations - mlp_iterations).
+  double mlp_lr() const {
+    if (config.mlp_lr_final == 0) return config.mlp_lr;
+    const uint32_t first = config.iterations - config.mlp_iterations;  // steps before the MLPs join
+    return optim::LogLinearSchedule{config.mlp_lr, config.mlp_lr_final, config.mlp_iterations}.at(done - 1 - first);
+  }
+
   // The run's Gaussians at the view's time in this style (`with_mlp` false: colours only).
   splat::GaussianParams styled(const data::View& view, const splat::Camera& cam, bool with_mlp = true) {
     const splat::GaussianParams g = geometry->at(view.time, cam);
@@ -269,11 +280,9 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     return cam;
   }
 
-  double step() override {
-    ++done;
-    const data::View& view = *train_views[sampler.next()];
+  // One view's loss (L1 + TV) and its gradients into `out` (assigned); returns the loss.
+  double view_gradients(const data::View& view, bool mlp, std::array<engine::Buffer, 3>& out) {
     const splat::Camera cam = load_target(view);
-    const bool mlp = mlp_on();
     const splat::GaussianParams p = styled(view, cam, mlp);
     rast.forward(p, cam, run.dataset.background);
     {
@@ -283,11 +292,30 @@ struct StyleTrainer::Impl final : train::RunnerStage {
       if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, v_rgb);
       ctx.run(std::move(rec));
     }
-    last_loss = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
-    if (!std::isfinite(last_loss)) return last_loss;
-    splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &grad[1], &grad[0], nullptr};
-    if (mlp) grads.v_style_mlp = &grad[2];
+    const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
+    if (!std::isfinite(value)) return value;
+    splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &out[1], &out[0], nullptr};
+    if (mlp) grads.v_style_mlp = &out[2];
     rast.backward(p, {.v_rgb = &v_rgb}, grads);
+    return value;
+  }
+
+  // A step over config.batch views: the first view's gradients land in grad, the later ones' are
+  // added to them (summed, see StyleConfig::batch); the loss is the views' mean.
+  double step() override {
+    ++done;
+    const bool mlp = mlp_on();
+    last_loss = 0;
+    for (uint32_t b = 0; b < config.batch; ++b) {
+      const double value = view_gradients(*train_views[sampler.next()], mlp, b == 0 ? grad : batch_grad);
+      last_loss = std::isfinite(value) ? last_loss + value / config.batch : value;
+      if (!std::isfinite(last_loss)) return last_loss;
+      if (b == 0) continue;
+      engine::Recorder rec(ctx, "style batch gradients");
+      for (size_t k = 0; k < 3; ++k)
+        if (floats[k] > 0 && (k != 2 || mlp)) primitives::cmd_add(rec, grad[k], batch_grad[k], static_cast<uint32_t>(floats[k]));
+      ctx.run(std::move(rec));
+    }
     if (region_mask.size() > 0) {
       engine::Recorder rec(ctx, "style region");
       optim::record_grad_mask(rec, grad[0], region_mask, count, sh_coeffs * 3);
@@ -297,7 +325,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     }
     const bool colors = !full || config.train_colors;
     const double lrs[gCount] = {colors ? config.sh_dc_lr : 0.0, colors ? config.sh_rest_lr : 0.0,
-                                colors ? config.opacity_lr : 0.0, config.mlp_lr};
+                                colors ? config.opacity_lr : 0.0, mlp ? mlp_lr() : 0.0};
     for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k] * recovery_state.lr_scale}, done);
     adam.upload();
     engine::Recorder rec(ctx, "style update");
