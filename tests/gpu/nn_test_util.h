@@ -10,12 +10,22 @@
 #include <string>
 #include <vector>
 
+#include "s4d/engine/recorder.h"
 #include "s4d/nn/layers.h"
 #include "s4d/nn/tensor.h"
 #include "s4d/ref/nn_ref.h"
 #include "test_context.h"
 
 namespace s4d::test {
+
+// Records `f` into one command buffer, runs it and returns what it returned.
+template <class F>
+auto run(F&& f) {
+  engine::Recorder rec(context(), "nn test");
+  auto out = f(rec);
+  context().run(std::move(rec));
+  return out;
+}
 
 inline std::vector<float> random_values(size_t n, float lo, float hi, std::mt19937& rng) {
   std::uniform_real_distribution<float> u(lo, hi);

@@ -23,18 +23,11 @@ namespace {
 
 using namespace s4d;
 using test::context;
+using test::run;
 using test::max_rel;
 using test::to_double;
 
 const nn::VggWidths kTiny{{4, 6, 8, 10, 10}};
-
-template <class F>
-auto run(F&& f) {
-  engine::Recorder rec(context(), "adaattn test");
-  auto out = f(rec);
-  context().run(std::move(rec));
-  return out;
-}
 
 ref::Chw<double> norm(const ref::Chw<double>& x) { return ref::normalise(x, ref::mean_std(x, 1e-5)); }
 

@@ -15,17 +15,9 @@ namespace {
 
 using namespace s4d;
 using test::context;
+using test::run;
 using test::max_rel;
 using test::to_double;
-
-// Records `f` into one command buffer, runs it and returns what it returned.
-template <class F>
-auto run(F&& f) {
-  engine::Recorder rec(context(), "nn layer test");
-  auto out = f(rec);
-  context().run(std::move(rec));
-  return out;
-}
 
 }  // namespace
 

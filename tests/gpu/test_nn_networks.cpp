@@ -18,18 +18,11 @@ namespace {
 
 using namespace s4d;
 using test::context;
+using test::run;
 using test::max_rel;
 using test::to_double;
 
 const nn::VggWidths kTiny{{4, 6, 8, 10, 12}};
-
-template <class F>
-auto run(F&& f) {
-  engine::Recorder rec(context(), "nn network test");
-  auto out = f(rec);
-  context().run(std::move(rec));
-  return out;
-}
 
 // AdaIN through the twins: decode(alpha-blended adain(relu4_1(content), relu4_1(style))).
 ref::Chw<double> twin_adain(const test::NetParams& vgg, const test::NetParams& decoder, const ref::Chw<float>& content,

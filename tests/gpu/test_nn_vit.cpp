@@ -15,16 +15,9 @@ namespace {
 
 using namespace s4d;
 using test::context;
+using test::run;
 using test::max_rel;
 using test::to_double;
-
-template <class F>
-auto run(F&& f) {
-  engine::Recorder rec(context(), "vit layer test");
-  auto out = f(rec);
-  context().run(std::move(rec));
-  return out;
-}
 
 }  // namespace
 

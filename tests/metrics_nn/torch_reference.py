@@ -156,6 +156,15 @@ def write_bmp(path, u8):
         f.write(header + info + rows)
 
 
+def write_calibration_pairs(folder, pairs):
+    """{name: (distorted, reference)} uint8 images as pyiqa's ResultsCalibra: dist_dir/NAME.bmp, ref_dir/NAME.bmp."""
+    for sub in ("dist_dir", "ref_dir"):
+        os.makedirs(os.path.join(folder, sub))
+    for name, (dist, ref) in pairs.items():
+        write_bmp(os.path.join(folder, "dist_dir", name + ".bmp"), dist)
+        write_bmp(os.path.join(folder, "ref_dir", name + ".bmp"), ref)
+
+
 def calibration_scores(program, weights, images):
     """calibration_published on our images and random weights: its per-image scores (it must run, and
     fail the published values, which random weights cannot meet)."""
@@ -280,11 +289,7 @@ def main():
     # pyiqa's ResultsCalibra BMPs, scored with DISTS (weights a) and LPIPS-AlexNet, 2x - 1 (weights b).
     calib = os.path.join(work, "calibration")
     pairs = {name: (image(W, H), image(W, H)) for name in ("I03", "I04", "I06", "I08", "I19")}
-    for sub in ("dist_dir", "ref_dir"):
-        os.makedirs(os.path.join(calib, sub))
-    for name, (dist, ref) in pairs.items():
-        write_bmp(os.path.join(calib, "dist_dir", name + ".bmp"), dist)
-        write_bmp(os.path.join(calib, "ref_dir", name + ".bmp"), ref)
+    write_calibration_pairs(calib, pairs)
     with torch.no_grad():
         calibration_expected = {
             ("a", "dists"): [dists(vgg16.features, alpha.double(), beta.double(), as_input(d), as_input(r))

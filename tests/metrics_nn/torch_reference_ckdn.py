@@ -21,7 +21,7 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_nets import Ckdn
-from torch_reference import calibration_scores, run, write_bmp
+from torch_reference import calibration_scores, run, write_calibration_pairs
 import torch
 import torch.nn as nn
 import torchvision
@@ -121,11 +121,7 @@ def main():
     # The calibration program on pairs smaller than the crop (bicubic enlarging), in pyiqa's layout.
     calib = os.path.join(work, "calibration")
     pairs = {name: (image(37, 31), image(37, 31)) for name in ("I03", "I04", "I06", "I08", "I19")}
-    for sub in ("dist_dir", "ref_dir"):
-        os.makedirs(os.path.join(calib, sub))
-    for name, (dist, ref) in pairs.items():
-        write_bmp(os.path.join(calib, "dist_dir", name + ".bmp"), dist)
-        write_bmp(os.path.join(calib, "ref_dir", name + ".bmp"), ref)
+    write_calibration_pairs(calib, pairs)
     with torch.no_grad():
         reference = [score(model, as_input(d), as_input(r)) for d, r in pairs.values()]
     code, scores, output = calibration_scores(calibration, weights, calib)
