@@ -69,6 +69,10 @@ void accumulate(uint j, uint batch, uint end) {
   vec4 co = s_conic_opacity[j];
   SplatSample s = splat_sample(s_xy[j], co, centre);
   bool contributes = position < last && !s.skip;
+  // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
+  // gradient code below is skipped instead of executed under an all-false mask, and the reductions
+  // inside stay legal.
+  if (!subgroupAny(contributes)) return;
   vec2 g_xy = vec2(0.0);
   vec3 g_conic = vec3(0.0), g_rgb = vec3(0.0);
   float g_opacity = 0.0, g_depth = 0.0;
@@ -89,8 +93,6 @@ void accumulate(uint j, uint batch, uint end) {
     behind_depth = s.alpha * cd.w + (1.0 - s.alpha) * behind_depth;
     T = T_i;
   }
-  // The branch condition is uniform within the subgroup, so the reductions inside are legal.
-  if (!subgroupAny(contributes)) return;
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);
@@ -130,6 +132,7 @@ void main() {
   atomicMax(s_max_last, last);
   barrier();
   uint entries = s_max_last;
+  uint subgroup_last = subgroupMax(last);
 
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_TILE_PIXELS))) {
     uint batch = min(end, uint(S4D_TILE_PIXELS));
@@ -142,7 +145,8 @@ void main() {
       s_color_depth[lid] = color_depth[g];
     }
     barrier();
-    for (uint j = 0u; j < batch; j += S4D_BLEND_UNROLL) {
+    // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
+    for (uint j = end - min(end, subgroup_last); j < batch; j += S4D_BLEND_UNROLL) {
       accumulate(j, batch, end), accumulate(j + 1u, batch, end);
       accumulate(j + 2u, batch, end), accumulate(j + 3u, batch, end);
       accumulate(j + 4u, batch, end), accumulate(j + 5u, batch, end);
