@@ -1,9 +1,12 @@
 // raster_bwd: same tiling as raster_fwd. Each pixel walks its tile's list back to front from its
 // last contributor, recovering T_i = T_{i+1} / (1 - alpha_i) from the stored final transmittance
-// (ALGORITHMS.md 1.6). Every invocation of the workgroup visits the same list position at the same
-// step, so the per-Gaussian cotangents are summed over the subgroup first and one lane adds them to
-// global memory: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1), else with a
-// compare-and-swap loop.
+// (ALGORITHMS.md 1.6). The workgroup loads the list in batches up to the tile's last contributor;
+// each subgroup starts at its own last contributor (subgroupMax), and every invocation of a
+// subgroup visits the same list position at the same step. Where no pixel of the subgroup meets the
+// Gaussian, the gradient code is skipped (a uniform branch); otherwise the per-Gaussian cotangents
+// are summed over the subgroup and one lane adds them to global memory: with float atomics when the
+// device has them (S4D_FLOAT_ATOMICS=1), else with a compare-and-swap loop. Skipped positions add
+// nothing, so the sums and their order are those of the full walk.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
