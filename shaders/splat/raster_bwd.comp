@@ -1,9 +1,12 @@
 // raster_bwd: same tiling as raster_fwd. Each pixel walks its tile's list back to front from its
 // last contributor, recovering T_i = T_{i+1} / (1 - alpha_i) from the stored final transmittance
-// (ALGORITHMS.md 1.6). Every invocation of the workgroup visits the same list position at the same
-// step, so the per-Gaussian cotangents are summed over the subgroup first and one lane adds them to
-// global memory: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1), else with a
-// compare-and-swap loop.
+// (ALGORITHMS.md 1.6). The workgroup loads the list in batches up to the tile's last contributor;
+// each subgroup starts at its own last contributor (subgroupMax), and every invocation of a
+// subgroup visits the same list position at the same step. Where no pixel of the subgroup meets the
+// Gaussian, the gradient code is skipped (a uniform branch); otherwise the per-Gaussian cotangents
+// are summed over the subgroup and one lane adds them to global memory: with float atomics when the
+// device has them (S4D_FLOAT_ATOMICS=1), else with a compare-and-swap loop. Skipped positions add
+// nothing, so the sums and their order are those of the full walk.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -69,6 +72,10 @@ void accumulate(uint j, uint batch, uint end) {
   vec4 co = s_conic_opacity[j];
   SplatSample s = splat_sample(s_xy[j], co, centre);
   bool contributes = position < last && !s.skip;
+  // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
+  // gradient code below is skipped instead of executed under an all-false mask, and the reductions
+  // inside stay legal.
+  if (!subgroupAny(contributes)) return;
   vec2 g_xy = vec2(0.0);
   vec3 g_conic = vec3(0.0), g_rgb = vec3(0.0);
   float g_opacity = 0.0, g_depth = 0.0;
@@ -89,8 +96,6 @@ void accumulate(uint j, uint batch, uint end) {
     behind_depth = s.alpha * cd.w + (1.0 - s.alpha) * behind_depth;
     T = T_i;
   }
-  // The branch condition is uniform within the subgroup, so the reductions inside are legal.
-  if (!subgroupAny(contributes)) return;
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);
@@ -130,6 +135,7 @@ void main() {
   atomicMax(s_max_last, last);
   barrier();
   uint entries = s_max_last;
+  uint subgroup_last = subgroupMax(last);
 
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_TILE_PIXELS))) {
     uint batch = min(end, uint(S4D_TILE_PIXELS));
@@ -142,7 +148,8 @@ void main() {
       s_color_depth[lid] = color_depth[g];
     }
     barrier();
-    for (uint j = 0u; j < batch; j += S4D_BLEND_UNROLL) {
+    // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
+    for (uint j = end - min(end, subgroup_last); j < batch; j += S4D_BLEND_UNROLL) {
       accumulate(j, batch, end), accumulate(j + 1u, batch, end);
       accumulate(j + 2u, batch, end), accumulate(j + 3u, batch, end);
       accumulate(j + 4u, batch, end), accumulate(j + 5u, batch, end);
