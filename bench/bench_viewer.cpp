@@ -38,6 +38,7 @@
 #include "s4d/viewer/camera_control.h"
 #include "s4d/viewer/dataset_cameras.h"
 #include "s4d/viewer/frame_renderer.h"
+#include "scene_options.h"
 #include "splat_scene.h"
 #include "timing.h"
 
@@ -45,9 +46,8 @@ namespace {
 
 using nlohmann::json;
 
-struct Point {
-  uint32_t width, height, gaussians;
-};
+using Point = s4d::bench::SplatPoint;
+using s4d::bench::parse_point;
 
 struct Options {
   std::vector<Point> points = {{320, 240, 10000}, {640, 480, 10000}, {640, 480, 100000}, {1280, 720, 100000}};
@@ -58,15 +58,6 @@ struct Options {
   uint32_t width = 640, height = 480;
   double budget_ms = 100;
 };
-
-Point parse_point(const std::string& s) {
-  const size_t x = s.find('x'), colon = s.find(':');
-  if (x == std::string::npos || colon == std::string::npos || colon < x)
-    throw std::invalid_argument("size '" + s + "' is not WxH:N");
-  return {static_cast<uint32_t>(std::stoul(s.substr(0, x))),
-          static_cast<uint32_t>(std::stoul(s.substr(x + 1, colon - x - 1))),
-          static_cast<uint32_t>(std::stoul(s.substr(colon + 1)))};
-}
 
 Options parse(int argc, char** argv) {
   Options o;
