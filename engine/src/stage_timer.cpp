@@ -137,8 +137,9 @@ void StageTimer::dropped(StageMarks&& m) {
 void StageTimer::completed(uint64_t value) {
   size_t kept = 0;
   for (Pending& p : pending_) {
-    if (p.value > value) {
-      pending_[kept++] = std::move(p);
+    if (p.value > value) {  // still running: keep it (a self-move would empty its marks)
+      if (&pending_[kept] != &p) pending_[kept] = std::move(p);
+      ++kept;
       continue;
     }
     const std::vector<StageMarks::Mark>& marks = p.marks.marks;

@@ -120,3 +120,23 @@ TEST_CASE("a recorder dropped unsubmitted gives its queries back; one timer per 
   CHECK(timer.totals().ms[0] > 0);
   CHECK(timer.query_pools() == (ctx.info().timestamps ? 1u : 0u));
 }
+
+TEST_CASE("a submission still running when an earlier one is waited for keeps its timestamps") {
+  auto& ctx = test::context();
+  if (!ctx.info().timestamps) return;  // only GPU timestamps wait for completion
+  engine::Buffer buf(ctx, "stage timer iota", kWords * 4);
+  StageTimer timer(ctx, {"first", "second"});
+  StageTimer::Window window(&timer);
+  auto submit = [&](const char* stage) {
+    const StageScope s(ctx, stage);
+    engine::Recorder rec(ctx, stage);
+    primitives::cmd_iota(rec, buf, kWords);
+    return ctx.submit(std::move(rec));
+  };
+  ctx.wait(submit("first"));
+  submit("second");  // not waited for: the only one pending when the wait below collects
+  ctx.wait(1);
+  const engine::StageTotals t = timer.totals();
+  CHECK(t.ms[0] > 0);
+  CHECK(t.ms[1] > 0);  // 0 when the pending entry was moved onto itself (its marks emptied)
+}
