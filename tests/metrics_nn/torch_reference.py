@@ -145,6 +145,12 @@ def gram_loss(fa, fb):
     return sum(float(((gram(a) - gram(b)) ** 2).mean()) for a, b in zip(fa, fb))
 
 
+def noise_image(w, h, gen):
+    """A [3, h, w] uint8 frame: RGB noise over a gradient, so channels differ (a swapped colour order shows)."""
+    ramp = torch.linspace(0, 1, w).view(1, 1, w).expand(3, h, w) * torch.tensor([0.8, 0.3, 0.5]).view(3, 1, 1)
+    return ((0.5 * ramp + 0.5 * torch.rand((3, h, w), generator=gen)) * 255).round().to(torch.uint8)
+
+
 def write_bmp(path, u8):
     """A 24-bit BMP (bottom-up BGR rows padded to 4 bytes) of a [3, H, W] uint8 tensor."""
     c, h, w = u8.shape
@@ -189,10 +195,7 @@ def main():
     style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(2024)
-    # Frames: RGB noise over a gradient, so channels differ (a swapped colour order shows).
-    def image(w, h):
-        ramp = torch.linspace(0, 1, w).view(1, 1, w).expand(3, h, w) * torch.tensor([0.8, 0.3, 0.5]).view(3, 1, 1)
-        return ((0.5 * ramp + 0.5 * torch.rand((3, h, w), generator=gen)) * 255).round().to(torch.uint8)
+    image = lambda w, h: noise_image(w, h, gen)
     dirs = {d: os.path.join(work, d) for d in ("stylised", "original")}
     frames = {}
     for d, path in dirs.items():

@@ -21,7 +21,7 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_nets import Ckdn
-from torch_reference import calibration_scores, run, write_calibration_pairs
+from torch_reference import calibration_scores, noise_image, run, write_calibration_pairs
 import torch
 import torch.nn as nn
 import torchvision
@@ -66,9 +66,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(22)
 
-    def image(w, h):
-        ramp = torch.linspace(0, 1, w).view(1, 1, w).expand(3, h, w) * torch.tensor([0.8, 0.3, 0.5]).view(3, 1, 1)
-        return ((0.5 * ramp + 0.5 * torch.rand((3, h, w), generator=gen)) * 255).round().to(torch.uint8)
+    image = lambda w, h: noise_image(w, h, gen)
 
     as_input = lambda u8: (u8.double() / 255).unsqueeze(0)
     model = randomise(Ckdn(), gen)
