@@ -71,4 +71,6 @@ set(S4D_SHADER_VARIANTS
   "nn_vit_embed|nn/nn_vit_embed.comp"
   # ResNet (CKDN)
   "nn_subsample2|nn/nn_subsample2.comp"
+  # MUSIQ
+  "nn_group_norm|nn/nn_group_norm.comp"
 )

@@ -19,6 +19,11 @@ KIND (docs/bench.md, "Learned metrics", has the table of files):
   ckdn                   pyiqa's CKDN_model_best-38b27dc6.pth (pyiqa's CKDN module: "net.qse_1.weight", ...)
                          -> ckdn.safetensors with the tensors its forward pass reads (the branch stems
                          qse_*/dte_*, csp, fc_; aux_csp, fc1_ and num_batches_tracked are dropped)
+  musiq, musiq_paq2piq   pyiqa's musiq_koniq_ckpt-e95806b9.pth / musiq_paq2piq_ckpt-364c0c84.pth (pyiqa's MUSIQ
+                         module: conv_root, gn_root, block1.*, embedding, transformer_encoder.*, head)
+                         -> musiq.safetensors / musiq_paq2piq.safetensors; width, depth, MLP, position grid
+                         and scales read from the shapes (pyiqa: 384, 14, 1152, 10, 3), one output class
+                         (the AVA checkpoint's 10-class head is refused)
 Every tensor's name and shape is checked against the network's definition; the state-dict names are
 kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 to compare with
 the publisher's (torchvision and pyiqa file names end in a prefix of it). Needs torch to read .pth.
@@ -135,6 +140,51 @@ def ckdn():
     for index, out, inp in [(0, 2048, 512), (3, 2048, 2048), (6, 1, 2048)]:
         spec.update({"net.fc_.%d.weight" % index: [out, inp], "net.fc_.%d.bias" % index: [out]})
     return spec
+
+
+def musiq(path, t):
+    """pyiqa archs/musiq_arch.py's MUSIQ: the ResNet root (StdConv conv_root 7x7 and GroupNorm gn_root of
+    width 64, block1 = one Bottleneck 64 -> 256 with conv1/2/3, conv_proj and their gn*), embedding =
+    Linear(8 * 8 * 256, D), the transformer_encoder (hashed position_emb [1, g^2, D], scale_emb [S, D], cls,
+    encoderblock_<i> with norm1, attention.query/key/value/out, norm2, mlp.fc1/fc2; encoder_norm) and head."""
+    for name in ("embedding.weight", "transformer_encoder.posembed_input.position_emb",
+                 "transformer_encoder.scaleembed_input.scale_emb", "head.weight"):
+        if name not in t:
+            raise ConvertError("%s: missing %s (pyiqa MUSIQ)" % (path, name))
+    if t["head.weight"].shape[0] != 1:
+        raise ConvertError("%s: head.weight has shape %s: a %d-class head (MUSIQ-AVA's distribution); only the "
+                           "one-output KonIQ / PaQ-2-PiQ / SPAQ checkpoints are supported" %
+                           (path, list(t["head.weight"].shape), t["head.weight"].shape[0]))
+    d = t["embedding.weight"].shape[0]
+    cells, scales = t["transformer_encoder.posembed_input.position_emb"].shape[1], t["transformer_encoder.scaleembed_input.scale_emb"].shape[0]
+    block = "transformer_encoder.transformer.encoderblock_%d."
+    depth = 0
+    while (block % depth) + "norm1.weight" in t:
+        depth += 1
+    m = t[(block % 0) + "mlp.fc1.weight"].shape[0] if depth > 0 else 0
+    spec = {"conv_root.weight": [64, 3, 7, 7], "embedding.weight": [d, 8 * 8 * 256], "embedding.bias": [d],
+            "transformer_encoder.posembed_input.position_emb": [1, cells, d],
+            "transformer_encoder.scaleembed_input.scale_emb": [scales, d], "transformer_encoder.cls": [1, 1, d],
+            "transformer_encoder.encoder_norm.weight": [d], "transformer_encoder.encoder_norm.bias": [d],
+            "head.weight": [1, d], "head.bias": [1]}
+    for name, (cout, cin, k) in {"conv1": (64, 64, 1), "conv2": (64, 64, 3), "conv3": (256, 64, 1),
+                                 "conv_proj": (256, 64, 1)}.items():
+        spec["block1.%s.weight" % name] = [cout, cin, k, k]
+    for name, c in {"gn_root": 64, "block1.gn1": 64, "block1.gn2": 64, "block1.gn3": 256, "block1.gn_proj": 256}.items():
+        spec.update({name + ".weight": [c], name + ".bias": [c]})
+    for i in range(depth):
+        b = block % i
+        for name in ("norm1", "norm2"):
+            spec.update({b + name + ".weight": [d], b + name + ".bias": [d]})
+        for name, cout, cin in (("attention.query", d, d), ("attention.key", d, d), ("attention.value", d, d),
+                                ("attention.out", d, d), ("mlp.fc1", m, d), ("mlp.fc2", d, m)):
+            spec.update({b + name + ".weight": [cout, cin], b + name + ".bias": [cout]})
+    g = int(round(cells ** 0.5))
+    out = check(path, t, spec, "pyiqa MUSIQ (width %d, %d blocks, MLP %d, %d positions, %d scales)" % (d, depth, m, cells, scales))
+    if (d, depth, m, cells, scales) != (384, 14, 1152, 100, 3):
+        print("note: %s is not pyiqa's MUSIQ configuration (width %d, %d blocks, MLP %d, %dx%d positions, %d scales; "
+              "pyiqa: 384, 14, 1152, 10x10, 3)" % (path, d, depth, m, g, g, scales))
+    return out
 
 
 def lpips_heads(kind):
@@ -266,8 +316,16 @@ def convert(kind, path):
                                  r"(weight|bias|running_mean|running_var|num_batches_tracked)",
                                  r"net\.(fc_|fc1_)\.[036]\.(weight|bias)"], kind)
         return {"ckdn.safetensors": check(path, t, ckdn(), "pyiqa CKDN")}
+    if kind in ("musiq", "musiq_paq2piq"):
+        refuse_unknown(path, t, [r"conv_root\.weight", r"gn_root\.(weight|bias)", r"block1\.(conv1|conv2|conv3|conv_proj)\.weight",
+                                 r"block1\.(gn1|gn2|gn3|gn_proj)\.(weight|bias)", r"embedding\.(weight|bias)", r"head\.(weight|bias)",
+                                 r"transformer_encoder\.(posembed_input\.position_emb|scaleembed_input\.scale_emb|cls)",
+                                 r"transformer_encoder\.encoder_norm\.(weight|bias)",
+                                 r"transformer_encoder\.transformer\.encoderblock_\d+\.(norm1|norm2|attention\.(query|key|value|out)|"
+                                 r"mlp\.fc1|mlp\.fc2)\.(weight|bias)"], kind)
+        return {kind + ".safetensors": musiq(path, t)}
     raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, dino_vitb16, "
-                       "ckdn)" % kind)
+                       "ckdn, musiq, musiq_paq2piq)" % kind)
 
 
 def main(argv):

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "s4d/metrics/rgb_tensor.h"
+#include "s4d/metrics/torch_resize.h"
 
 namespace s4d::metrics {
 
@@ -47,13 +48,6 @@ std::vector<Taps> bicubic_taps(int in, int out) {
   return taps;
 }
 
-std::vector<int> nearest_index(int in, int out) {
-  const float scale = float(in) / float(out);  // torch's compute_scales_value, in float
-  std::vector<int> src(static_cast<size_t>(out));
-  for (int i = 0; i < out; ++i) src[size_t(i)] = std::min(int(std::floor(float(i) * scale)), in - 1);
-  return src;
-}
-
 }  // namespace
 
 io::ImageF resize_shorter_side(const io::ImageF& image, int shorter, ResizeFilter filter) {
@@ -68,7 +62,7 @@ io::ImageF resize_shorter_side(const io::ImageF& image, int shorter, ResizeFilte
   const int c = image.channels;
   io::ImageF out{out_w, out_h, c, std::vector<float>(size_t(out_w) * size_t(out_h) * size_t(c))};
   if (filter == ResizeFilter::nearest) {
-    const std::vector<int> sx = nearest_index(image.width, out_w), sy = nearest_index(image.height, out_h);
+    const std::vector<int> sx = torch_nearest_index(image.width, out_w), sy = torch_nearest_index(image.height, out_h);
     for (int y = 0; y < out_h; ++y)
       for (int x = 0; x < out_w; ++x)
         for (int k = 0; k < c; ++k)

@@ -21,6 +21,8 @@ constexpr const char* kVgg19 = "vgg19.safetensors";
 constexpr const char* kDists = "dists.safetensors";
 constexpr const char* kDino = "dino_vitb16.safetensors";
 constexpr const char* kCkdn = "ckdn.safetensors";
+constexpr const char* kMusiq = "musiq.safetensors";
+constexpr const char* kMusiqPaq2piq = "musiq_paq2piq.safetensors";
 
 bool wanted(const std::vector<std::string>& keys, const char* key) {
   return keys.empty() || std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -60,7 +62,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
 
 const std::vector<std::string>& native_learned_keys() {
   static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram",
-                                                   "dino_score", "ckdn"};
+                                                   "dino_score", "ckdn", "musiq", "musiq_paq2piq"};
   return keys;
 }
 
@@ -116,6 +118,14 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
     ckdn_ = std::make_unique<metrics::Ckdn>(ctx, io::SafetensorsFile(*options.weights_dir / kCkdn));
   else
     unavailable_["ckdn"] = missing(options, {kCkdn}, "pyiqa's CKDN_model_best-38b27dc6.pth");
+  if (all_present(options, {kMusiq}))
+    musiq_ = std::make_unique<metrics::Musiq>(ctx, io::SafetensorsFile(*options.weights_dir / kMusiq));
+  else
+    unavailable_["musiq"] = missing(options, {kMusiq}, "pyiqa's musiq_koniq_ckpt-e95806b9.pth");
+  if (all_present(options, {kMusiqPaq2piq}))
+    musiq_paq2piq_ = std::make_unique<metrics::Musiq>(ctx, io::SafetensorsFile(*options.weights_dir / kMusiqPaq2piq));
+  else
+    unavailable_["musiq_paq2piq"] = missing(options, {kMusiqPaq2piq}, "pyiqa's musiq_paq2piq_ckpt-364c0c84.pth");
 }
 
 bool NativeLearned::computes(const std::string& key) const {
@@ -130,6 +140,11 @@ std::string NativeLearned::impl(const std::string& key) const {
            " blocks, " + std::to_string(s.heads) + " heads, patch " + std::to_string(s.patch) + ") on the GPU";
   }
   if (key == "ckdn") return "native CKDN, two ResNet-50 stems + layer2 + MLP (ckdn.safetensors) on the GPU";
+  if (key == "musiq" || key == "musiq_paq2piq") {
+    const nn::MusiqShape& s = (key == "musiq" ? musiq_ : musiq_paq2piq_)->shape();
+    return "native MUSIQ (" + std::string(key == "musiq" ? kMusiq : kMusiqPaq2piq) + ": ResNet root per 32x32 patch, width " +
+           std::to_string(s.width) + ", " + std::to_string(s.depth) + " blocks, " + std::to_string(s.heads) + " heads) on the GPU";
+  }
   if (key == "dists") return "native DISTS, VGG16 with L2 pooling (vgg16.safetensors + dists.safetensors) on the GPU";
   if (key == "style_loss_gram")
     return std::string("native VGG19 (") +
@@ -144,6 +159,10 @@ std::string NativeLearned::convention(const std::string& key) const {
     return "pyiqa ckdn(x = stylised frame, y = style image): RGB [0,1], shorter side to 329 (x bicubic antialiased, y "
            "nearest), 288x288 centre crop, ImageNet mean/std, sigmoid of the MLP on the global average of "
            "layer2(stem_x(x) - stem_y(y)); mean over frames";
+  if (key == "musiq" || key == "musiq_paq2piq")
+    return "pyiqa MUSIQ of each stylised frame: RGB [0,1] -> 2x-1, scales of longer side 224 and 384 (bicubic, no "
+           "antialiasing) and the full frame, 32x32 patches with TF SAME zero padding, hashed 10x10 positions, padded "
+           "tokens left out (masked to exactly 0 weight in pyiqa); mean over frames";
   if (key == "dists")
     return "DISTS(f_t+1, f_t) of consecutive stylised frames: RGB [0,1], no resize (pyiqa), stage 0 the raw input, "
            "VGG16 relu1_2..relu5_3 of the ImageNet-normalised input with L2 pooling, global per-channel statistics, "
@@ -196,6 +215,8 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
     per_frame["style_loss_gram"].push_back(metrics::gram_loss(gram_->grams(stylised), *style_gram_));
   }
   if (ckdn_ && !style_image.empty() && wanted(keys, "ckdn")) per_frame["ckdn"].push_back((*ckdn_)(stylised, style_));
+  if (musiq_ && wanted(keys, "musiq")) per_frame["musiq"].push_back((*musiq_)(stylised));
+  if (musiq_paq2piq_ && wanted(keys, "musiq_paq2piq")) per_frame["musiq_paq2piq"].push_back((*musiq_paq2piq_)(stylised));
   if (dists_ && wanted(keys, "dists")) {
     metrics::DistsFeatures current = dists_->features(stylised);
     if (follows && previous_) per_frame["dists"].push_back(dists_->distance(current, *previous_));

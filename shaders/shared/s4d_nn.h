@@ -105,6 +105,16 @@
 // the attention of a transformer, bindings S4D_B_ATTN_P, S4D_B_ATTN_V and S4D_B_ATTN_AVG_OUT (no content).
 #define S4D_B_ATTN_AVG_OUT 2  // [c, n_c]; the chunk's columns are written
 
+// nn_group_norm (MUSIQ's patch stem, training/nn/musiq_net.h): a batch of small images stacked along
+// H in cells of cell_h rows (height a multiple of cell_h), each normalised on its own: GroupNorm over
+// the window rows [row0, row0 + rows) x cols [col0, col0 + cols) of the cell (biased variance, then
+// weight, bias; S4D_NN_FLAG_RELU: ReLU), every value outside the window set to 0 so it is the zero
+// padding of the next convolution. Bindings as nn_layernorm's.
+#define S4D_B_GN_IN 0      // [c, height, width]
+#define S4D_B_GN_WEIGHT 1  // [c]
+#define S4D_B_GN_BIAS 2    // [c]
+#define S4D_B_GN_OUT 3     // [c, height, width]
+
 S4D_NAMESPACE_BEGIN
 
 // Push constants of nn_attn_scores, nn_softmax_rows and nn_attn_apply.
@@ -192,6 +202,22 @@ struct NnAdainParams {
   uint count;
   float alpha;
   uint mode;  // S4D_NN_ADAIN_*
+};
+
+// Push constants of nn_group_norm.
+struct NnGroupNormParams {
+  uint channels;
+  uint groups;  // divides channels
+  uint height;  // cells * cell_h
+  uint width;
+  uint cell_h;
+  uint row0;  // the window in each cell
+  uint rows;
+  uint col0;
+  uint cols;
+  uint flags;  // S4D_NN_FLAG_RELU
+  float eps;
+  uint _pad0;
 };
 
 S4D_NAMESPACE_END

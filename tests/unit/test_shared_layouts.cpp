@@ -54,6 +54,7 @@ static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(
 static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
+static_assert(sizeof(NnGroupNormParams) == 48);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
@@ -179,6 +180,12 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnAttnParams, S4D_MEMBER(NnAttnParams, channels), S4D_MEMBER(NnAttnParams, n_c),
                  S4D_MEMBER(NnAttnParams, n_s), S4D_MEMBER(NnAttnParams, first), S4D_MEMBER(NnAttnParams, chunk),
                  S4D_MEMBER(NnAttnParams, _pad0), S4D_MEMBER(NnAttnParams, _pad1), S4D_MEMBER(NnAttnParams, _pad2)),
+      S4D_STRUCT(NnGroupNormParams, S4D_MEMBER(NnGroupNormParams, channels), S4D_MEMBER(NnGroupNormParams, groups),
+                 S4D_MEMBER(NnGroupNormParams, height), S4D_MEMBER(NnGroupNormParams, width),
+                 S4D_MEMBER(NnGroupNormParams, cell_h), S4D_MEMBER(NnGroupNormParams, row0),
+                 S4D_MEMBER(NnGroupNormParams, rows), S4D_MEMBER(NnGroupNormParams, col0),
+                 S4D_MEMBER(NnGroupNormParams, cols), S4D_MEMBER(NnGroupNormParams, flags),
+                 S4D_MEMBER(NnGroupNormParams, eps), S4D_MEMBER(NnGroupNormParams, _pad0)),
       S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
                  S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
                  S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),

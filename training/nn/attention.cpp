@@ -1,6 +1,8 @@
 #include "s4d/nn/attention.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -127,6 +129,46 @@ Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const 
 Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
                              size_t max_score_bytes) {
   return chunked(rec, q, k, v, nullptr, max_score_bytes);
+}
+
+ConvWeights upload_qkv(engine::Context& ctx, const std::string& name, uint32_t width, uint32_t heads,
+                       std::vector<float> weight, std::vector<float> bias) {
+  if (heads == 0 || width % heads != 0)
+    fail(name + ": width " + std::to_string(width) + " does not split into " + std::to_string(heads) + " heads");
+  if (weight.size() != size_t{3} * width * width || bias.size() != size_t{3} * width)
+    fail(name + ": " + std::to_string(weight.size()) + " weights and " + std::to_string(bias.size()) +
+         " biases for q, k, v of width " + std::to_string(width));
+  // Exact for 64-wide heads (a power of two); otherwise within float rounding of PyTorch's order.
+  const float scale = 1.0f / std::sqrt(float(width / heads));
+  for (size_t k = 0; k < size_t{width} * width; ++k) weight[k] *= scale;
+  for (size_t k = 0; k < width; ++k) bias[k] *= scale;
+  return upload_conv(ctx, name, width, 3 * width, 1, weight, bias);
+}
+
+Tensor transformer_block(engine::Recorder& rec, const TransformerBlock& b, uint32_t heads, float eps, Tensor x) {
+  const uint32_t d = x.c, dh = d / heads, n = x.w;
+  if (x.h != 1 || b.qkv.cin != d || b.qkv.cout != 3 * d || d % heads != 0)
+    fail("transformer block " + b.qkv.name + " of width " + std::to_string(b.qkv.cin) + " with " + std::to_string(heads) +
+         " heads cannot take tokens " + x.shape());
+  const Tensor qkv = conv1x1(rec, layernorm(rec, x, b.norm1, eps), b.qkv, false);
+  const size_t head_bytes = size_t{dh} * n * sizeof(float);
+  Tensor out = make_tensor(rec.context(), "attention heads", d, 1, n);
+  for (uint32_t h = 0; h < heads; ++h) {
+    std::array<Tensor, 3> qkv_h;  // this head's rows of q, k and v
+    for (uint32_t part = 0; part < 3; ++part) {
+      qkv_h[part] = make_tensor(rec.context(), "attention head", dh, 1, n);
+      rec.copy(qkv.buffer, qkv_h[part].buffer, head_bytes, (size_t{part} * d + size_t{h} * dh) * n * sizeof(float));
+    }
+    rec.barrier();
+    const Tensor head = transformer_attention(rec, qkv_h[0], qkv_h[1], qkv_h[2]);
+    rec.copy(head.buffer, out.buffer, head_bytes, 0, size_t{h} * head_bytes);
+  }
+  rec.barrier();
+  conv1x1_accumulate(rec, out, b.proj, x);
+  Tensor hidden = conv1x1(rec, layernorm(rec, x, b.norm2, eps), b.fc1, false);
+  gelu_inplace(rec, hidden);
+  conv1x1_accumulate(rec, hidden, b.fc2, x);
+  return x;
 }
 
 }  // namespace s4d::nn

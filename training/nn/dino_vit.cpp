@@ -6,6 +6,7 @@
 #include <string>
 
 #include "s4d/nn/attention.h"
+#include "s4d/nn/torch_cubic.h"
 #include "s4d/nn/weights.h"
 #include "s4d_nn.h"
 
@@ -44,14 +45,6 @@ VitShape read_shape(const io::SafetensorsFile& file, uint32_t heads) {
   return s;
 }
 
-// PyTorch's cubic convolution weights (A = -0.75) of the taps at -1, 0, 1, 2 for a fraction t.
-std::array<double, 4> cubic_weights(double t) {
-  constexpr double a = -0.75;
-  const auto near = [](double x) { return ((a + 2) * x - (a + 3)) * x * x + 1; };
-  const auto far = [](double x) { return ((a * x - 5 * a) * x + 8 * a) * x - 4 * a; };
-  return {far(t + 1), near(t), near(1 - t), far(2 - t)};
-}
-
 // Per output index: the first tap (floor of the source coordinate) and the four weights.
 struct Taps {
   std::vector<int64_t> first;
@@ -64,7 +57,7 @@ Taps cubic_taps(uint32_t out, double scale) {
     const double src = (i + 0.5) / scale - 0.5;
     const double f = std::floor(src);
     t.first.push_back(static_cast<int64_t>(f));
-    t.w.push_back(cubic_weights(src - f));
+    t.w.push_back(torch_cubic_weights(src - f));
   }
   return t;
 }
@@ -114,17 +107,12 @@ DinoVit::DinoVit(engine::Context& ctx, const io::SafetensorsFile& file, uint32_t
   cls_ = file.read("cls_token", {1, 1, s.width});
   pos_ = file.read("pos_embed", {1, 1 + s.grid * s.grid, s.width});
   patch_ = load_conv(ctx, file, "patch_embed.proj", 3, s.width, s.patch);
-  const float scale = 1.0f / std::sqrt(float(s.width / s.heads));
   for (uint32_t i = 0; i < s.depth; ++i) {
     const std::string b = "blocks." + std::to_string(i) + ".";
-    std::vector<float> qkv = file.read(b + "attn.qkv.weight", {3 * s.width, s.width});
-    std::vector<float> qkv_bias = file.read(b + "attn.qkv.bias", {3 * s.width});
-    // (s q) . k = s (q . k): the attention's scale folded into the query rows (exact for 64-wide heads).
-    for (size_t k = 0; k < size_t{s.width} * s.width; ++k) qkv[k] *= scale;
-    for (size_t k = 0; k < s.width; ++k) qkv_bias[k] *= scale;
     blocks_.push_back({load_norm(ctx, file, b + "norm1", s.width), load_norm(ctx, file, b + "norm2", s.width),
-                       upload_conv(ctx, file.path().filename().string() + " " + b + "attn.qkv", s.width, 3 * s.width, 1, qkv,
-                                   qkv_bias),
+                       upload_qkv(ctx, file.path().filename().string() + " " + b + "attn.qkv", s.width, s.heads,
+                                  file.read(b + "attn.qkv.weight", {3 * s.width, s.width}),
+                                  file.read(b + "attn.qkv.bias", {3 * s.width})),
                        load_linear(ctx, file, b + "attn.proj", s.width, s.width),
                        load_linear(ctx, file, b + "mlp.fc1", s.width, s.hidden),
                        load_linear(ctx, file, b + "mlp.fc2", s.hidden, s.width)});
@@ -145,29 +133,6 @@ const Tensor& DinoVit::position(uint32_t image_h, uint32_t image_w) const {
   return it->second;
 }
 
-Tensor DinoVit::block(engine::Recorder& rec, const Block& b, Tensor x) const {
-  const uint32_t d = shape_.width, dh = d / shape_.heads, n = x.w;
-  const Tensor qkv = conv1x1(rec, layernorm(rec, x, b.norm1, kVitNormEps), b.qkv, false);
-  const size_t head_bytes = size_t{dh} * n * sizeof(float);
-  Tensor heads = make_tensor(rec.context(), "dino attention heads", d, 1, n);
-  for (uint32_t h = 0; h < shape_.heads; ++h) {
-    std::array<Tensor, 3> qkv_h;  // this head's rows of q, k and v
-    for (uint32_t part = 0; part < 3; ++part) {
-      qkv_h[part] = make_tensor(rec.context(), "dino head", dh, 1, n);
-      rec.copy(qkv.buffer, qkv_h[part].buffer, head_bytes, (size_t{part} * d + size_t{h} * dh) * n * sizeof(float));
-    }
-    rec.barrier();
-    const Tensor out = transformer_attention(rec, qkv_h[0], qkv_h[1], qkv_h[2]);
-    rec.copy(out.buffer, heads.buffer, head_bytes, 0, size_t{h} * head_bytes);
-  }
-  rec.barrier();
-  conv1x1_accumulate(rec, heads, b.proj, x);
-  Tensor hidden = conv1x1(rec, layernorm(rec, x, b.norm2, kVitNormEps), b.fc1, false);
-  gelu_inplace(rec, hidden);
-  conv1x1_accumulate(rec, hidden, b.fc2, x);
-  return x;
-}
-
 std::vector<float> DinoVit::cls(const Tensor& image) const {
   if (image.c != 3 || image.h < shape_.patch || image.w < shape_.patch)
     throw std::invalid_argument("dino vit: needs an RGB image of at least " + std::to_string(shape_.patch) + "x" +
@@ -175,7 +140,7 @@ std::vector<float> DinoVit::cls(const Tensor& image) const {
   const Tensor& pos = position(image.h, image.w);
   engine::Recorder rec(ctx_, "dino vit");
   Tensor x = vit_embed(rec, conv_strided(rec, image, patch_, shape_.patch, 0, false), pos);
-  for (const Block& b : blocks_) x = block(rec, b, std::move(x));
+  for (const TransformerBlock& b : blocks_) x = transformer_block(rec, b, shape_.heads, kVitNormEps, std::move(x));
   const Tensor y = layernorm(rec, x, norm_, kVitNormEps);
   ctx_.run(std::move(rec));
   const std::vector<float> all = download(ctx_, y);

@@ -7,7 +7,11 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <vector>
+
+#include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/nn/layers.h"
 #include "s4d/nn/tensor.h"
 
 namespace s4d::nn {
@@ -28,6 +32,24 @@ void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, 
 // [v.c, q.h, q.w]. Needs dk and the key positions <= S4D_NN_MAX_LOOP.
 Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
                              size_t max_score_bytes = size_t{64} << 20);
+
+// One pre-norm transformer encoder block of a ViT (DINO's Block, MUSIQ's TransformerBlock):
+// x += proj(MHSA(LayerNorm1(x))), x += fc2(GELU(fc1(LayerNorm2(x)))), on tokens [width, 1, n]. The
+// attention is softmax((q k^T) / sqrt(head width)) v per head, with the scale folded into qkv's
+// query rows (upload_qkv).
+struct TransformerBlock {
+  NormWeights norm1, norm2;
+  ConvWeights qkv, proj, fc1, fc2;  // qkv [3 width, width]: query, key, value rows
+};
+
+// The Linear(width, 3 width) of q, k and v (weight [3 width, width], bias [3 width]) with the query
+// rows and biases multiplied by 1 / sqrt(width / heads): (s q) . k = s (q . k). Throws
+// std::invalid_argument when heads do not divide the width or the counts differ.
+ConvWeights upload_qkv(engine::Context& ctx, const std::string& name, uint32_t width, uint32_t heads,
+                       std::vector<float> weight, std::vector<float> bias);
+
+// The block on tokens x [width, 1, n] with `heads` heads and LayerNorm eps; returns x updated.
+Tensor transformer_block(engine::Recorder& rec, const TransformerBlock& b, uint32_t heads, float eps, Tensor x);
 
 // The whole attention over content positions in chunks whose scores take at most
 // `max_score_bytes` (and the device's storage-buffer range). Needs dk and n_s <= S4D_NN_MAX_LOOP.

@@ -17,6 +17,7 @@
 
 #include "s4d/engine/context.h"
 #include "s4d/io/safetensors.h"
+#include "s4d/nn/attention.h"
 #include "s4d/nn/layers.h"
 #include "s4d/nn/tensor.h"
 
@@ -52,18 +53,13 @@ class DinoVit {
   std::vector<float> cls(const Tensor& image) const;
 
  private:
-  struct Block {
-    NormWeights norm1, norm2;
-    ConvWeights qkv, proj, fc1, fc2;  // qkv's query rows pre-scaled by 1 / sqrt(head width)
-  };
   const Tensor& position(uint32_t image_h, uint32_t image_w) const;  // cached per image size
-  Tensor block(engine::Recorder& rec, const Block& b, Tensor x) const;
 
   engine::Context& ctx_;
   VitShape shape_;
   std::vector<float> pos_, cls_;  // as stored
   ConvWeights patch_;
-  std::vector<Block> blocks_;
+  std::vector<TransformerBlock> blocks_;
   NormWeights norm_;
   mutable std::map<std::pair<uint32_t, uint32_t>, Tensor> positions_;
 };

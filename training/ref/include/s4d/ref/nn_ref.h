@@ -370,4 +370,33 @@ Chw<T> add(Chw<T> a, const Chw<T>& b) {
   return a;
 }
 
+// GroupNorm(groups, C, eps) (+ ReLU) of each cell of cell_h rows (a batch of images stacked along H)
+// over the window rows [row0, row0 + rows) x cols [col0, col0 + cols) of the cell (biased variance,
+// then weight, bias); every value outside the windows becomes 0 (nn_group_norm).
+template <class T>
+Chw<T> group_norm_cells(const Chw<T>& x, const std::vector<T>& weight, const std::vector<T>& bias, uint32_t groups, T eps,
+                        uint32_t cell_h, uint32_t row0, uint32_t rows, uint32_t col0, uint32_t cols, bool with_relu) {
+  Chw<T> y(x.c, x.h, x.w);
+  const uint32_t per_group = x.c / groups;
+  for (uint32_t cell = 0; cell < x.h / cell_h; ++cell)
+    for (uint32_t g = 0; g < groups; ++g) {
+      const auto window = [&](auto&& f) {
+        for (uint32_t ch = g * per_group; ch < (g + 1) * per_group; ++ch)
+          for (uint32_t r = 0; r < rows; ++r)
+            for (uint32_t c = 0; c < cols; ++c) f(ch, cell * cell_h + row0 + r, col0 + c);
+      };
+      const T n = T(per_group) * T(rows) * T(cols);
+      T sum = 0, centred = 0;
+      window([&](uint32_t ch, uint32_t py, uint32_t px) { sum += x.at(ch, py, px); });
+      const T mean = sum / n;
+      window([&](uint32_t ch, uint32_t py, uint32_t px) { centred += (x.at(ch, py, px) - mean) * (x.at(ch, py, px) - mean); });
+      const T inv = T(1) / std::sqrt(centred / n + eps);
+      window([&](uint32_t ch, uint32_t py, uint32_t px) {
+        const T v = (x.at(ch, py, px) - mean) * inv * weight[ch] + bias[ch];
+        y.at(ch, py, px) = with_relu ? std::max(v, T(0)) : v;
+      });
+    }
+  return y;
+}
+
 }  // namespace s4d::ref
