@@ -73,4 +73,5 @@ set(S4D_SHADER_VARIANTS
   "nn_subsample2|nn/nn_subsample2.comp"
   # MUSIQ
   "nn_group_norm|nn/nn_group_norm.comp"
+  "nn_im2col|nn/nn_im2col.comp"
 )

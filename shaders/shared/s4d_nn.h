@@ -36,6 +36,12 @@
 // 5x5), one invocation per output value looping over cin * k * k (the host keeps that under
 // S4D_NN_MAX_LOOP); bindings S4D_B_CONV_*; flags S4D_NN_FLAG_RELU.
 
+// nn_im2col: F.unfold (k, stride, zero padding) into [cin k k, out_h, out_w], so that a strided
+// convolution runs as nn_conv1x1 (MUSIQ: its 7x7 stride-2 root and 16384-wide embedding);
+// NnConvStridedParams (cout = cin k k; no weights, bias or flags).
+#define S4D_B_IM2COL_IN 0   // [cin, in_h, in_w]
+#define S4D_B_IM2COL_OUT 1  // [cin k k, out_h, out_w]
+
 // Element-wise kernels (ReLU, pooling, upsampling, AdaIN, channel scaling): one invocation per
 // output element.
 #define S4D_NN_WG 64

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Native MUSIQ (KonIQ and PaQ-2-PiQ layouts) against a PyTorch reference (ctest metrics_torch_reference_musiq).
 
-    torch_reference_musiq.py STYLE4D CONVERT_WEIGHTS_PY WORK_DIR
+    torch_reference_musiq.py STYLE4D CONVERT_WEIGHTS_PY WORK_DIR CALIBRATION_PUBLISHED
 
 The reference (reference_musiq.Musiq, written from the paper and pyiqa's definitions, with pyiqa's
 padded tokens and attention mask) gets random weights, is saved as pyiqa's checkpoints are and
@@ -10,7 +10,8 @@ configuration (width 384, 14 blocks, 6 heads, MLP 1152, 10x10 positions, 3 scale
 musiq_paq2piq.safetensors with a reduced one (width 128, 2 blocks, 2 heads, MLP 256). `style4d bench`
 scores 360x70 frames: the 224 scale shrinks (224x44), the 384 scale enlarges (384x75), the frame's
 own 12x3 patches hash more columns than the 10-wide grid, and no side is a multiple of 32 (padding).
-Float64 throughout in the reference. Exit 77 (skipped) without torch.
+`calibration_published` scores 37x31 images in pyiqa's ResultsCalibra layout (all three scales
+enlarge). Float64 throughout in the reference. Exit 77 (skipped) without torch.
 """
 import json
 import math
@@ -20,7 +21,7 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_musiq import Musiq, multiscale_input
-from torch_reference import noise_image, run
+from torch_reference import calibration_scores, noise_image, run, write_calibration_pairs
 import torch
 import torchvision
 
@@ -55,7 +56,7 @@ def score(model, u8, **preprocess):
 
 
 def main():
-    style4d, converter, work = sys.argv[1:4]
+    style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(31)
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
@@ -110,7 +111,22 @@ def main():
             ok = apart > 100 * tolerance
             failed |= not ok
             print("%s %s: %s would differ by %.2e relative" % ("ok  " if ok else "FAIL", key, what, apart))
+    # The calibration program on small images in pyiqa's layout (MUSIQ reads dist_dir only).
+    calib = os.path.join(work, "calibration")
+    pairs = {name: (noise_image(37, 31, gen), noise_image(37, 31, gen)) for name in ("I03", "I04", "I06", "I08", "I19")}
+    write_calibration_pairs(calib, pairs)
+    code, scores, output = calibration_scores(calibration, weights, calib)
+    for key, model in models.items():
+        reference = [score(model, d) for d, _ in pairs.values()]
+        values = scores.get(key, [])
+        worst = max((abs(v - r) / abs(r) for v, r in zip(values, reference)), default=float("inf"))
+        # Random weights cannot meet the published values, so the program must run and report failure.
+        ok = code == 1 and len(values) == len(reference) and worst <= tolerance
+        failed |= not ok
+        print("%s calibration_published %s on random weights: exit %d, worst relative difference %.2e" %
+              ("ok  " if ok else "FAIL", key, code, worst))
     if failed:
+        print(output.strip())
         sys.exit("native MUSIQ differs from the reference; the files are in %s" % work)
     shutil.rmtree(work)
 

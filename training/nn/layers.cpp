@@ -170,6 +170,29 @@ Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w
   return y;
 }
 
+Tensor im2col(engine::Recorder& rec, const Tensor& x, uint32_t k, uint32_t stride, uint32_t pad) {
+  if (k == 0 || stride == 0 || x.h + 2 * pad < k || x.w + 2 * pad < k)
+    fail("im2col", "kernel " + std::to_string(k) + ", stride " + std::to_string(stride) + ", padding " + std::to_string(pad) +
+                       " do not fit " + x.shape());
+  Tensor y = make_tensor(rec.context(), "im2col", x.c * k * k, (x.h + 2 * pad - k) / stride + 1, (x.w + 2 * pad - k) / stride + 1);
+  const gpu::NnConvStridedParams p{.cin = x.c,
+                                   .cout = y.c,
+                                   .in_height = x.h,
+                                   .in_width = x.w,
+                                   .out_height = y.h,
+                                   .out_width = y.w,
+                                   .kernel = k,
+                                   .stride = stride,
+                                   .pad = pad,
+                                   .flags = 0,
+                                   .n_out = static_cast<uint32_t>(y.count()),
+                                   ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_im2col), {S4D_BIND(IM2COL_IN, x.buffer), S4D_BIND(IM2COL_OUT, y.buffer)},
+               p, ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu) {
   if (w.k != 1) fail("conv " + w.name, "is not a 1x1 convolution");
   return conv(rec, x, w, relu ? S4D_NN_FLAG_RELU : 0u, nullptr, shaders::Id::nn_conv1x1);

@@ -32,6 +32,19 @@ uint32_t dimension(const io::SafetensorsFile& file, const std::string& name, siz
   return static_cast<uint32_t>(s[dim]);
 }
 
+// The same values as one row of pixels (1x1 convolutions take nn_conv1x1_rows' wide tiles), and back.
+Tensor flat(Tensor t) {
+  t.w *= t.h;
+  t.h = 1;
+  return t;
+}
+
+Tensor unflat(Tensor t, uint32_t h, uint32_t w) {
+  t.h = h;
+  t.w = w;
+  return t;
+}
+
 std::string block_name(uint32_t i) { return kEncoder + "transformer.encoderblock_" + std::to_string(i) + "."; }
 
 MusiqShape read_shape(const io::SafetensorsFile& file, uint32_t heads) {
@@ -50,9 +63,10 @@ MusiqShape read_shape(const io::SafetensorsFile& file, uint32_t heads) {
   return s;
 }
 
-// StdConv(cin, cout, k, bias=False): the stored weight standardised per output channel.
+// StdConv(cin, cout, k, bias=False): the stored weight standardised per output channel; `as_1x1`: as
+// the 1x1 convolution of im2col's cin k k rows (the same values).
 ConvWeights load_std_conv(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t cin,
-                          uint32_t cout, uint32_t k) {
+                          uint32_t cout, uint32_t k, bool as_1x1 = false) {
   std::vector<float> w = file.read(prefix + ".weight", {cout, cin, k, k});
   const size_t n = size_t{cin} * k * k;
   for (uint32_t o = 0; o < cout; ++o) {
@@ -64,11 +78,13 @@ ConvWeights load_std_conv(engine::Context& ctx, const io::SafetensorsFile& file,
     const double scale = 1.0 / (std::sqrt(centred / double(n - 1)) + kStdConvEps);
     for (size_t i = 0; i < n; ++i) f[i] = float((f[i] - mean) * scale);
   }
-  return upload_conv(ctx, file.path().filename().string() + " " + prefix, cin, cout, k, w, std::vector<float>(cout, 0.0f));
+  return upload_conv(ctx, file.path().filename().string() + " " + prefix, as_1x1 ? cin * k * k : cin, cout, as_1x1 ? 1 : k, w,
+                     std::vector<float>(cout, 0.0f));
 }
 
 // embedding = Linear(8 * 8 * 256, width) over (row, column, channel) as a 9x9 convolution over a
-// pooled cell, whose row and column 0 are the cell's padding.
+// pooled cell, whose row and column 0 are the cell's padding, stored as the 1x1 convolution of its
+// im2col rows.
 ConvWeights load_embedding(engine::Context& ctx, const io::SafetensorsFile& file, uint32_t width) {
   const std::vector<float> linear = file.read("embedding.weight", {width, kMap * kMap * kBlockWidth});
   std::vector<float> conv(size_t{width} * kBlockWidth * kPoolCell * kPoolCell, 0.0f);
@@ -78,7 +94,7 @@ ConvWeights load_embedding(engine::Context& ctx, const io::SafetensorsFile& file
         for (uint32_t c = 0; c < kBlockWidth; ++c)
           conv[((size_t{o} * kBlockWidth + c) * kPoolCell + y + 1) * kPoolCell + x + 1] =
               linear[size_t{o} * kMap * kMap * kBlockWidth + (size_t{y} * kMap + x) * kBlockWidth + c];
-  return upload_conv(ctx, file.path().filename().string() + " embedding", kBlockWidth, width, kPoolCell, conv,
+  return upload_conv(ctx, file.path().filename().string() + " embedding", kBlockWidth * kPoolCell * kPoolCell, width, 1, conv,
                      file.read("embedding.bias", {width}));
 }
 
@@ -104,7 +120,7 @@ TransformerBlock load_block(engine::Context& ctx, const io::SafetensorsFile& fil
 MusiqNet::MusiqNet(engine::Context& ctx, const io::SafetensorsFile& file, uint32_t heads)
     : ctx_(ctx),
       shape_(read_shape(file, heads)),
-      conv_root_(load_std_conv(ctx, file, "conv_root", 3, kRootWidth, 7)),
+      conv_root_(load_std_conv(ctx, file, "conv_root", 3, kRootWidth, 7, true)),
       conv1_(load_std_conv(ctx, file, "block1.conv1", kRootWidth, kRootWidth, 1)),
       conv2_(load_std_conv(ctx, file, "block1.conv2", kRootWidth, kRootWidth, 3)),
       conv3_(load_std_conv(ctx, file, "block1.conv3", kRootWidth, kBlockWidth, 1)),
@@ -137,14 +153,18 @@ Tensor MusiqNet::root(const std::vector<float>& pixels, uint32_t first, uint32_t
   engine::Recorder rec(ctx_, "musiq root");
   const Tensor x = upload_tensor(ctx_, "musiq patches", 3, height, kMosaicCell, mosaic);
   const CellWindow conv_cells{kConvCell, 1, kPatch / 2, 1, kPatch / 2}, pool_cells{kPoolCell, 1, kMap, 1, kMap};
-  const Tensor pooled =
-      maxpool3s2(rec, group_norm_cells(rec, conv_strided(rec, x, conv_root_, 2, 2, false), gn_root_, kGroups, kRootEps, conv_cells, true), 1);
-  const Tensor h1 = group_norm_cells(rec, conv1x1(rec, pooled, conv1_, false), gn1_, kGroups, kBlockEps, pool_cells, true);
-  const Tensor h2 = group_norm_cells(rec, conv3x3_zero_pad(rec, h1, conv2_, false), gn2_, kGroups, kBlockEps, pool_cells, true);
-  Tensor out = add(rec, group_norm_cells(rec, conv1x1(rec, h2, conv3_, false), gn3_, kGroups, kBlockEps, pool_cells, false),
-                   group_norm_cells(rec, conv1x1(rec, pooled, conv_proj_, false), gn_proj_, kGroups, kBlockEps, pool_cells, false));
+  // Strided convolutions as im2col and a 1x1 convolution (nn_conv_strided's loop per output is slow on lavapipe).
+  const uint32_t conv_h = kConvCell * count, conv_w = kConvCell - 1, pool_h = kPoolCell * count;
+  const Tensor root = unflat(conv1x1(rec, flat(im2col(rec, x, 7, 2, 2)), conv_root_, false), conv_h, conv_w);
+  const Tensor pooled = flat(maxpool3s2(rec, group_norm_cells(rec, root, gn_root_, kGroups, kRootEps, conv_cells, true), 1));
+  const auto gn = [&](Tensor t, const NormWeights& w, bool relu) {
+    return group_norm_cells(rec, unflat(std::move(t), pool_h, kPoolCell), w, kGroups, kBlockEps, pool_cells, relu);
+  };
+  const Tensor h1 = gn(conv1x1(rec, pooled, conv1_, false), gn1_, true);
+  Tensor h2 = group_norm_cells(rec, conv3x3_zero_pad(rec, h1, conv2_, false), gn2_, kGroups, kBlockEps, pool_cells, true);
+  Tensor out = add(rec, gn(conv1x1(rec, flat(std::move(h2)), conv3_, false), gn3_, false), gn(conv1x1(rec, pooled, conv_proj_, false), gn_proj_, false));
   relu_inplace(rec, out);
-  Tensor tokens = conv_strided(rec, out, embedding_, kPoolCell, 0, false);
+  Tensor tokens = unflat(conv1x1(rec, flat(im2col(rec, out, kPoolCell, kPoolCell, 0)), embedding_, false), count, 1);
   ctx_.run(std::move(rec));
   return tokens;
 }

@@ -44,6 +44,10 @@ Tensor conv3x3_zero_pad(engine::Recorder& rec, const Tensor& x, const ConvWeight
 // Conv2d(k, stride, padding) with zero padding (+ ReLU), any k: [cout, (h + 2 pad - k) / stride + 1, ...].
 // Needs cin * k * k <= S4D_NN_MAX_LOOP (kernel nn_conv_strided).
 Tensor conv_strided(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, uint32_t stride, uint32_t pad, bool relu);
+// F.unfold(x, k, padding=pad, stride): [c k k, (h + 2 pad - k) / stride + 1, ...], row (ci k + ky) k + kx
+// holding tap (ky, kx) of channel ci, 0 in the padding; conv1x1 of it with the weights [cout, c k k]
+// is conv_strided (faster on lavapipe for large inputs). Needs H, W + 2 pad >= k.
+Tensor im2col(engine::Recorder& rec, const Tensor& x, uint32_t k, uint32_t stride, uint32_t pad);
 // Conv2d(k=1) (+ ReLU); a Linear layer when x is [in, 1, 1].
 Tensor conv1x1(engine::Recorder& rec, const Tensor& x, const ConvWeights& w, bool relu);
 // out += Conv2d(k=1)(x): a residual connection into `out`.

@@ -399,4 +399,20 @@ Chw<T> group_norm_cells(const Chw<T>& x, const std::vector<T>& weight, const std
   return y;
 }
 
+// F.unfold(x, k, padding=pad, stride): [c k k, out_h, out_w], row (ci k + ky) k + kx holding
+// x[ci, oy stride - pad + ky, ox stride - pad + kx], 0 in the padding (nn_im2col).
+template <class T>
+Chw<T> im2col(const Chw<T>& x, uint32_t k, uint32_t stride, uint32_t pad) {
+  Chw<T> y(x.c * k * k, (x.h + 2 * pad - k) / stride + 1, (x.w + 2 * pad - k) / stride + 1);
+  for (uint32_t ci = 0; ci < x.c; ++ci)
+    for (uint32_t ky = 0; ky < k; ++ky)
+      for (uint32_t kx = 0; kx < k; ++kx)
+        for (uint32_t oy = 0; oy < y.h; ++oy)
+          for (uint32_t ox = 0; ox < y.w; ++ox) {
+            const int64_t sy = int64_t{oy} * stride + ky - pad, sx = int64_t{ox} * stride + kx - pad;
+            if (sy >= 0 && sy < x.h && sx >= 0 && sx < x.w) y.at((ci * k + ky) * k + kx, oy, ox) = x.at(ci, uint32_t(sy), uint32_t(sx));
+          }
+  return y;
+}
+
 }  // namespace s4d::ref
