@@ -10,8 +10,8 @@ configuration (width 384, 14 blocks, 6 heads, MLP 1152, 10x10 positions, 3 scale
 musiq_paq2piq.safetensors with a reduced one (width 128, 2 blocks, 2 heads, MLP 256). `style4d bench`
 scores 360x70 frames: the 224 scale shrinks (224x44), the 384 scale enlarges (384x75), the frame's
 own 12x3 patches hash more columns than the 10-wide grid, and no side is a multiple of 32 (padding).
-`calibration_published` scores 37x31 images in pyiqa's ResultsCalibra layout (all three scales
-enlarge). Float64 throughout in the reference. Exit 77 (skipped) without torch.
+`calibration_published` scores 37x31 images in pyiqa's ResultsCalibra layout with the reduced
+network (all three scales enlarge). Float64 throughout in the reference. Exit 77 (skipped) without torch.
 """
 import json
 import math
@@ -115,8 +115,11 @@ def main():
     calib = os.path.join(work, "calibration")
     pairs = {name: (noise_image(37, 31, gen), noise_image(37, 31, gen)) for name in ("I03", "I04", "I06", "I08", "I19")}
     write_calibration_pairs(calib, pairs)
-    code, scores, output = calibration_scores(calibration, weights, calib)
-    for key, model in models.items():
+    small = os.path.join(work, "weights_small")  # the reduced network only: the run path is the same
+    os.makedirs(small)
+    shutil.copy(os.path.join(weights, "musiq_paq2piq.safetensors"), small)
+    code, scores, output = calibration_scores(calibration, small, calib)
+    for key, model in [("musiq_paq2piq", models["musiq_paq2piq"])]:
         reference = [score(model, d) for d, _ in pairs.values()]
         values = scores.get(key, [])
         worst = max((abs(v - r) / abs(r) for v, r in zip(values, reference)), default=float("inf"))
