@@ -5,7 +5,7 @@
 
 The names come from torchvision's own modules (make_layers of cfgs "D"/"E", AlexNet().features) and
 from the published layouts of LPIPS's heads, DISTS's weights.pt, AdaIN's vgg_normalised.pth and
-pyiqa's LPIPS/DISTS files (backbone under net.slice<s>.<i> / stage<s>.<i>, buffers beside it). Each
+pyiqa's LPIPS/DISTS/CKDN/MUSIQ files (backbone under net.slice<s>.<i> / stage<s>.<i>, buffers beside it). Each
 converted file is read back here and must hold exactly the expected tensors, bit for bit; the sha256
 printed must be the input's; wrong shapes, missing, unknown and non-finite tensors and a file that is
 not a checkpoint must fail naming the file and the tensor. Exit 77 (skipped) without torch.
@@ -21,6 +21,7 @@ import subprocess
 import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
+from reference_musiq import Musiq
 from reference_nets import Ckdn, adain_vgg, dino_state_dict
 import torch
 import torch.nn as nn
@@ -176,6 +177,13 @@ def main():
     check(p.returncode == 0, "pyiqa's CKDN file converts (%s)" % p.stderr.strip())
     same(os.path.join(out, "ckdn.safetensors"), used, "pyiqa CKDN without aux_csp, fc1_ and num_batches_tracked")
 
+    # pyiqa's MUSIQ (reference_musiq.py keeps pyiqa's module names), at a reduced width and depth.
+    musiq = Musiq(width=128, mlp=256, heads=2, layers=2).state_dict()
+    p, _, out = convert("musiq_paq2piq", musiq, name="musiq_paq2piq_ckpt-pyiqa.pth")
+    check(p.returncode == 0 and "is not pyiqa's MUSIQ configuration (width 128, 2 blocks, MLP 256" in p.stdout,
+          "a reduced pyiqa MUSIQ converts with a note (%s)" % p.stderr.strip())
+    same(os.path.join(out, "musiq_paq2piq.safetensors"), musiq, "pyiqa MUSIQ")
+
     # Errors: one line naming the file and the tensor, exit code 1, nothing written.
     bad_files = []
 
@@ -199,6 +207,12 @@ def main():
     narrow = dict(ckdn, **{"net.fc_.0.weight": torch.rand(2048, 256)})
     refused("ckdn", narrow, ["net.fc_.0.weight", "[2048, 256]", "[2048, 512]"], "a CKDN MLP of the wrong width")
     refused("ckdn", vgg16, ["unexpected tensor 'features.0.weight'"], "a VGG16 as CKDN")
+    refused("musiq", dict(musiq, **{"head.weight": torch.rand(10, 128), "head.bias": torch.rand(10)}),
+            ["head.weight", "10-class head"], "MUSIQ-AVA's distribution head")
+    refused("musiq", dict(musiq, **{"transformer_encoder.transformer.encoderblock_1.attention.qkv.weight": torch.rand(3)}),
+            ["unexpected tensor 'transformer_encoder.transformer.encoderblock_1.attention.qkv.weight'"], "a fused MUSIQ qkv")
+    refused("musiq", {k: v for k, v in musiq.items() if k != "block1.gn_proj.bias"}, ["missing block1.gn_proj.bias"],
+            "a MUSIQ without its projection's GroupNorm bias")
     nan = dict(ab)
     nan["beta"] = ab["beta"].clone()
     nan["beta"][0, 7, 0, 0] = float("nan")
