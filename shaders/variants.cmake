@@ -74,4 +74,5 @@ set(S4D_SHADER_VARIANTS
   # MUSIQ
   "nn_group_norm|nn/nn_group_norm.comp"
   "nn_im2col|nn/nn_im2col.comp"
+  "nn_transpose|nn/nn_transpose.comp"
 )

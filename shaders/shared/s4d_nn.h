@@ -110,6 +110,11 @@
 // nn_attn_average (nn_attn_apply with S4D_NN_ATTN_AVERAGE): out[c, first + i] = sum_j P[i, j] V[c, j],
 // the attention of a transformer, bindings S4D_B_ATTN_P, S4D_B_ATTN_V and S4D_B_ATTN_AVG_OUT (no content).
 #define S4D_B_ATTN_AVG_OUT 2  // [c, n_c]; the chunk's columns are written
+// nn_transpose: out[c, r] = in[r, c] of a [rows, cols] matrix (NnEltParams: n = rows * cols, count = cols);
+// the transformer's attention multiplies through nn_conv1x1 with it (scores = conv1x1 of the keys by
+// the transposed queries, output = conv1x1 of the transposed weights by the values).
+#define S4D_B_TRANSPOSE_IN 0   // [rows, cols]
+#define S4D_B_TRANSPOSE_OUT 1  // [cols, rows]
 
 // nn_group_norm (MUSIQ's patch stem, training/nn/musiq_net.h): a batch of small images stacked along
 // H in cells of cell_h rows (height a multiple of cell_h), each normalised on its own: GroupNorm over

@@ -111,3 +111,14 @@ TEST_CASE("a transformer's attention matches its twin whatever the chunk") {
     CHECK_MESSAGE(max_rel(gpu, twin.v) < 3e-6, rows);  // 64-term logits, 197-term sums: measured 2.4e-7
   }
 }
+
+// Kernel nn_transpose (the attention's layouts for nn_conv1x1).
+TEST_CASE("transpose swaps rows and columns exactly, as its twin") {
+  std::mt19937 rng(43);
+  for (const auto& [rows, cols] : {std::pair<uint32_t, uint32_t>{64, 197}, {197, 1}, {3, 130}}) {
+    const auto x = test::random_chw(1, rows, cols, rng);
+    const auto gx = test::upload(x);
+    const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::transpose(r, gx); }));
+    CHECK_MESSAGE(gpu == ref::transpose(x.v, rows, cols), rows << "x" << cols);
+  }
+}

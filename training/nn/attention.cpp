@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "s4d/engine/buffer_from.h"
 #include "s4d/primitives/shader_pipeline.h"
 #include "s4d_nn.h"
 
@@ -89,13 +90,12 @@ void apply_rows(engine::Recorder& rec, const Tensor& p, const Tensor& v, const T
   rec.barrier();
 }
 
-// The chunked attention of q over k, v, with AdaAttN's statistics applied to `content` or (null)
-// the plain weighted average.
-Tensor chunked(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor* content,
+// The chunked attention of q over k, v, with AdaAttN's statistics applied to `content`.
+Tensor chunked(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,
                size_t max_score_bytes) {
-  if (k.h != v.h || k.w != v.w || (content != nullptr && (q.h != content->h || q.w != content->w)))
-    fail("queries " + q.shape() + (content != nullptr ? " / content " + content->shape() : std::string()) + " or keys " +
-         k.shape() + " / values " + v.shape() + " differ in size");
+  if (k.h != v.h || k.w != v.w || q.h != content.h || q.w != content.w)
+    fail("queries " + q.shape() + " / content " + content.shape() + " or keys " + k.shape() + " / values " + v.shape() +
+         " differ in size");
   const size_t row_bytes = k.plane() * sizeof(float);
   const size_t budget = std::min<size_t>(max_score_bytes, rec.context().info().max_storage_buffer_range);
   if (row_bytes > budget) fail(std::to_string(k.plane()) + " style positions: one score row is over the budget");
@@ -105,7 +105,7 @@ Tensor chunked(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Te
     const auto rows = static_cast<uint32_t>(std::min<size_t>(chunk, q.plane() - first));
     Tensor s = attention_scores(rec, q, k, first, rows);
     softmax_rows(rec, s);
-    apply_rows(rec, s, v, content, first, out);
+    apply_rows(rec, s, v, &content, first, out);
   }
   return out;
 }
@@ -123,12 +123,82 @@ void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, 
 
 Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,
                  size_t max_score_bytes) {
-  return chunked(rec, q, k, v, &content, max_score_bytes);
+  return chunked(rec, q, k, v, content, max_score_bytes);
+}
+
+namespace {
+
+// The transpose [cols, 1, rows] of the [rows, cols] matrix in `in` (kernel nn_transpose).
+Tensor transposed(engine::Recorder& rec, const engine::Buffer& in, uint32_t rows, uint32_t cols, const std::string& name) {
+  Tensor y = make_tensor(rec.context(), name, cols, 1, rows);
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = cols, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_transpose),
+               {S4D_BIND(TRANSPOSE_IN, in), S4D_BIND(TRANSPOSE_OUT, y.buffer)}, p, ceil_div(y.count(), S4D_NN_WG));
+  rec.barrier();
+  return y;
+}
+
+// A 1x1 convolution's parameters over `bytes` of `from` (at `offset`), with the zero bias `zeros`.
+ConvWeights matrix(engine::Recorder& rec, const engine::Buffer& from, size_t offset, uint32_t cin, uint32_t cout,
+                   engine::Buffer zeros, const std::string& name) {
+  ConvWeights w{name, cin, cout, 1, engine::Buffer(rec.context(), name, size_t{cin} * cout * sizeof(float)), std::move(zeros)};
+  rec.copy(from, w.weight, size_t{cin} * cout * sizeof(float), offset);
+  rec.barrier();
+  return w;
+}
+
+}  // namespace
+
+Tensor transpose(engine::Recorder& rec, const Tensor& x) {
+  if (x.c != 1) fail("transpose expects a [1, rows, cols] matrix, got " + x.shape());
+  Tensor y = transposed(rec, x.buffer, x.h, x.w, "transpose");
+  y.c = 1;
+  y.h = x.w;
+  y.w = x.h;
+  return y;
 }
 
 Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
                              size_t max_score_bytes) {
-  return chunked(rec, q, k, v, nullptr, max_score_bytes);
+  // Through the tiled nn_conv1x1 (nn_attn_scores and nn_attn_average loop per output, slow on lavapipe
+  // past a few hundred tokens): scores S [rows, n_k] = conv1x1 of k with weights q^T [rows, dk];
+  // out [dv, rows] = conv1x1 of S^T [n_k, rows] with weights v [dv, n_k].
+  if (q.c != k.c || k.h != v.h || k.w != v.w)
+    fail("queries " + q.shape() + ", keys " + k.shape() + " and values " + v.shape() + " do not match");
+  const auto n_q = static_cast<uint32_t>(q.plane()), n_k = static_cast<uint32_t>(k.plane());
+  check_loop(q.c, "key channels");
+  check_loop(n_k, "key positions");
+  const size_t row_bytes = size_t{n_k} * sizeof(float);
+  const size_t budget = std::min<size_t>(max_score_bytes, rec.context().info().max_storage_buffer_range);
+  if (row_bytes > budget) fail(std::to_string(n_k) + " key positions: one score row is over the budget");
+  const auto chunk = static_cast<uint32_t>(std::min<size_t>(n_q, budget / row_bytes));
+  engine::Context& ctx = rec.context();
+  const Tensor qt = transposed(rec, q.buffer, q.c, n_q, "queries^T");  // [n_q, 1, dk]
+  ConvWeights values = matrix(rec, v.buffer, 0, n_k, v.c, engine::buffer_from(ctx, "zero bias", std::vector<float>(v.c, 0.0f)),
+                              "attention values");
+  engine::Buffer zeros = engine::buffer_from(ctx, "zero bias", std::vector<float>(chunk, 0.0f));
+  Tensor out = make_tensor(ctx, "attention", v.c, q.h, q.w);
+  for (uint32_t first = 0; first < n_q; first += chunk) {
+    const auto rows = static_cast<uint32_t>(std::min<size_t>(chunk, n_q - first));
+    ConvWeights queries = matrix(rec, qt.buffer, size_t{first} * q.c * sizeof(float), q.c, rows, std::move(zeros), "attention queries");
+    Tensor s = conv1x1(rec, k, queries, false);
+    zeros = std::move(queries.bias);
+    s.c = 1;  // [rows, n_k] as softmax_rows' [1, rows, n]
+    s.h = rows;
+    s.w = n_k;
+    softmax_rows(rec, s);
+    Tensor o = conv1x1(rec, transposed(rec, s.buffer, rows, n_k, "attention weights^T"), values, false);  // [dv, 1, rows]
+    if (rows == n_q) {
+      o.h = q.h;
+      o.w = q.w;
+      return o;
+    }
+    for (uint32_t c = 0; c < v.c; ++c)
+      rec.copy(o.buffer, out.buffer, size_t{rows} * sizeof(float), size_t{c} * rows * sizeof(float),
+               (size_t{c} * n_q + first) * sizeof(float));
+  }
+  rec.barrier();
+  return out;
 }
 
 ConvWeights upload_qkv(engine::Context& ctx, const std::string& name, uint32_t width, uint32_t heads,

@@ -1,5 +1,5 @@
 // AdaAttN's attention (Liu et al. 2021; kernels nn_attn_scores, nn_softmax_rows, nn_attn_apply,
-// and a transformer's, nn_attn_average in place of nn_attn_apply;
+// and a transformer's, nn_attn_average in place of nn_attn_apply, or nn_transpose and nn_conv1x1;
 // twins in ref/nn_ref.h): for content positions i and style positions j, P = softmax_j(Q_i . K_j),
 // M = P V, S = sqrt(relu(P V^2 - M^2)), out = S * content + M. The score matrix is built for a chunk
 // of content positions at a time, so it fits one storage buffer whatever the content size.
@@ -28,8 +28,12 @@ void attention_apply(engine::Recorder& rec, const Tensor& p, const Tensor& v, co
 // out[:, first + i] = sum_j p[i, j] v[:, j] for the rows i of p [1, rows, n_s], v [c, hs, ws], out
 // [c, h, w]: a transformer's attention output.
 void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, uint32_t first, Tensor& out);
+// The transpose [1, cols, rows] of a [1, rows, cols] matrix (kernel nn_transpose).
+Tensor transpose(engine::Recorder& rec, const Tensor& x);
+
 // softmax_j(q_i . k_j) v_j over all positions i of q (scale q beforehand), chunked as attention():
-// [v.c, q.h, q.w]. Needs dk and the key positions <= S4D_NN_MAX_LOOP.
+// [v.c, q.h, q.w]. Multiplies through the tiled nn_conv1x1: scores = conv1x1 of k by q^T, the output
+// conv1x1 of the transposed weights by v (nn_transpose). Needs dk and the key positions <= S4D_NN_MAX_LOOP.
 Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
                              size_t max_score_bytes = size_t{64} << 20);
 

@@ -415,4 +415,13 @@ Chw<T> im2col(const Chw<T>& x, uint32_t k, uint32_t stride, uint32_t pad) {
   return y;
 }
 
+// out[c, r] = in[r, c] of a [rows, cols] matrix (nn_transpose).
+template <class T>
+std::vector<T> transpose(const std::vector<T>& x, size_t rows, size_t cols) {
+  std::vector<T> y(x.size());
+  for (size_t r = 0; r < rows; ++r)
+    for (size_t c = 0; c < cols; ++c) y[c * rows + r] = x[r * cols + c];
+  return y;
+}
+
 }  // namespace s4d::ref
