@@ -122,7 +122,7 @@ MusiqNet::MusiqNet(engine::Context& ctx, const io::SafetensorsFile& file, uint32
       shape_(read_shape(file, heads)),
       conv_root_(load_std_conv(ctx, file, "conv_root", 3, kRootWidth, 7, true)),
       conv1_(load_std_conv(ctx, file, "block1.conv1", kRootWidth, kRootWidth, 1)),
-      conv2_(load_std_conv(ctx, file, "block1.conv2", kRootWidth, kRootWidth, 3)),
+      conv2_(load_std_conv(ctx, file, "block1.conv2", kRootWidth, kRootWidth, 3, true)),
       conv3_(load_std_conv(ctx, file, "block1.conv3", kRootWidth, kBlockWidth, 1)),
       conv_proj_(load_std_conv(ctx, file, "block1.conv_proj", kRootWidth, kBlockWidth, 1)),
       embedding_(load_embedding(ctx, file, shape_.width)),
@@ -153,7 +153,7 @@ Tensor MusiqNet::root(const std::vector<float>& pixels, uint32_t first, uint32_t
   engine::Recorder rec(ctx_, "musiq root");
   const Tensor x = upload_tensor(ctx_, "musiq patches", 3, height, kMosaicCell, mosaic);
   const CellWindow conv_cells{kConvCell, 1, kPatch / 2, 1, kPatch / 2}, pool_cells{kPoolCell, 1, kMap, 1, kMap};
-  // Strided convolutions as im2col and a 1x1 convolution (nn_conv_strided's loop per output is slow on lavapipe).
+  // Convolutions of k > 1 as im2col and a 1x1 convolution (nn_conv_strided's loop per output is slow on lavapipe).
   const uint32_t conv_h = kConvCell * count, conv_w = kConvCell - 1, pool_h = kPoolCell * count;
   const Tensor root = unflat(conv1x1(rec, flat(im2col(rec, x, 7, 2, 2)), conv_root_, false), conv_h, conv_w);
   const Tensor pooled = flat(maxpool3s2(rec, group_norm_cells(rec, root, gn_root_, kGroups, kRootEps, conv_cells, true), 1));
@@ -161,7 +161,8 @@ Tensor MusiqNet::root(const std::vector<float>& pixels, uint32_t first, uint32_t
     return group_norm_cells(rec, unflat(std::move(t), pool_h, kPoolCell), w, kGroups, kBlockEps, pool_cells, relu);
   };
   const Tensor h1 = gn(conv1x1(rec, pooled, conv1_, false), gn1_, true);
-  Tensor h2 = group_norm_cells(rec, conv3x3_zero_pad(rec, h1, conv2_, false), gn2_, kGroups, kBlockEps, pool_cells, true);
+  // The 3x3 too: nn_conv3x3_zero's 32-wide tiles would leave most of a 9-wide cell column idle.
+  Tensor h2 = gn(conv1x1(rec, flat(im2col(rec, h1, 3, 1, 1)), conv2_, false), gn2_, true);
   Tensor out = add(rec, gn(conv1x1(rec, flat(std::move(h2)), conv3_, false), gn3_, false), gn(conv1x1(rec, pooled, conv_proj_, false), gn_proj_, false));
   relu_inplace(rec, out);
   Tensor tokens = unflat(conv1x1(rec, flat(im2col(rec, out, kPoolCell, kPoolCell, 0)), embedding_, false), count, 1);
