@@ -10,7 +10,8 @@ configuration (width 384, 14 blocks, 6 heads, MLP 1152, 10x10 positions, 3 scale
 musiq_paq2piq.safetensors with a reduced one (width 128, 2 blocks, 2 heads, MLP 256). `style4d bench`
 scores 360x70 frames: the 224 scale shrinks (224x44), the 384 scale enlarges (384x75), the frame's
 own 12x3 patches hash more columns than the 10-wide grid, and no side is a multiple of 32 (padding).
-`calibration_published` scores 37x31 images in pyiqa's ResultsCalibra layout with the reduced
+The reduced network also scores one 800x600 frame, whose 625 patches take two chunks of the
+ResNet root. `calibration_published` scores 37x31 images in pyiqa's ResultsCalibra layout with the reduced
 network (all three scales enlarge). Float64 throughout in the reference. Exit 77 (skipped) without torch.
 """
 import json
@@ -111,13 +112,30 @@ def main():
             ok = apart > 100 * tolerance
             failed |= not ok
             print("%s %s: %s would differ by %.2e relative" % ("ok  " if ok else "FAIL", key, what, apart))
+    small = os.path.join(work, "weights_small")  # the reduced network only: the run path is the same
+    os.makedirs(small)
+    shutil.copy(os.path.join(weights, "musiq_paq2piq.safetensors"), small)
+    # An 800x600 frame: 42 + 108 + 475 = 625 patches, more than one chunk of the ResNet root (512).
+    large_dir = os.path.join(work, "large")
+    os.makedirs(large_dir)
+    large = noise_image(800, 600, gen)
+    torchvision.io.write_png(large, os.path.join(large_dir, "000.png"))
+    out = os.path.join(work, "bench_large")
+    run([style4d, "bench", "--frames", large_dir, "--original", large_dir, "--style-image", os.path.join(work, "style.png"),
+         "--out", out, "--metric-weights", small])
+    with open(os.path.join(out, "report.json")) as f:
+        got = json.load(f)["results"][0]["per_frame"].get("musiq_paq2piq")
+    expected = score(models["musiq_paq2piq"], large)
+    worst = float("inf") if not got or len(got) != 1 else abs(got[0] - expected) / abs(expected)
+    ok = worst <= tolerance
+    failed |= not ok
+    print("%s bench musiq_paq2piq on 625 patches (two chunks) relative difference %.2e; native %s, reference %.9g" %
+          ("ok  " if ok else "FAIL", worst, got, expected))
+
     # The calibration program on small images in pyiqa's layout (MUSIQ reads dist_dir only).
     calib = os.path.join(work, "calibration")
     pairs = {name: (noise_image(37, 31, gen), noise_image(37, 31, gen)) for name in ("I03", "I04", "I06", "I08", "I19")}
     write_calibration_pairs(calib, pairs)
-    small = os.path.join(work, "weights_small")  # the reduced network only: the run path is the same
-    os.makedirs(small)
-    shutil.copy(os.path.join(weights, "musiq_paq2piq.safetensors"), small)
     code, scores, output = calibration_scores(calibration, small, calib)
     for key, model in [("musiq_paq2piq", models["musiq_paq2piq"])]:
         reference = [score(model, d) for d, _ in pairs.values()]

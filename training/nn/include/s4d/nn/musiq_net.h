@@ -19,8 +19,10 @@
 // output at rows 18 p + 1 .., columns 1 ..; nn_group_norm normalises each cell's window and zeroes
 // the rest, so the padding-1 3x3 max pool and the zero-padded 3x3 convolution see the same zeros;
 // after the pool a cell is 9x9 with the 8x8 map at rows and columns 1 .. 8. The embedding is a 9x9
-// stride-9 convolution whose row and column 0 weights are zero. Patches run in chunks of kChunk so no
-// tensor passes the storage-buffer range.
+// stride-9 convolution whose row and column 0 weights are zero. Convolutions of k > 1 run as
+// nn_im2col and a 1x1 convolution, and 1x1 convolutions on the maps flattened to one row (the tiled
+// kernels' fast paths). Patches run in chunks of kChunk so no tensor passes the storage-buffer range
+// (the bottleneck's 3x3 im2col, [576, 9 kChunk, 9], is the largest: 96 MB).
 //
 // Weights: pyiqa's state-dict names (musiq_koniq_ckpt-e95806b9.pth, musiq_paq2piq_ckpt-364c0c84.pth):
 // conv_root.weight [64, 3, 7, 7], gn_root.{weight,bias}, block1.{conv1,conv2,conv3,conv_proj}.weight,
