@@ -2,7 +2,7 @@
 // --original B --style-image S --out DIR, scores frames another program made; run mode, --run RUN
 // --style NAME [--style NAME2 ...] --out DIR, renders a trained run's styles first (bench_run.cpp);
 // merge, --merge DIR1 DIR2 ... --out DIR, puts the reports of a sweep's jobs in one table.
-// The weight-free metrics are computed; the native learned ones (LPIPS-VGG, Gram loss) with
+// The weight-free metrics are computed; the native learned ones (LPIPS, DISTS, Gram loss, DINO, CKDN, MUSIQ) with
 // --metric-weights DIR; the others through the pyiqa bridge (--python); any learned metric left is
 // reported as {"unavailable": ...} naming what it needs.
 #include <algorithm>
@@ -38,7 +38,8 @@ const std::vector<OptionSpec> kSpecs = {
     {"raft-inputs", "the ONNX graph's two input names (default image1,image2)", true, "A,B"},
     {"flow-dir", "exact flow: fw_NNNN.exr and bw_NNNN.exr (channels u, v in pixels) per pair", true, "DIR"},
     {"metric-weights", "folder of safetensors weights for the native learned metrics: vgg16, lpips_vgg (content_lpips, "
-                       "style_lpips), dists, vgg_normalised or vgg19 (style_loss_gram), written from the published "
+                       "style_lpips), dists, vgg_normalised or vgg19 (style_loss_gram), dino_vitb16 (dino_score), ckdn, "
+                       "musiq, musiq_paq2piq, written from the published "
                        "checkpoints by tools/convert_weights.py; docs/bench.md, \"Learned metrics\"", true, "DIR"},
     {"gram-vgg", "VGG19 of style_loss_gram: normalised (AdaIN vgg_normalised.safetensors, default) or torchvision "
                  "(vgg19.safetensors)", true, "WHICH"},
@@ -159,7 +160,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
                        "spiral protocols for the original scene and each --style into DIR/renders and scores them the "
                        "same way (warp_loss on the spiral, the rest on the test cameras). Merge: one table from the "
                        "report.json of several runs of bench (a sweep's jobs). Learned metrics: content_lpips, "
-                       "style_lpips, dists and style_loss_gram natively with --metric-weights DIR, the others through the "
+                       "style_lpips, dists, style_loss_gram, dino_score, ckdn, musiq and musiq_paq2piq natively with "
+                       "--metric-weights DIR, the others through the "
                        "pyiqa bridge with --python PY; any left are reported as unavailable, naming what to supply "
                        "(docs/bench.md, \"Learned metrics\").",
                        kSpecs);
