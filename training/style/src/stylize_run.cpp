@@ -87,9 +87,10 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const nlohmann::json network = req.weights.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json{{"weights", fs::absolute(req.weights).string()},
                                                                       {"style_size", req.style_size}};
-  const nlohmann::json request = {{"style_image", image_key(req.style_image, style_image)},
-                                  {"network", network},
-                                  {"settings", to_json(req.config)}};
+  nlohmann::json request = {{"style_image", image_key(req.style_image, style_image)},
+                            {"network", network},
+                            {"settings", to_json(req.config)}};
+  if (req.scratch_iterations > 0) request["scratch_iterations"] = req.scratch_iterations;
   const nlohmann::json previous = read_json_or_null(out.dir / "request.json");
   if (req.restart)
     for (const char* stale : {"checkpoint.s4dckpt", "style.s4dstyle", "run", "eval", "spiral", "stylize.json"})
@@ -116,9 +117,11 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   if (req.config.method == run::StyleMethod::scratch) {
     write_dataset_layout(run.dataset, out.dir / "stylized");
     const fs::path scratch = out.dir / "run";
+    run::TrainConfig config = run.config;
+    if (req.scratch_iterations > 0) run::set_iterations(config, req.scratch_iterations);
     std::unique_ptr<train::Trainer> trainer = fs::exists(scratch / "run.json")
                                                   ? train::Trainer::resume(ctx, scratch)
-                                                  : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", run.config, scratch);
+                                                  : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", config, scratch);
     const train::TrainResult r = trainer->run(stop);
     if (!r.complete) return out;
     run::StyleFile file;
