@@ -20,8 +20,9 @@ KIND (docs/bench.md, "Learned metrics", has the table of files):
                          -> ckdn.safetensors with the tensors its forward pass reads (the branch stems
                          qse_*/dte_*, csp, fc_; aux_csp, fc1_ and num_batches_tracked are dropped)
 Every tensor's name and shape is checked against the network's definition; the state-dict names are
-kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 to compare with
-the publisher's (torchvision and pyiqa file names end in a prefix of it). Needs torch to read .pth.
+kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 and compares it
+with the publisher's (tools/published_weights.py): a torchvision or CLIP file whose hash differs from
+the one its name or address carries is refused. Needs torch to read .pth.
 """
 import hashlib
 import json
@@ -29,6 +30,8 @@ import os
 import re
 import struct
 import sys
+
+import published_weights
 
 # torchvision's cfgs "D" (VGG16) and "E" (VGG19): channels of each 3x3 convolution, 0 for a max pool.
 VGG_CFGS = {
@@ -278,13 +281,16 @@ def main(argv):
     try:
         digest = sha256(path)
         print("sha256 %s  %s" % (digest, path))
+        note = published_weights.check(os.path.basename(path), digest)
+        if note:
+            print("note: " + note)
         files = convert(kind, path)
         os.makedirs(out_dir, exist_ok=True)
         for name, tensors in files.items():
             target = os.path.join(out_dir, name)
             write_safetensors(target, tensors, {"format": "pt", "source": os.path.basename(path), "source_sha256": digest})
             print("wrote %s (%d tensors)" % (target, len(tensors)))
-    except (ConvertError, OSError) as e:
+    except (ConvertError, published_weights.HashMismatch, OSError) as e:
         sys.stderr.write("convert_weights: %s\n" % e)
         return 1
     return 0

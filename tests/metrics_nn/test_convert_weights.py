@@ -210,6 +210,15 @@ def main():
             "DINO's training head (a full checkpoint, not the pretrain file)")
     refused("dino_vitb16", {k: v for k, v in small.items() if k != "blocks.1.mlp.fc2.bias"}, ["missing blocks.1.mlp.fc2.bias"],
             "a missing DINO bias")
+    # A random file under a published name: its hash cannot be the publisher's. torchvision's downloader
+    # checks the name's hash prefix, so the converter refuses it; pyiqa's does not, so it only notes it.
+    p, path, out = convert("vgg16", vgg16_published, name="vgg16-397923af.pth")
+    line = p.stderr.strip()
+    check(p.returncode == 1 and "vgg16-397923af.pth: sha256 " in line and "published vgg16-397923af.pth has 397923af" in line
+          and not os.path.exists(out), "a torchvision name with another file's hash is refused: " + line)
+    p, path, out = convert("dists", ab, name="DISTS_weights-f5e65c96.pth")
+    check(p.returncode == 0 and "note: DISTS_weights-f5e65c96.pth: sha256 " in p.stdout and "pyiqa does not check it" in p.stdout
+          and os.path.exists(os.path.join(out, "dists.safetensors")), "a pyiqa name with another hash converts with a note")
     with open(os.path.join(work, "not_a_checkpoint.pth"), "w") as f:
         f.write("hello")
     p = run_converter("vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x"))
