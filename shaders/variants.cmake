@@ -52,7 +52,8 @@ set(S4D_SHADER_VARIANTS
   "nn_conv1x1_rows|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=1"
   "nn_conv_strided|nn/nn_conv_strided.comp"
   "nn_relu|nn/nn_relu.comp"
-  "nn_maxpool|nn/nn_maxpool.comp"
+  "nn_maxpool|nn/nn_maxpool.comp|S4D_NN_POOL_AVERAGE=0"
+  "nn_avgpool2|nn/nn_maxpool.comp|S4D_NN_POOL_AVERAGE=1"
   "nn_l2pool|nn/nn_l2pool.comp"
   "nn_maxpool3s2|nn/nn_maxpool3s2.comp"
   "nn_upsample|nn/nn_upsample.comp"
@@ -68,7 +69,8 @@ set(S4D_SHADER_VARIANTS
   "nn_attn_average|nn/nn_attn_apply.comp|S4D_NN_ATTN_AVERAGE=1"
   "nn_layernorm|nn/nn_layernorm.comp"
   "nn_gelu|nn/nn_gelu.comp"
-  "nn_vit_embed|nn/nn_vit_embed.comp"
+  "nn_vit_embed|nn/nn_vit_embed.comp|S4D_NN_VIT_FIRST_ONLY=0"
+  "nn_prepend_token|nn/nn_vit_embed.comp|S4D_NN_VIT_FIRST_ONLY=1"
   # ResNet (CKDN)
   "nn_subsample2|nn/nn_subsample2.comp"
 )

@@ -18,6 +18,7 @@ PUBLISHED = {
     "LPIPS_v0.1_alex-df73285e.pth": ("df73285e", "pyiqa", False),
     "DISTS_weights-f5e65c96.pth": ("f5e65c96", "pyiqa", False),
     "CKDN_model_best-38b27dc6.pth": ("38b27dc6", "pyiqa", False),
+    "CLIP-IQA+_learned_prompts-603f3273.pth": ("603f3273", "pyiqa", False),
 }
 
 

@@ -129,4 +129,28 @@ Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tenso
   return chunked(rec, q, k, v, nullptr, max_score_bytes);
 }
 
+Tensor multi_head_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, uint32_t heads) {
+  const uint32_t d = q.c;
+  if (heads == 0 || d % heads != 0 || k.c != d || v.c != d || q.h != 1 || k.h != 1 || v.h != 1 || k.w != v.w)
+    throw std::invalid_argument("multi_head_attention: " + std::to_string(heads) + " heads over q " + q.shape() + ", k " +
+                                k.shape() + ", v " + v.shape() + " (needs [d, 1, nq], [d, 1, n], [d, 1, n], heads dividing d)");
+  const uint32_t dh = d / heads;
+  // Head h is channels h dh .. (h + 1) dh - 1: one contiguous run of each [d, 1, n] buffer.
+  const auto head = [&](const Tensor& t, uint32_t h) {
+    Tensor part = make_tensor(rec.context(), "attention head", dh, 1, t.w);
+    rec.copy(t.buffer, part.buffer, part.count() * sizeof(float), size_t{h} * part.count() * sizeof(float));
+    return part;
+  };
+  Tensor out = make_tensor(rec.context(), "attention heads", d, 1, q.w);
+  const size_t head_bytes = size_t{dh} * q.w * sizeof(float);
+  for (uint32_t h = 0; h < heads; ++h) {
+    const Tensor qh = head(q, h), kh = head(k, h), vh = head(v, h);
+    rec.barrier();
+    const Tensor o = transformer_attention(rec, qh, kh, vh);
+    rec.copy(o.buffer, out.buffer, head_bytes, 0, size_t{h} * head_bytes);
+  }
+  rec.barrier();
+  return out;
+}
+
 }  // namespace s4d::nn

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -117,15 +118,22 @@ DinoVit::DinoVit(engine::Context& ctx, const io::SafetensorsFile& file, uint32_t
   const float scale = 1.0f / std::sqrt(float(s.width / s.heads));
   for (uint32_t i = 0; i < s.depth; ++i) {
     const std::string b = "blocks." + std::to_string(i) + ".";
-    std::vector<float> qkv = file.read(b + "attn.qkv.weight", {3 * s.width, s.width});
-    std::vector<float> qkv_bias = file.read(b + "attn.qkv.bias", {3 * s.width});
-    // (s q) . k = s (q . k): the attention's scale folded into the query rows (exact for 64-wide heads).
-    for (size_t k = 0; k < size_t{s.width} * s.width; ++k) qkv[k] *= scale;
-    for (size_t k = 0; k < s.width; ++k) qkv_bias[k] *= scale;
-    blocks_.push_back({load_norm(ctx, file, b + "norm1", s.width), load_norm(ctx, file, b + "norm2", s.width),
-                       upload_conv(ctx, file.path().filename().string() + " " + b + "attn.qkv", s.width, 3 * s.width, 1, qkv,
-                                   qkv_bias),
-                       load_linear(ctx, file, b + "attn.proj", s.width, s.width),
+    const std::vector<float> qkv = file.read(b + "attn.qkv.weight", {3 * s.width, s.width});
+    const std::vector<float> qkv_bias = file.read(b + "attn.qkv.bias", {3 * s.width});
+    // The stored qkv rows are q, k, v: three Linear layers. (s q) . k = s (q . k): the attention's
+    // scale folded into the query rows (exact for 64-wide heads).
+    const size_t dd = size_t{s.width} * s.width;
+    const auto part = [&](uint32_t which, const char* name, float factor) {
+      const auto at = [](size_t index) { return static_cast<std::ptrdiff_t>(index); };
+      std::vector<float> w(qkv.begin() + at(which * dd), qkv.begin() + at((which + 1) * dd));
+      std::vector<float> bias(qkv_bias.begin() + at(which * s.width), qkv_bias.begin() + at((which + 1) * s.width));
+      for (float& v : w) v *= factor;
+      for (float& v : bias) v *= factor;
+      return upload_conv(ctx, file.path().filename().string() + " " + b + "attn.qkv (" + name + ")", s.width, s.width, 1, w,
+                         bias);
+    };
+    blocks_.push_back({load_norm(ctx, file, b + "norm1", s.width), load_norm(ctx, file, b + "norm2", s.width), part(0, "q", scale),
+                       part(1, "k", 1.0f), part(2, "v", 1.0f), load_linear(ctx, file, b + "attn.proj", s.width, s.width),
                        load_linear(ctx, file, b + "mlp.fc1", s.width, s.hidden),
                        load_linear(ctx, file, b + "mlp.fc2", s.hidden, s.width)});
   }
@@ -146,21 +154,9 @@ const Tensor& DinoVit::position(uint32_t image_h, uint32_t image_w) const {
 }
 
 Tensor DinoVit::block(engine::Recorder& rec, const Block& b, Tensor x) const {
-  const uint32_t d = shape_.width, dh = d / shape_.heads, n = x.w;
-  const Tensor qkv = conv1x1(rec, layernorm(rec, x, b.norm1, kVitNormEps), b.qkv, false);
-  const size_t head_bytes = size_t{dh} * n * sizeof(float);
-  Tensor heads = make_tensor(rec.context(), "dino attention heads", d, 1, n);
-  for (uint32_t h = 0; h < shape_.heads; ++h) {
-    std::array<Tensor, 3> qkv_h;  // this head's rows of q, k and v
-    for (uint32_t part = 0; part < 3; ++part) {
-      qkv_h[part] = make_tensor(rec.context(), "dino head", dh, 1, n);
-      rec.copy(qkv.buffer, qkv_h[part].buffer, head_bytes, (size_t{part} * d + size_t{h} * dh) * n * sizeof(float));
-    }
-    rec.barrier();
-    const Tensor out = transformer_attention(rec, qkv_h[0], qkv_h[1], qkv_h[2]);
-    rec.copy(out.buffer, heads.buffer, head_bytes, 0, size_t{h} * head_bytes);
-  }
-  rec.barrier();
+  const Tensor normed = layernorm(rec, x, b.norm1, kVitNormEps);
+  const Tensor heads = multi_head_attention(rec, conv1x1(rec, normed, b.q, false), conv1x1(rec, normed, b.k, false),
+                                            conv1x1(rec, normed, b.v, false), shape_.heads);
   conv1x1_accumulate(rec, heads, b.proj, x);
   Tensor hidden = conv1x1(rec, layernorm(rec, x, b.norm2, kVitNormEps), b.fc1, false);
   gelu_inplace(rec, hidden);

@@ -197,6 +197,11 @@ Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
 }
 
+Tensor avgpool2(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 2 || x.w < 2) fail("avgpool2", "needs H, W >= 2, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_avgpool2, x.h / 2, x.w / 2, "avgpool2");
+}
+
 Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad) {
   if (pad > 1) fail("maxpool3s2", "padding " + std::to_string(pad) + " is not 0 or 1");
   if (x.h + 2 * pad < 3 || x.w + 2 * pad < 3)
@@ -296,12 +301,14 @@ void gelu_inplace(engine::Recorder& rec, Tensor& x) {
 }
 
 Tensor vit_embed(engine::Recorder& rec, const Tensor& patches, const Tensor& pos) {
-  if (pos.c != patches.c || pos.h != 1 || pos.plane() != patches.plane() + 1)
+  const bool first_only = pos.plane() == 1;
+  if (pos.c != patches.c || pos.h != 1 || (!first_only && pos.plane() != patches.plane() + 1))
     fail("vit_embed", "position embedding " + pos.shape() + " does not match patches " + patches.shape() +
-                          " (needs [c, 1, 1 + h w])");
-  Tensor y = make_tensor(rec.context(), "tokens", pos.c, 1, pos.w);
-  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = pos.w, ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_vit_embed),
+                          " (needs [c, 1, 1 + h w] or [c, 1, 1])");
+  const auto tokens = static_cast<uint32_t>(patches.plane() + 1);
+  Tensor y = make_tensor(rec.context(), "tokens", pos.c, 1, tokens);
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = tokens, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), first_only ? shaders::Id::nn_prepend_token : shaders::Id::nn_vit_embed),
                {S4D_BIND(VIT_PATCHES, patches.buffer), S4D_BIND(VIT_POS, pos.buffer), S4D_BIND(VIT_OUT, y.buffer)}, p,
                ceil_div(y.count(), S4D_NN_WG));
   rec.barrier();

@@ -29,6 +29,12 @@ void attention_average(engine::Recorder& rec, const Tensor& p, const Tensor& v, 
 Tensor transformer_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v,
                              size_t max_score_bytes = size_t{64} << 20);
 
+// Multi-head attention: the channels of q [d, 1, nq] and of k, v [d, 1, n] split into `heads` equal
+// groups, transformer_attention of each group (scale q beforehand), the heads' outputs stacked again
+// in order: [d, 1, nq] (DINO's ViT blocks, CLIP's attention pooling). Needs d / heads and n <=
+// S4D_NN_MAX_LOOP; throws std::invalid_argument when the heads do not divide d or the shapes differ.
+Tensor multi_head_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, uint32_t heads);
+
 // The whole attention over content positions in chunks whose scores take at most
 // `max_score_bytes` (and the device's storage-buffer range). Needs dk and n_s <= S4D_NN_MAX_LOOP.
 Tensor attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, const Tensor& content,

@@ -54,7 +54,7 @@ class DinoVit {
  private:
   struct Block {
     NormWeights norm1, norm2;
-    ConvWeights qkv, proj, fc1, fc2;  // qkv's query rows pre-scaled by 1 / sqrt(head width)
+    ConvWeights q, k, v, proj, fc1, fc2;  // attn.qkv's three parts, q pre-scaled by 1 / sqrt(head width)
   };
   const Tensor& position(uint32_t image_h, uint32_t image_w) const;  // cached per image size
   Tensor block(engine::Recorder& rec, const Block& b, Tensor x) const;
