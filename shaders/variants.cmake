@@ -48,8 +48,8 @@ set(S4D_SHADER_VARIANTS
   "present_pack|viewer/present_pack.comp"
   "nn_conv3x3|nn/nn_conv3x3.comp|S4D_NN_CONV_PAD_ZERO=0"
   "nn_conv3x3_zero|nn/nn_conv3x3.comp|S4D_NN_CONV_PAD_ZERO=1"
-  "nn_conv1x1|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=0"
-  "nn_conv1x1_rows|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=1"
+  "nn_conv1x1|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=0|S4D_NN_CONV_TRANSPOSE=0"
+  "nn_conv1x1_rows|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=1|S4D_NN_CONV_TRANSPOSE=0"
   "nn_conv_strided|nn/nn_conv_strided.comp"
   "nn_relu|nn/nn_relu.comp"
   "nn_maxpool|nn/nn_maxpool.comp"
@@ -71,4 +71,17 @@ set(S4D_SHADER_VARIANTS
   "nn_vit_embed|nn/nn_vit_embed.comp"
   # ResNet (CKDN)
   "nn_subsample2|nn/nn_subsample2.comp"
+  # Backward passes (HGST training, s4d_nn_grad.h)
+  "nn_conv3x3_bwd_input|nn/nn_conv3x3_bwd.comp"
+  "nn_conv1x1_bwd_input|nn/nn_conv1x1.comp|S4D_NN_CONV_ROWS=0|S4D_NN_CONV_TRANSPOSE=1"
+  "nn_conv3x3_wgrad|nn/nn_conv_wgrad.comp|S4D_NN_WGRAD_K=3"
+  "nn_conv1x1_wgrad|nn/nn_conv_wgrad.comp|S4D_NN_WGRAD_K=1"
+  "nn_wgrad_reduce|nn/nn_wgrad_reduce.comp"
+  "nn_relu_bwd|nn/nn_relu_bwd.comp"
+  "nn_upsample_bwd|nn/nn_upsample_bwd.comp"
+  "nn_maxpool_bwd|nn/nn_maxpool_bwd.comp"
+  "nn_channel_dots|nn/nn_channel_dots.comp"
+  "nn_mean_std_bwd|nn/nn_mean_std_bwd.comp"
+  "nn_squares_over_sum_bwd|nn/nn_squares_over_sum_bwd.comp"
+  "nn_mse|nn/nn_mse.comp"
 )

@@ -4,6 +4,7 @@
 
 #include "s4d/engine/buffer_from.h"
 #include "s4d/primitives/shader_pipeline.h"
+#include "layer_checks.h"
 #include "s4d_nn.h"
 
 namespace s4d::nn {
@@ -12,17 +13,8 @@ namespace {
 
 using primitives::ceil_div;
 using primitives::shader_pipeline;
-
-[[noreturn]] void fail(const std::string& layer, const std::string& what) {
-  throw std::invalid_argument(layer + ": " + what);
-}
-
-void check_loop(const std::string& layer, uint64_t iterations, const std::string& what) {
-  // llvmpipe silently ends invocations past 65,535 loop iterations (s4d_nn.h).
-  if (iterations > S4D_NN_MAX_LOOP)
-    fail(layer, what + " needs " + std::to_string(iterations) + " loop iterations per invocation, over the " +
-                    std::to_string(S4D_NN_MAX_LOOP) + " the kernels allow");
-}
+using detail::check_loop;
+using detail::fail;
 
 void check_stats_input(const std::string& layer, const Tensor& x) {
   if (x.plane() < 2) fail(layer, "needs at least 2 values per channel, got " + x.shape());
