@@ -1,0 +1,67 @@
+// MCCNet's training loss (diyiiyiii/MCCNet net.py; ALGORITHMS.md 4.5 lists HGST's additions) for
+// one content/style pair, forward and backward on the GPU: with F_l = relu<l>_1 of the fixed VGG
+// encoder, Ics = Dec(MCC(Fc_4, Fs_4)), Icc = Dec(MCC(Fc_4, Fc_4)), Iss = Dec(MCC(Fs_4, Fs_4)) and
+// MSE the mean squared error,
+//   content   = sum_{l = 4, 5} MSE(norm(F_l(Ics)), norm(F_l(content)))
+//   style     = sum_{l = 1..5} MSE(mu(F_l(Ics)), mu(F_l(style))) + MSE(sigma(F_l(Ics)), sigma(F_l(style)))
+//   identity1 = MSE(Icc, content) + MSE(Iss, style)
+//   identity2 = sum_{l = 1..5} MSE(F_l(Icc), F_l(content)) + MSE(F_l(Iss), F_l(style))
+// total = the weighted sum. The noise (illumination) and TV terms of MCCNet/HGST are not here yet.
+#pragma once
+#include <array>
+#include <vector>
+
+#include "s4d/engine/recorder.h"
+#include "s4d/nn/layers_grad.h"
+#include "s4d/nn/mcc_module.h"
+#include "s4d/nn/vgg.h"
+
+namespace s4d::nn {
+
+struct MccLossWeights {
+  float content = 1.0f, style = 3.0f, identity1 = 70.0f, identity2 = 1.0f;
+};
+
+// The terms' values, unweighted, and the weighted total.
+struct MccLossValues {
+  double content = 0, style = 0, identity1 = 0, identity2 = 0, total = 0;
+};
+
+// Recorded loss terms: squared-error partial sums with the factor that turns each into its MSE.
+class MccLossRecord {
+ public:
+  enum Term { content, style, identity1, identity2 };
+  void add(Term term, engine::Buffer partials, double factor);
+  // After the recording ran.
+  MccLossValues values(engine::Context& ctx, const MccLossWeights& weights) const;
+
+ private:
+  struct Part {
+    Term term;
+    engine::Buffer partials;
+    double factor;
+  };
+  std::vector<Part> parts_;
+};
+
+// The networks the loss runs through: the fixed encoder (5 levels), the decoder and MCC module
+// being trained, and their gradients (decoder convolutions in parameters() order, then MCC's).
+struct MccTrainee {
+  const VggEncoder& encoder;
+  const VggDecoder& decoder;
+  const MccModule& mcc;
+};
+struct MccGrads {
+  std::vector<ConvGrads> decoder;
+  std::vector<ConvGrads> mcc;  // f, g, out_conv, fc
+};
+
+// Zeroed gradients for the trainee's parameters.
+MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
+
+// Records the loss of one pair of RGB images [3, H, W] in [0, 1] (H, W multiples of 8, relu5_1 at
+// least 2 values per channel) and adds its gradients to grads.
+MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
+                              const MccLossWeights& weights, MccGrads& grads);
+
+}  // namespace s4d::nn

@@ -1,0 +1,113 @@
+#include "s4d/nn/mcc_loss.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace s4d::nn {
+
+namespace {
+
+// MSE(a, b) of two same-shaped tensors scaled by `weight`: its gradient 2 weight (a - b) / n added to da.
+void mse_term(engine::Recorder& rec, MccLossRecord& record, MccLossRecord::Term term, const Tensor& a, const Tensor& b,
+              Tensor& da, float weight) {
+  if (a.count() != b.count()) throw std::invalid_argument("mcc loss: shapes " + a.shape() + " and " + b.shape() + " differ");
+  const double n = static_cast<double>(a.count());
+  record.add(term, squared_error(rec, a.buffer, b.buffer, da.buffer, a.count(), static_cast<float>(2.0 * weight / n)), 1.0 / n);
+}
+
+std::vector<Tensor> zero_level_grads(engine::Recorder& rec, const VggEncoder& enc, const std::vector<Tensor>& tape) {
+  std::vector<Tensor> g;
+  for (int l = 1; l <= enc.levels(); ++l) {
+    const Tensor& f = tape[enc.level_step(l)];
+    g.push_back(zero_tensor(rec, "level gradient", f.c, f.h, f.w));
+  }
+  return g;
+}
+
+// Decoder and MCC backward of one Dec(MCC(.)) pass given dL/d(image).
+void backward_through(engine::Recorder& rec, const MccTrainee& net, const MccTape& mcc, const std::vector<Tensor>& dec,
+                      const Tensor& dimage, MccGrads& grads) {
+  const Tensor dfeatures = net.decoder.backward(rec, mcc.out, dec, dimage, grads.decoder);
+  net.mcc.backward(rec, mcc, dfeatures, grads.mcc);
+}
+
+}  // namespace
+
+void MccLossRecord::add(Term term, engine::Buffer partials, double factor) {
+  parts_.push_back({term, std::move(partials), factor});
+}
+
+MccLossValues MccLossRecord::values(engine::Context& ctx, const MccLossWeights& weights) const {
+  std::array<double, 4> sums{};
+  for (const Part& p : parts_) sums[p.term] += p.factor * squared_error_value(ctx, p.partials);
+  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], 0};
+  v.total = weights.content * v.content + weights.style * v.style + weights.identity1 * v.identity1 +
+            weights.identity2 * v.identity2;
+  return v;
+}
+
+MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net) {
+  MccGrads g;
+  for (const auto& [name, w] : net.decoder.parameters()) g.decoder.push_back(zero_conv_grads(rec, *w));
+  for (const auto& [name, w] : net.mcc.parameters()) g.mcc.push_back(zero_conv_grads(rec, *w));
+  return g;
+}
+
+MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
+                              const MccLossWeights& weights, MccGrads& grads) {
+  const VggEncoder& enc = net.encoder;
+  if (enc.levels() != 5) throw std::invalid_argument("mcc loss: the encoder needs 5 levels, has " + std::to_string(enc.levels()));
+  for (const Tensor* t : {&content, &style})
+    if (t->c != 3 || t->h % 8 != 0 || t->w % 8 != 0 || t->h < 32 || t->w < 32)
+      throw std::invalid_argument("mcc loss: images must be [3, H, W] with H, W multiples of 8 and at least 32, got " + t->shape());
+  MccLossRecord record;
+  const std::vector<Tensor> fc = enc.forward_tape(rec, content), fs = enc.forward_tape(rec, style);
+  auto level = [&](const std::vector<Tensor>& tape, int l) -> const Tensor& { return tape[enc.level_step(l)]; };
+
+  // Ics: content and style losses.
+  {
+    const MccTape mcc = net.mcc.forward(rec, level(fc, 4), level(fs, 4));
+    const std::vector<Tensor> dec = net.decoder.forward_tape(rec, mcc.out);
+    const std::vector<Tensor> fi = enc.forward_tape(rec, dec.back());
+    std::vector<Tensor> dlevels = zero_level_grads(rec, enc, fi);
+    for (const int l : {4, 5}) {
+      const Tensor& xi = level(fi, l);
+      const engine::Buffer si = mean_std(rec, xi), sc = mean_std(rec, level(fc, l));
+      const Tensor ni = normalise(rec, xi, si), nc = normalise(rec, level(fc, l), sc);
+      Tensor dn = zero_tensor(rec, "d norm", ni.c, ni.h, ni.w);
+      mse_term(rec, record, MccLossRecord::content, ni, nc, dn, weights.content);
+      normalise_backward(rec, xi, si, ni, dn, dlevels[l - 1]);
+    }
+    for (int l = 1; l <= 5; ++l) {
+      const Tensor& xi = level(fi, l);
+      const engine::Buffer si = mean_std(rec, xi), ss = mean_std(rec, level(fs, l));
+      Tensor dstats = zero_tensor(rec, "d stats", 1, 1, 2 * xi.c);
+      // MSE(mu) + MSE(sigma), each a mean over c: the sum over both halves / c.
+      const double n = xi.c;
+      record.add(MccLossRecord::style,
+                 squared_error(rec, si, ss, dstats.buffer, 2 * size_t{xi.c}, static_cast<float>(2.0 * weights.style / n)),
+                 1.0 / n);
+      mean_std_backward(rec, xi, si, dstats.buffer, dlevels[l - 1]);
+    }
+    const Tensor dimage = enc.backward(rec, fi, std::move(dlevels));
+    backward_through(rec, net, mcc, dec, dimage, grads);
+  }
+
+  // Icc and Iss: the identity losses.
+  for (const auto& [image, feats] : {std::pair{&content, &fc}, std::pair{&style, &fs}}) {
+    const MccTape mcc = net.mcc.forward(rec, level(*feats, 4), level(*feats, 4));
+    const std::vector<Tensor> dec = net.decoder.forward_tape(rec, mcc.out);
+    const Tensor& out = dec.back();
+    Tensor dimage = zero_tensor(rec, "d identity", out.c, out.h, out.w);
+    mse_term(rec, record, MccLossRecord::identity1, out, *image, dimage, weights.identity1);
+    const std::vector<Tensor> fi = enc.forward_tape(rec, out);
+    std::vector<Tensor> dlevels = zero_level_grads(rec, enc, fi);
+    for (int l = 1; l <= 5; ++l)
+      mse_term(rec, record, MccLossRecord::identity2, level(fi, l), level(*feats, l), dlevels[l - 1], weights.identity2);
+    const Tensor dfeat_image = enc.backward(rec, fi, std::move(dlevels));
+    backward_through(rec, net, mcc, dec, add(rec, dimage, dfeat_image), grads);
+  }
+  return record;
+}
+
+}  // namespace s4d::nn
