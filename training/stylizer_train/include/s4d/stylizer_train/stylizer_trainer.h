@@ -1,0 +1,38 @@
+// Trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (ALGORITHMS.md 4.5):
+// each step one random (content, style) pair, both resized to resize x resize (aspect not kept, as
+// HGST) and randomly cropped to crop x crop, the MCCNet loss (s4d/nn/mcc_loss.h) and its
+// gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
+// weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
+// .safetensors). HGST's batch of 4, noise, TV, self-similarity and CCPL terms are not here yet.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "s4d/engine/context.h"
+#include "s4d/nn/mcc_loss.h"
+
+namespace s4d::stylizer_train {
+
+struct StylizerTrainSettings {
+  std::filesystem::path content_dir, styles_dir;  // images (PNG, JPEG, ...)
+  std::filesystem::path vgg;                      // vgg_normalised.safetensors (fixed)
+  std::filesystem::path init;                     // a folder with decoder and mcc_module .safetensors; empty: random
+  std::filesystem::path out;                      // the weights folder written
+  int steps = 160000;
+  int resize = 512, crop = 256;  // HGST's
+  double lr = 1e-4;              // Adam, HGST's
+  uint64_t seed = 0;
+  nn::MccLossWeights weights;
+};
+
+// One step's loss values.
+using StepFn = std::function<void(int step, const nn::MccLossValues& loss)>;
+
+// Runs the training and writes settings.out; returns the loss of every step. Throws
+// std::invalid_argument naming the setting or file that is wrong.
+std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& settings,
+                                              const StepFn& on_step = {});
+
+}  // namespace s4d::stylizer_train
