@@ -9,15 +9,15 @@
 #include "s4d_nn.h"
 
 // Element-wise backward kernels: one invocation per input element, S4D_NN_WG wide.
-// nn_conv3x3_bwd_input: dx (+)= the adjoint of ReflectionPad2d(1) + Conv2d(k=3) applied to dy. An
-// invocation computes one pixel for a block of S4D_NN_CONV_COUT input channels, looping over the
-// output channels; flat group = block * ceil(h w / S4D_NN_WG) + pixel group.
+// nn_conv3x3_bwd_input: dx (+)= the adjoint of ReflectionPad2d(1) + Conv2d(k=3) applied to dy, tiled
+// as nn_conv3x3 (NnConvParams with cin = the layer's cout, cout = the layer's cin): an invocation
+// computes a strip of S4D_NN_CONV_PIX pixels for a block of S4D_NN_CONV_COUT input channels,
+// looping over the output channels.
 #define S4D_B_CONVB_DY 0      // [cout, h, w]
 #define S4D_B_CONVB_WEIGHT 1  // [cout, cin, 3, 3]
 #define S4D_B_CONVB_DX 2      // [cin, h, w]; added to with S4D_NN_FLAG_ACCUMULATE
 // nn_conv1x1_bwd_input is nn_conv1x1 with the weights read transposed and no bias: the bindings
-// above, NnConvParams with cin = the layer's cout and cout = the layer's cin; flag
-// S4D_NN_FLAG_ACCUMULATE.
+// and NnConvParams above; flag S4D_NN_FLAG_ACCUMULATE.
 
 // nn_conv_wgrad (k = 3 with reflection padding, or k = 1): partial sums of dW[co, ci, ky, kx] =
 // sum_p dy[co, p] x[ci, p + (ky, kx) - 1] and dB[co] = sum_p dy[co, p] over one chunk of rows each.
@@ -79,18 +79,6 @@
 #define S4D_B_MSE_PARTIALS 3  // [ceil(n / S4D_NN_WG)]
 
 S4D_NAMESPACE_BEGIN
-
-// Push constants of nn_conv3x3_bwd_input.
-struct NnConvBwdParams {
-  uint cin;
-  uint cout;
-  uint height;
-  uint width;
-  uint pixel_groups;  // ceil(height * width / S4D_NN_WG)
-  uint flags;         // S4D_NN_FLAG_ACCUMULATE
-  uint _pad0;
-  uint _pad1;
-};
 
 // Push constants of nn_conv_wgrad.
 struct NnWgradParams {

@@ -55,7 +55,7 @@ static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(
 static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
-static_assert(sizeof(NnConvBwdParams) == 32 && sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
+static_assert(sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
 static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
@@ -182,7 +182,6 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnAttnParams, S4D_MEMBER(NnAttnParams, channels), S4D_MEMBER(NnAttnParams, n_c),
                  S4D_MEMBER(NnAttnParams, n_s), S4D_MEMBER(NnAttnParams, first), S4D_MEMBER(NnAttnParams, chunk),
                  S4D_MEMBER(NnAttnParams, _pad0), S4D_MEMBER(NnAttnParams, _pad1), S4D_MEMBER(NnAttnParams, _pad2)),
-      S4D_STRUCT(NnConvBwdParams, S4D_MEMBER(NnConvBwdParams, cin), S4D_MEMBER(NnConvBwdParams, cout), S4D_MEMBER(NnConvBwdParams, height), S4D_MEMBER(NnConvBwdParams, width), S4D_MEMBER(NnConvBwdParams, pixel_groups), S4D_MEMBER(NnConvBwdParams, flags), S4D_MEMBER(NnConvBwdParams, _pad0), S4D_MEMBER(NnConvBwdParams, _pad1)),
       S4D_STRUCT(NnWgradParams, S4D_MEMBER(NnWgradParams, cin), S4D_MEMBER(NnWgradParams, cout), S4D_MEMBER(NnWgradParams, height), S4D_MEMBER(NnWgradParams, width), S4D_MEMBER(NnWgradParams, chunk_rows), S4D_MEMBER(NnWgradParams, chunks), S4D_MEMBER(NnWgradParams, slots), S4D_MEMBER(NnWgradParams, invocations)),
       S4D_STRUCT(NnWgradReduceParams, S4D_MEMBER(NnWgradReduceParams, slots), S4D_MEMBER(NnWgradReduceParams, weights), S4D_MEMBER(NnWgradReduceParams, chunks), S4D_MEMBER(NnWgradReduceParams, flags)),
       S4D_STRUCT(NnStatsBwdParams, S4D_MEMBER(NnStatsBwdParams, channels), S4D_MEMBER(NnStatsBwdParams, count), S4D_MEMBER(NnStatsBwdParams, mode), S4D_MEMBER(NnStatsBwdParams, _pad0)),

@@ -34,33 +34,19 @@ void backward_input(engine::Recorder& rec, const Tensor& dy, const ConvWeights& 
   if (dy.c != w.cout) fail(layer, "expects " + std::to_string(w.cout) + " gradient channels, got " + dy.shape());
   if (dx.c != w.cin || dx.h != dy.h || dx.w != dy.w) fail(layer, "input gradient " + dx.shape() + " does not match " + dy.shape());
   check_loop(layer, w.cout, "output channels " + std::to_string(w.cout));
-  if (w.k == 3) {
-    if (dy.h < 2 || dy.w < 2) fail(layer, "reflection padding needs H, W >= 2, got " + dy.shape());
-    const gpu::NnConvBwdParams p{.cin = w.cin,
-                                 .cout = w.cout,
-                                 .height = dy.h,
-                                 .width = dy.w,
-                                 .pixel_groups = ceil_div(dy.plane(), S4D_NN_WG),
-                                 .flags = flags,
-                                 ._pad0 = 0,
-                                 ._pad1 = 0};
-    rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv3x3_bwd_input),
-                 {S4D_BIND(CONVB_DY, dy.buffer), S4D_BIND(CONVB_WEIGHT, w.weight), S4D_BIND(CONVB_DX, dx.buffer)}, p,
-                 p.pixel_groups * ceil_div(w.cin, S4D_NN_CONV_COUT));
-  } else {
-    // nn_conv1x1 transposed: its "input" channels are the layer's outputs.
-    const gpu::NnConvParams p{.cin = w.cout,
-                              .cout = w.cin,
-                              .height = dy.h,
-                              .width = dy.w,
-                              .tiles_x = ceil_div(dy.w, S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX),
-                              .tiles_y = ceil_div(dy.h, S4D_NN_CONV_WG_Y),
-                              .flags = flags,
-                              ._pad0 = 0};
-    rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_conv1x1_bwd_input),
-                 {S4D_BIND(CONVB_DY, dy.buffer), S4D_BIND(CONVB_WEIGHT, w.weight), S4D_BIND(CONVB_DX, dx.buffer)}, p,
-                 p.tiles_x * p.tiles_y * ceil_div(w.cin, S4D_NN_CONV_COUT));
-  }
+  if (w.k == 3 && (dy.h < 2 || dy.w < 2)) fail(layer, "reflection padding needs H, W >= 2, got " + dy.shape());
+  // nn_conv3x3 / nn_conv1x1's tiling with the channel roles swapped: the loop runs over the layer's outputs.
+  const gpu::NnConvParams p{.cin = w.cout,
+                            .cout = w.cin,
+                            .height = dy.h,
+                            .width = dy.w,
+                            .tiles_x = ceil_div(dy.w, S4D_NN_CONV_WG_X * S4D_NN_CONV_PIX),
+                            .tiles_y = ceil_div(dy.h, S4D_NN_CONV_WG_Y),
+                            .flags = flags,
+                            ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), w.k == 3 ? shaders::Id::nn_conv3x3_bwd_input : shaders::Id::nn_conv1x1_bwd_input),
+               {S4D_BIND(CONVB_DY, dy.buffer), S4D_BIND(CONVB_WEIGHT, w.weight), S4D_BIND(CONVB_DX, dx.buffer)}, p,
+               p.tiles_x * p.tiles_y * ceil_div(w.cin, S4D_NN_CONV_COUT));
   rec.barrier();
 }
 
