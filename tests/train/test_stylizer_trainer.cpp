@@ -1,4 +1,4 @@
-// s4d_stylizer_train on lavapipe: a few dozen Adam steps of the MCCNet loss on small random crops
+// s4d_stylizer_train on lavapipe: 60 Adam steps of the MCCNet loss on small random crops
 // lower it, and the weights folder it writes is one the hgst stylizer reads and runs. Tiny random
 // encoder widths keep it fast; the images are /work/shared/data's when that folder exists, else
 // the built-in procedural style at two seeds.
@@ -48,18 +48,19 @@ TEST_CASE("a few dozen train-stylizer steps lower the MCCNet loss and write weig
   MESSAGE("images from " << s.content_dir.string() << " and " << s.styles_dir.string());
   s.vgg = dir / "vgg_normalised.safetensors";
   s.out = dir / "trained";
-  s.steps = 40;
+  s.steps = 60;
   s.resize = 64;
   s.crop = 32;
   s.lr = 2e-3;
   s.seed = 5;
   const auto losses = stylizer_train::train_stylizer(test::context(), s);
-  REQUIRE(losses.size() == 40);
-  const double first = mean_total(losses, 0, 5), last = mean_total(losses, 35, 5);
-  MESSAGE("mean loss of steps 1-5 " << first << ", of steps 36-40 " << last);
-  // Random pairs and crops make single steps noisy; the mean of the last five must fall well below
-  // the first five's: measured 0.42 of it on /work/shared/data, 0.07 on the procedural images.
-  CHECK(last < 0.6 * first);
+  REQUIRE(losses.size() == 60);
+  const double first = mean_total(losses, 0, 5), last = mean_total(losses, 40, 20);
+  MESSAGE("mean loss of steps 1-5 " << first << ", of steps 41-60 " << last);
+  // Random pairs and crops make single steps noisy (+-30 %), and the tiny decoder's reconstruction
+  // soon limits it; the mean of the last 20 must still fall well below the first five's: measured
+  // 0.54 of it on /work/shared/data, 0.08 on the procedural images.
+  CHECK(last < 0.75 * first);
 
   stylize::NetworkOptions options;
   options.weights = s.out;

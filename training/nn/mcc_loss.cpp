@@ -38,11 +38,11 @@ void MccLossRecord::add(Term term, engine::Buffer partials, double factor) {
 }
 
 MccLossValues MccLossRecord::values(engine::Context& ctx, const MccLossWeights& weights) const {
-  std::array<double, 4> sums{};
+  std::array<double, 5> sums{};
   for (const Part& p : parts_) sums[p.term] += p.factor * squared_error_value(ctx, p.partials);
-  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], 0};
+  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], 0};
   v.total = weights.content * v.content + weights.style * v.style + weights.identity1 * v.identity1 +
-            weights.identity2 * v.identity2;
+            weights.identity2 * v.identity2 + weights.noise * v.noise;
   return v;
 }
 
@@ -54,9 +54,11 @@ MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net) {
 }
 
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
-                              const MccLossWeights& weights, MccGrads& grads) {
+                              const Tensor& content_noise, const MccLossWeights& weights, MccGrads& grads) {
   const VggEncoder& enc = net.encoder;
   if (enc.levels() != 5) throw std::invalid_argument("mcc loss: the encoder needs 5 levels, has " + std::to_string(enc.levels()));
+  if (content_noise.c != content.c || content_noise.h != content.h || content_noise.w != content.w)
+    throw std::invalid_argument("mcc loss: the noisy content " + content_noise.shape() + " differs from the content " + content.shape());
   for (const Tensor* t : {&content, &style})
     if (t->c != 3 || t->h % 8 != 0 || t->w % 8 != 0 || t->h < 32 || t->w < 32)
       throw std::invalid_argument("mcc loss: images must be [3, H, W] with H, W multiples of 8 and at least 32, got " + t->shape());
@@ -64,11 +66,19 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
   const std::vector<Tensor> fc = enc.forward_tape(rec, content), fs = enc.forward_tape(rec, style);
   auto level = [&](const std::vector<Tensor>& tape, int l) -> const Tensor& { return tape[enc.level_step(l)]; };
 
-  // Ics: content and style losses.
+  // Ics: content and style losses; Ics_N: the noise loss, whose gradient reaches both.
   {
     const MccTape mcc = net.mcc.forward(rec, level(fc, 4), level(fs, 4));
     const std::vector<Tensor> dec = net.decoder.forward_tape(rec, mcc.out);
-    const std::vector<Tensor> fi = enc.forward_tape(rec, dec.back());
+    const Tensor& ics = dec.back();
+    const MccTape mcc_n = net.mcc.forward(rec, enc.encode(rec, content_noise, 4), level(fs, 4));
+    const std::vector<Tensor> dec_n = net.decoder.forward_tape(rec, mcc_n.out);
+    const Tensor& ics_n = dec_n.back();
+    Tensor d_ics_n = zero_tensor(rec, "d noisy", ics.c, ics.h, ics.w), d_ics = zero_tensor(rec, "d noise", ics.c, ics.h, ics.w);
+    mse_term(rec, record, MccLossRecord::noise, ics_n, ics, d_ics_n, weights.noise);
+    // The same difference the other way round for Ics's gradient; its value is counted once.
+    squared_error(rec, ics.buffer, ics_n.buffer, d_ics.buffer, ics.count(), static_cast<float>(2.0 * weights.noise / double(ics.count())));
+    const std::vector<Tensor> fi = enc.forward_tape(rec, ics);
     std::vector<Tensor> dlevels = zero_level_grads(rec, enc, fi);
     for (const int l : {4, 5}) {
       const Tensor& xi = level(fi, l);
@@ -89,8 +99,8 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
                  1.0 / n);
       mean_std_backward(rec, xi, si, dstats.buffer, dlevels[l - 1]);
     }
-    const Tensor dimage = enc.backward(rec, fi, std::move(dlevels));
-    backward_through(rec, net, mcc, dec, dimage, grads);
+    backward_through(rec, net, mcc, dec, add(rec, enc.backward(rec, fi, std::move(dlevels)), d_ics), grads);
+    backward_through(rec, net, mcc_n, dec_n, d_ics_n, grads);
   }
 
   // Icc and Iss: the identity losses.

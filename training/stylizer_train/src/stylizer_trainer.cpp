@@ -148,11 +148,16 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   for (int step = 1; step <= s.steps; ++step) {
     const std::vector<float> c = sample(contents[pick_content(rng)], s.crop, rng);
     const std::vector<float> st = sample(styles[pick_style(rng)], s.crop, rng);
+    // MCCNet's and HGST's noise: sigma ~ U(0.01, 0.02), then N(0, sigma^2) per value, not clamped.
+    std::vector<float> noisy = c;
+    std::normal_distribution<float> noise(0.0f, std::uniform_real_distribution<float>(0.01f, 0.02f)(rng));
+    for (float& v : noisy) v += noise(rng);
     const nn::Tensor content = nn::upload_tensor(ctx, "content", 3, uint32_t(s.crop), uint32_t(s.crop), c);
+    const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, uint32_t(s.crop), uint32_t(s.crop), noisy);
     const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, uint32_t(s.crop), uint32_t(s.crop), st);
     engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
     nn::MccGrads grads = nn::zero_mcc_grads(rec, net);
-    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, s.weights, grads);
+    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.weights, grads);
     std::vector<const engine::Buffer*> g;
     for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
     for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});

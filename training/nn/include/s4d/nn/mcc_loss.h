@@ -1,12 +1,13 @@
 // MCCNet's training loss (diyiiyiii/MCCNet net.py; ALGORITHMS.md 4.5 lists HGST's additions) for
 // one content/style pair, forward and backward on the GPU: with F_l = relu<l>_1 of the fixed VGG
-// encoder, Ics = Dec(MCC(Fc_4, Fs_4)), Icc = Dec(MCC(Fc_4, Fc_4)), Iss = Dec(MCC(Fs_4, Fs_4)) and
-// MSE the mean squared error,
+// encoder, Ics = Dec(MCC(Fc_4, Fs_4)), Icc = Dec(MCC(Fc_4, Fc_4)), Iss = Dec(MCC(Fs_4, Fs_4)),
+// Ics_N = Dec(MCC(F_4(content + noise), Fs_4)) and MSE the mean squared error,
 //   content   = sum_{l = 4, 5} MSE(norm(F_l(Ics)), norm(F_l(content)))
 //   style     = sum_{l = 1..5} MSE(mu(F_l(Ics)), mu(F_l(style))) + MSE(sigma(F_l(Ics)), sigma(F_l(style)))
 //   identity1 = MSE(Icc, content) + MSE(Iss, style)
 //   identity2 = sum_{l = 1..5} MSE(F_l(Icc), F_l(content)) + MSE(F_l(Iss), F_l(style))
-// total = the weighted sum. The noise (illumination) and TV terms of MCCNet/HGST are not here yet.
+//   noise     = MSE(Ics_N, Ics), neither side detached (the illumination loss)
+// total = the weighted sum. MCCNet's TV term and HGST's others (ALGORITHMS.md 4.5) are not here yet.
 #pragma once
 #include <array>
 #include <vector>
@@ -18,19 +19,20 @@
 
 namespace s4d::nn {
 
+// HGST's weights (ALGORITHMS.md 4.5); its content and style terms span other levels than these.
 struct MccLossWeights {
-  float content = 1.0f, style = 3.0f, identity1 = 70.0f, identity2 = 1.0f;
+  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f;
 };
 
 // The terms' values, unweighted, and the weighted total.
 struct MccLossValues {
-  double content = 0, style = 0, identity1 = 0, identity2 = 0, total = 0;
+  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, total = 0;
 };
 
 // Recorded loss terms: squared-error partial sums with the factor that turns each into its MSE.
 class MccLossRecord {
  public:
-  enum Term { content, style, identity1, identity2 };
+  enum Term { content, style, identity1, identity2, noise };
   void add(Term term, engine::Buffer partials, double factor);
   // After the recording ran.
   MccLossValues values(engine::Context& ctx, const MccLossWeights& weights) const;
@@ -59,9 +61,10 @@ struct MccGrads {
 // Zeroed gradients for the trainee's parameters.
 MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
 
-// Records the loss of one pair of RGB images [3, H, W] in [0, 1] (H, W multiples of 8, relu5_1 at
-// least 2 values per channel) and adds its gradients to grads.
+// Records the loss of one pair of RGB images [3, H, W] in [0, 1] (H, W multiples of 8, at least
+// 32) and adds its gradients to grads. content_noise is the content plus Gaussian noise (MCCNet
+// and HGST draw sigma ~ U(0.01, 0.02) per step), the same size.
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
-                              const MccLossWeights& weights, MccGrads& grads);
+                              const Tensor& content_noise, const MccLossWeights& weights, MccGrads& grads);
 
 }  // namespace s4d::nn
