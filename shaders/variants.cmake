@@ -84,4 +84,5 @@ set(S4D_SHADER_VARIANTS
   "nn_mean_std_bwd|nn/nn_mean_std_bwd.comp"
   "nn_squares_over_sum_bwd|nn/nn_squares_over_sum_bwd.comp"
   "nn_mse|nn/nn_mse.comp"
+  "nn_tv_l1|nn/nn_tv_l1.comp"
 )

@@ -78,6 +78,13 @@
 #define S4D_B_MSE_GRAD 2      // [n], added to
 #define S4D_B_MSE_PARTIALS 3  // [ceil(n / S4D_NN_WG)]
 
+// nn_tv_l1: the total variation sum_{c,y,x} |x[c,y,x] - x[c,y,x+1]| + |x[c,y,x] - x[c,y+1,x]| (MCCNet's
+// and HGST's TV term, a sum, not a mean): grad += weight dTV/dx (sign(0) = 0, as PyTorch's abs) and
+// each workgroup's sum of the differences' magnitudes in partials. One invocation per element.
+#define S4D_B_TV1_X 0         // [c, h, w]
+#define S4D_B_TV1_GRAD 1      // [c, h, w], added to
+#define S4D_B_TV1_PARTIALS 2  // [ceil(n / S4D_NN_WG)]
+
 S4D_NAMESPACE_BEGIN
 
 // Push constants of nn_conv_wgrad.
@@ -114,6 +121,14 @@ struct NnMseParams {
   float scale;
   uint _pad0;
   uint _pad1;
+};
+
+// Push constants of nn_tv_l1.
+struct NnTvL1Params {
+  uint channels;
+  uint height;
+  uint width;
+  float weight;
 };
 
 S4D_NAMESPACE_END

@@ -7,7 +7,8 @@ PyTorch reference.
 The reference is written here from ALGORITHMS.md 4.2 (normalised VGG-19 with reflection padding and
 ceil-mode pooling, the mirrored decoder, the MCC module) and MCCNet's net.py loss terms (content on
 normalised relu4_1/relu5_1, mean/std style on relu1_1..relu5_1, identity 1 on images, identity 2 on
-all five levels, the noise loss MSE(Ics_N, Ics) with neither side detached), in float64 with autograd. Random weights (He-uniform, so activations survive the
+all five levels, the noise loss MSE(Ics_N, Ics) with neither side detached, the L1 TV sum of Ics), in
+float64 with autograd. Random weights (He-uniform, so activations survive the
 ReLU stacks; g's bias in [1, 2] keeps MCC's sum(G) away from 0) at shrunk widths are saved with the
 nn.Sequential / MCC_Module state-dict names the hgst stylizer reads; content 32x40 and style 40x32
 (relu5_1 3x5 and 5x3 by ceil-mode pooling). Compared: the four loss terms and the total, and every
@@ -24,7 +25,7 @@ import torch  # noqa: E402
 import torch.nn as nn  # noqa: E402
 
 WIDTHS = [4, 6, 8, 12, 10]
-WEIGHTS = {"content": 3.0, "style": 18.0, "identity1": 70.0, "identity2": 1.0, "noise": 3000.0}  # HGST's
+WEIGHTS = {"content": 3.0, "style": 18.0, "identity1": 70.0, "identity2": 1.0, "noise": 3000.0, "tv": 1e-4}  # HGST's
 
 
 def conv(cin, cout, k):
@@ -126,6 +127,7 @@ def losses(vgg, dec, mcc, content, style, content_noise):
     fcc, fss = encode_levels(vgg, icc), encode_levels(vgg, iss)
     out["identity2"] = sum(mse(fcc[l], fc[l]) + mse(fss[l], fs[l]) for l in range(5))
     out["noise"] = mse(ics_n, ics)
+    out["tv"] = (ics[:, :, :-1] - ics[:, :, 1:]).abs().sum() + (ics[:, :-1, :] - ics[:, 1:, :]).abs().sum()
     out["total"] = sum(WEIGHTS[k] * out[k] for k in WEIGHTS)
     return out
 
@@ -174,7 +176,7 @@ def main(argv):
         sys.exit("FAILED: mcc_loss_grads exited %d: %s" % (run.returncode, run.stderr))
     got = json.loads(run.stdout)
     failures = []
-    for k in ("content", "style", "identity1", "identity2", "noise", "total"):
+    for k in ("content", "style", "identity1", "identity2", "noise", "tv", "total"):
         r, g = float(ref[k]), got["loss"][k]
         rel = abs(g - r) / abs(r)
         print("loss %-9s native %.8g reference %.8g rel %.2e" % (k, g, r, rel))

@@ -32,7 +32,7 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
                        "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]\n"
                        "    [--resize N] [--crop N] [--lr X] [--seed N]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
-                       "MCCNet's loss (content, style, identity 1 and 2, noise) at HGST's weights; HGST's other\n"
+                       "MCCNet's loss (content, style, identity 1 and 2, noise, TV) at HGST's weights; HGST's other\n"
                        "terms are not implemented yet (docs/stylization.md, \"Training HGST: status\"). --out is\n"
                        "then a --weights folder for the hgst and mccnet stylizers.",
                        specs);
@@ -61,8 +61,8 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   const auto start = std::chrono::steady_clock::now();
   const auto losses = stylizer_train::train_stylizer(ctx, s, [&](int step, const nn::MccLossValues& l) {
     if (step == 1 || step % 10 == 0 || step == s.steps)
-      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g)\n", step, l.total,
-                  l.content, l.style, l.identity1, l.identity2, l.noise);
+      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g tv %.4g)\n", step,
+                  l.total, l.content, l.style, l.identity1, l.identity2, l.noise, l.tv);
   });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "trained " << losses.size() << " steps in " << seconds << " s; weights in " << s.out.string() << "\n";

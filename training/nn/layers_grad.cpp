@@ -229,6 +229,17 @@ engine::Buffer squared_error(engine::Recorder& rec, const engine::Buffer& a, con
   return partials;
 }
 
+engine::Buffer tv_l1(engine::Recorder& rec, const Tensor& x, const Tensor& grad, float weight) {
+  check_same("tv_l1", x, grad);
+  const uint32_t groups = ceil_div(x.count(), S4D_NN_WG);
+  engine::Buffer partials(rec.context(), "tv partials", size_t{groups} * sizeof(float));
+  const gpu::NnTvL1Params p{.channels = x.c, .height = x.h, .width = x.w, .weight = weight};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_tv_l1),
+               {S4D_BIND(TV1_X, x.buffer), S4D_BIND(TV1_GRAD, grad.buffer), S4D_BIND(TV1_PARTIALS, partials)}, p, groups);
+  rec.barrier();
+  return partials;
+}
+
 double squared_error_value(engine::Context& ctx, const engine::Buffer& partials) {
   double sum = 0;
   for (const float v : ctx.download<float>(partials, partials.size() / sizeof(float))) sum += v;

@@ -38,11 +38,11 @@ void MccLossRecord::add(Term term, engine::Buffer partials, double factor) {
 }
 
 MccLossValues MccLossRecord::values(engine::Context& ctx, const MccLossWeights& weights) const {
-  std::array<double, 5> sums{};
+  std::array<double, 6> sums{};
   for (const Part& p : parts_) sums[p.term] += p.factor * squared_error_value(ctx, p.partials);
-  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], 0};
+  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], sums[tv], 0};
   v.total = weights.content * v.content + weights.style * v.style + weights.identity1 * v.identity1 +
-            weights.identity2 * v.identity2 + weights.noise * v.noise;
+            weights.identity2 * v.identity2 + weights.noise * v.noise + weights.tv * v.tv;
   return v;
 }
 
@@ -78,6 +78,7 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
     mse_term(rec, record, MccLossRecord::noise, ics_n, ics, d_ics_n, weights.noise);
     // The same difference the other way round for Ics's gradient; its value is counted once.
     squared_error(rec, ics.buffer, ics_n.buffer, d_ics.buffer, ics.count(), static_cast<float>(2.0 * weights.noise / double(ics.count())));
+    record.add(MccLossRecord::tv, tv_l1(rec, ics, d_ics, weights.tv), 1.0);
     const std::vector<Tensor> fi = enc.forward_tape(rec, ics);
     std::vector<Tensor> dlevels = zero_level_grads(rec, enc, fi);
     for (const int l : {4, 5}) {

@@ -52,7 +52,10 @@ Tensor squares_over_sum_backward(engine::Recorder& rec, const Tensor& x, const T
 // per-workgroup sums of (a - b)^2 (add them with squared_error_value after the run).
 engine::Buffer squared_error(engine::Recorder& rec, const engine::Buffer& a, const engine::Buffer& b,
                              const engine::Buffer& grad, size_t count, float scale);
-// The sum of squared_error's partials, after the work that wrote them ran.
+// MCCNet's TV term sum |x[.., y, x] - x[.., y, x + 1]| + |x[.., y, x] - x[.., y + 1, x]| of x:
+// grad += weight dTV/dx; returns partial sums of the TV (add them with squared_error_value).
+engine::Buffer tv_l1(engine::Recorder& rec, const Tensor& x, const Tensor& grad, float weight);
+// The sum of squared_error's (or tv_l1's) partials, after the work that wrote them ran.
 double squared_error_value(engine::Context& ctx, const engine::Buffer& partials);
 
 }  // namespace s4d::nn

@@ -7,7 +7,8 @@
 //   identity1 = MSE(Icc, content) + MSE(Iss, style)
 //   identity2 = sum_{l = 1..5} MSE(F_l(Icc), F_l(content)) + MSE(F_l(Iss), F_l(style))
 //   noise     = MSE(Ics_N, Ics), neither side detached (the illumination loss)
-// total = the weighted sum. MCCNet's TV term and HGST's others (ALGORITHMS.md 4.5) are not here yet.
+//   tv        = sum |Ics[.., y, x] - Ics[.., y, x + 1]| + |Ics[.., y, x] - Ics[.., y + 1, x]| (a sum)
+// total = the weighted sum. HGST's self-similarity and CCPL terms (ALGORITHMS.md 4.5) are not here yet.
 #pragma once
 #include <array>
 #include <vector>
@@ -21,18 +22,18 @@ namespace s4d::nn {
 
 // HGST's weights (ALGORITHMS.md 4.5); its content and style terms span other levels than these.
 struct MccLossWeights {
-  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f;
+  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f;
 };
 
 // The terms' values, unweighted, and the weighted total.
 struct MccLossValues {
-  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, total = 0;
+  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, tv = 0, total = 0;
 };
 
-// Recorded loss terms: squared-error partial sums with the factor that turns each into its MSE.
+// Recorded loss terms: partial sums (squared errors, TV) with the factor that turns each into its term.
 class MccLossRecord {
  public:
-  enum Term { content, style, identity1, identity2, noise };
+  enum Term { content, style, identity1, identity2, noise, tv };
   void add(Term term, engine::Buffer partials, double factor);
   // After the recording ran.
   MccLossValues values(engine::Context& ctx, const MccLossWeights& weights) const;

@@ -160,4 +160,39 @@ T squared_error(const std::vector<T>& a, const std::vector<T>& b) {
   return s;
 }
 
+// sum over channels of |x[y, x] - x[y, x + 1]| + |x[y, x] - x[y + 1, x]| (MCCNet's TV term).
+template <class T>
+T tv_l1(const Chw<T>& x) {
+  T s = 0;
+  for (uint32_t c = 0; c < x.c; ++c)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        if (px + 1 < x.w) s += std::abs(x.at(c, py, px) - x.at(c, py, px + 1));
+        if (py + 1 < x.h) s += std::abs(x.at(c, py, px) - x.at(c, py + 1, px));
+      }
+  return s;
+}
+
+// d tv_l1 / dx, with sign(0) = 0.
+template <class T>
+Chw<T> tv_l1_bwd(const Chw<T>& x) {
+  auto sign = [](T v) { return T((v > 0) - (v < 0)); };
+  Chw<T> g(x.c, x.h, x.w);
+  for (uint32_t c = 0; c < x.c; ++c)
+    for (uint32_t py = 0; py < x.h; ++py)
+      for (uint32_t px = 0; px < x.w; ++px) {
+        if (px + 1 < x.w) {
+          const T s = sign(x.at(c, py, px) - x.at(c, py, px + 1));
+          g.at(c, py, px) += s;
+          g.at(c, py, px + 1) -= s;
+        }
+        if (py + 1 < x.h) {
+          const T s = sign(x.at(c, py, px) - x.at(c, py + 1, px));
+          g.at(c, py, px) += s;
+          g.at(c, py + 1, px) -= s;
+        }
+      }
+  return g;
+}
+
 }  // namespace s4d::ref

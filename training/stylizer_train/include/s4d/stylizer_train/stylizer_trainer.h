@@ -3,7 +3,7 @@
 // HGST) and randomly cropped to crop x crop, the MCCNet loss (s4d/nn/mcc_loss.h) and its
 // gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
 // weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
-// .safetensors). HGST's batch of 4, TV, self-similarity and CCPL terms are not here yet.
+// .safetensors). HGST's batch of 4, self-similarity and CCPL terms are not here yet.
 #pragma once
 #include <cstdint>
 #include <filesystem>
