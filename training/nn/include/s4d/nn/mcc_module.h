@@ -6,7 +6,9 @@
 // backward needs; backward adds the parameter gradients).
 #pragma once
 #include <array>
+#include <span>
 #include <string>
+#include <utility>
 
 #include "s4d/engine/context.h"
 #include "s4d/io/safetensors.h"
