@@ -4,7 +4,8 @@
 // reads) and inputs.safetensors ("content", "style", "content_noise": [3, H, W]). Prints one JSON object:
 // {"loss": {"content": .., "style": .., "identity1": .., "identity2": .., "noise": .., "tv": .., "total": ..},
 //  "grads": {"decoder.<prefix>.weight": [...], ..., "MCCN.f.bias": [...], ...}}.
-//   mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT_WEIGHT STYLE_WEIGHT IDENTITY1_WEIGHT IDENTITY2_WEIGHT NOISE_WEIGHT TV_WEIGHT
+//   mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT_WEIGHT STYLE_WEIGHT IDENTITY1_WEIGHT IDENTITY2_WEIGHT NOISE_WEIGHT TV_WEIGHT mccnet|hgst
+// (the content and style levels, nn::MccLossLevels).
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -34,8 +35,8 @@ nn::Tensor read_image(engine::Context& ctx, const io::SafetensorsFile& file, con
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 13) {
-    std::fprintf(stderr, "usage: mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT STYLE IDENTITY1 IDENTITY2 NOISE TV\n");
+  if (argc != 14 || (std::string(argv[13]) != "mccnet" && std::string(argv[13]) != "hgst")) {
+    std::fprintf(stderr, "usage: mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT STYLE IDENTITY1 IDENTITY2 NOISE TV mccnet|hgst\n");
     return 2;
   }
   try {
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     const nn::MccLossWeights weights{std::strtof(argv[7], nullptr), std::strtof(argv[8], nullptr),
                                      std::strtof(argv[9], nullptr), std::strtof(argv[10], nullptr),
                                      std::strtof(argv[11], nullptr), std::strtof(argv[12], nullptr)};
+    const nn::MccLossLevels levels = std::string(argv[13]) == "hgst" ? nn::MccLossLevels::hgst() : nn::MccLossLevels::mccnet();
     engine::Context ctx;  // ContextOptions::from_env(): S4D_VALIDATION, the device choice
     const nn::VggEncoder encoder(ctx, io::SafetensorsFile(dir + "/vgg.safetensors"), 5, widths);
     const nn::VggDecoder decoder(ctx, io::SafetensorsFile(dir + "/decoder.safetensors"), widths);
@@ -55,7 +57,7 @@ int main(int argc, char** argv) {
     const nn::MccTrainee net{encoder, decoder, mcc};
     engine::Recorder rec(ctx, "mcc loss");
     nn::MccGrads grads = nn::zero_mcc_grads(rec, net);
-    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, weights, grads);
+    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, levels, weights, grads);
     ctx.run(std::move(rec));
     const nn::MccLossValues v = record.values(ctx, weights);
     std::printf("{\"loss\": {\"content\": %.9g, \"style\": %.9g, \"identity1\": %.9g, \"identity2\": %.9g, "

@@ -6,13 +6,14 @@ PyTorch reference.
 
 The reference is written here from ALGORITHMS.md 4.2 (normalised VGG-19 with reflection padding and
 ceil-mode pooling, the mirrored decoder, the MCC module) and MCCNet's net.py loss terms (content on
-normalised relu4_1/relu5_1, mean/std style on relu1_1..relu5_1, identity 1 on images, identity 2 on
+normalised relu4_1/relu5_1, mean/std style on relu1_1..relu5_1, or HGST's levels from ALGORITHMS.md
+4.5: content on relu3_1..relu5_1, style on relu5_1, relu2_1..relu5_1; identity 1 on images, identity 2 on
 all five levels, the noise loss MSE(Ics_N, Ics) with neither side detached, the L1 TV sum of Ics), in
 float64 with autograd. Random weights (He-uniform, so activations survive the
 ReLU stacks; g's bias in [1, 2] keeps MCC's sum(G) away from 0) at shrunk widths are saved with the
 nn.Sequential / MCC_Module state-dict names the hgst stylizer reads; content 32x40 and style 40x32
 (relu5_1 3x5 and 5x3 by ceil-mode pooling). Compared: the four loss terms and the total, and every
-decoder/MCC weight and bias gradient. Exit 77 (skipped) without torch.
+decoder/MCC weight and bias gradient, for both level sets. Exit 77 (skipped) without torch.
 """
 import json
 import os
@@ -110,15 +111,19 @@ def mse(a, b):
     return ((a - b) ** 2).mean()
 
 
-def losses(vgg, dec, mcc, content, style, content_noise):
+LEVELS = {"mccnet": ([4, 5], [1, 2, 3, 4, 5]), "hgst": ([3, 4, 5], [5, 2, 3, 4, 5])}
+
+
+def losses(vgg, dec, mcc, content, style, content_noise, levels):
+    content_levels, style_levels = LEVELS[levels]
     fc, fs = encode_levels(vgg, content), encode_levels(vgg, style)
     ics = dec(mcc.MCCN(fc[3], fs[3])[None])[0]
     ics_n = dec(mcc.MCCN(encode_levels(vgg, content_noise)[3], fs[3])[None])[0]
     fi = encode_levels(vgg, ics)
-    out = {"content": mse(normal(fi[4]), normal(fc[4])) + mse(normal(fi[3]), normal(fc[3]))}
+    out = {"content": sum(mse(normal(fi[l - 1]), normal(fc[l - 1])) for l in content_levels)}
     style_loss = 0
-    for l in range(5):
-        (mi, si), (ms, ss) = mean_std(fi[l]), mean_std(fs[l])
+    for l in style_levels:
+        (mi, si), (ms, ss) = mean_std(fi[l - 1]), mean_std(fs[l - 1])
         style_loss = style_loss + mse(mi, ms) + mse(si, ss)
     out["style"] = style_loss
     icc = dec(mcc.MCCN(fc[3], fc[3])[None])[0]
@@ -138,6 +143,45 @@ def smooth_image(h, w, seed):
     fine = torch.rand(1, 3, h, w, generator=g, dtype=torch.float64)
     up = nn.functional.interpolate(coarse, size=(h, w), mode="bilinear", align_corners=False)
     return (0.8 * up + 0.2 * fine)[0]
+
+
+def compare(exe, work, vgg, dec, mcc, images, levels):
+    """Runs the native loss at `levels` and returns what differs from the reference."""
+    failures = []
+    for m in (dec, mcc):
+        m.zero_grad(set_to_none=True)
+    ref = losses(vgg, dec, mcc, *images, levels)
+    ref["total"].backward()
+    grads = {"decoder." + k: p.grad for k, p in dec.named_parameters()}
+    grads.update({k: p.grad for k, p in mcc.named_parameters() if not k.startswith("MCCN.h.")})
+
+    run = subprocess.run([exe, work] + [str(w) for w in WIDTHS] + [str(WEIGHTS[k]) for k in WEIGHTS] + [levels],
+                         capture_output=True, text=True)
+    if run.returncode != 0:
+        sys.exit("FAILED: mcc_loss_grads exited %d: %s" % (run.returncode, run.stderr))
+    got = json.loads(run.stdout)
+    for k in ("content", "style", "identity1", "identity2", "noise", "tv", "total"):
+        r, g = float(ref[k]), got["loss"][k]
+        rel = abs(g - r) / abs(r)
+        print("%s loss %-9s native %.8g reference %.8g rel %.2e" % (levels, k, g, r, rel))
+        # Float32 networks against float64: measured worst 6.9e-5 (statistics of relu5_1 over 15 values).
+        if rel > 5e-4:
+            failures.append("%s loss %s" % (levels, k))
+    worst = 0.0
+    for name, ref_grad in grads.items():
+        if name not in got["grads"]:
+            failures.append("%s missing gradient %s" % (levels, name))
+            continue
+        g = torch.tensor(got["grads"][name], dtype=torch.float64)
+        r = ref_grad.flatten()
+        rel = float((g - r).abs().max() / r.abs().max().clamp_min(1e-30))
+        worst = max(worst, rel)
+        print("%s grad %-24s %6d values, max |ref| %.3e, max rel error %.2e" % (levels, name, r.numel(), float(r.abs().max()), rel))
+        # Float32 forward and backward through ~45 layers against float64: measured worst 2.4e-4.
+        if rel > 2e-3:
+            failures.append("%s gradient %s" % (levels, name))
+    print("%s: worst gradient error %.2e over %d tensors" % (levels, worst, len(grads)))
+    return failures
 
 
 def main(argv):
@@ -165,38 +209,9 @@ def main(argv):
     content, style, content_noise = (t.float().double() for t in (content, style, content_noise))
     for p in vgg.parameters():
         p.requires_grad_(False)
-    ref = losses(vgg, dec, mcc, content, style, content_noise)
-    ref["total"].backward()
-    grads = {"decoder." + k: p.grad for k, p in dec.named_parameters()}
-    grads.update({k: p.grad for k, p in mcc.named_parameters() if not k.startswith("MCCN.h.")})
-
-    run = subprocess.run([exe, work] + [str(w) for w in WIDTHS] + [str(WEIGHTS[k]) for k in WEIGHTS],
-                         capture_output=True, text=True)
-    if run.returncode != 0:
-        sys.exit("FAILED: mcc_loss_grads exited %d: %s" % (run.returncode, run.stderr))
-    got = json.loads(run.stdout)
     failures = []
-    for k in ("content", "style", "identity1", "identity2", "noise", "tv", "total"):
-        r, g = float(ref[k]), got["loss"][k]
-        rel = abs(g - r) / abs(r)
-        print("loss %-9s native %.8g reference %.8g rel %.2e" % (k, g, r, rel))
-        # Float32 networks against float64: measured worst 6.1e-5 (content: relu5_1 normalised over 15 values).
-        if rel > 5e-4:
-            failures.append("loss %s" % k)
-    worst = 0.0
-    for name, ref_grad in grads.items():
-        if name not in got["grads"]:
-            failures.append("missing gradient %s" % name)
-            continue
-        g = torch.tensor(got["grads"][name], dtype=torch.float64)
-        r = ref_grad.flatten()
-        rel = float((g - r).abs().max() / r.abs().max().clamp_min(1e-30))
-        worst = max(worst, rel)
-        print("grad %-24s %6d values, max |ref| %.3e, max rel error %.2e" % (name, r.numel(), float(r.abs().max()), rel))
-        # Float32 forward and backward through ~45 layers against float64: measured worst 2.4e-4.
-        if rel > 2e-3:
-            failures.append("gradient %s" % name)
-    print("worst gradient error %.2e over %d tensors" % (worst, len(grads)))
+    for levels in ("mccnet", "hgst"):
+        failures += compare(exe, work, vgg, dec, mcc, (content, style, content_noise), levels)
     if failures:
         sys.exit("FAILED: " + ", ".join(failures))
     print("PASSED")

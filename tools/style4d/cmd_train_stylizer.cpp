@@ -1,6 +1,7 @@
 // style4d train-stylizer --content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]
-// [--resize N] [--crop N] [--lr X] [--seed N]: trains the MCCNet/HGST decoder and MCC module with
-// the VGG-19 encoder fixed (s4d_stylizer_train) and writes a weights folder for --stylizer hgst.
+// [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]: trains the MCCNet/HGST
+// decoder and MCC module with the VGG-19 encoder fixed (s4d_stylizer_train) and writes a weights
+// folder for --stylizer hgst.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -25,12 +26,14 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"crop", "then randomly cropped to N x N, a multiple of 8 (default 256)", true, "N"},
       {"lr", "Adam's learning rate (default 1e-4)", true, "X"},
       {"seed", "seed of the initialisation, the pairs and the crops (default 0)", true, "N"},
+      {"loss-levels", "VGG levels of the content and style terms: hgst (default) or mccnet (docs/stylization.md)", true,
+       "hgst|mccnet"},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("train-stylizer",
                        "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]\n"
-                       "    [--resize N] [--crop N] [--lr X] [--seed N]",
+                       "    [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
                        "MCCNet's loss (content, style, identity 1 and 2, noise, TV) at HGST's weights; HGST's other\n"
                        "terms are not implemented yet (docs/stylization.md, \"Training HGST: status\"). --out is\n"
@@ -57,6 +60,9 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
     throw std::invalid_argument("--lr: expected a number, got '" + lr + "'");
   }
   s.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
+  const std::string levels = args.get_or("loss-levels", "hgst");
+  if (levels != "hgst" && levels != "mccnet") throw std::invalid_argument("--loss-levels: expected hgst or mccnet, got '" + levels + "'");
+  s.levels = levels == "hgst" ? nn::MccLossLevels::hgst() : nn::MccLossLevels::mccnet();
   engine::Context ctx;
   const auto start = std::chrono::steady_clock::now();
   const auto losses = stylizer_train::train_stylizer(ctx, s, [&](int step, const nn::MccLossValues& l) {

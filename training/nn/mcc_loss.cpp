@@ -54,9 +54,13 @@ MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net) {
 }
 
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
-                              const Tensor& content_noise, const MccLossWeights& weights, MccGrads& grads) {
+                              const Tensor& content_noise, const MccLossLevels& levels, const MccLossWeights& weights,
+                              MccGrads& grads) {
   const VggEncoder& enc = net.encoder;
   if (enc.levels() != 5) throw std::invalid_argument("mcc loss: the encoder needs 5 levels, has " + std::to_string(enc.levels()));
+  for (const std::vector<int>* list : {&levels.content, &levels.style})
+    for (const int l : *list)
+      if (l < 1 || l > 5) throw std::invalid_argument("mcc loss: level " + std::to_string(l) + " is not 1..5");
   if (content_noise.c != content.c || content_noise.h != content.h || content_noise.w != content.w)
     throw std::invalid_argument("mcc loss: the noisy content " + content_noise.shape() + " differs from the content " + content.shape());
   for (const Tensor* t : {&content, &style})
@@ -81,7 +85,7 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
     record.add(MccLossRecord::tv, tv_l1(rec, ics, d_ics, weights.tv), 1.0);
     const std::vector<Tensor> fi = enc.forward_tape(rec, ics);
     std::vector<Tensor> dlevels = zero_level_grads(rec, enc, fi);
-    for (const int l : {4, 5}) {
+    for (const int l : levels.content) {
       const Tensor& xi = level(fi, l);
       const engine::Buffer si = mean_std(rec, xi), sc = mean_std(rec, level(fc, l));
       const Tensor ni = normalise(rec, xi, si), nc = normalise(rec, level(fc, l), sc);
@@ -89,7 +93,7 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
       mse_term(rec, record, MccLossRecord::content, ni, nc, dn, weights.content);
       normalise_backward(rec, xi, si, ni, dn, dlevels[l - 1]);
     }
-    for (int l = 1; l <= 5; ++l) {
+    for (const int l : levels.style) {
       const Tensor& xi = level(fi, l);
       const engine::Buffer si = mean_std(rec, xi), ss = mean_std(rec, level(fs, l));
       Tensor dstats = zero_tensor(rec, "d stats", 1, 1, 2 * xi.c);

@@ -157,7 +157,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, uint32_t(s.crop), uint32_t(s.crop), st);
     engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
     nn::MccGrads grads = nn::zero_mcc_grads(rec, net);
-    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.weights, grads);
+    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.levels, s.weights, grads);
     std::vector<const engine::Buffer*> g;
     for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
     for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});

@@ -2,8 +2,8 @@
 // one content/style pair, forward and backward on the GPU: with F_l = relu<l>_1 of the fixed VGG
 // encoder, Ics = Dec(MCC(Fc_4, Fs_4)), Icc = Dec(MCC(Fc_4, Fc_4)), Iss = Dec(MCC(Fs_4, Fs_4)),
 // Ics_N = Dec(MCC(F_4(content + noise), Fs_4)) and MSE the mean squared error,
-//   content   = sum_{l = 4, 5} MSE(norm(F_l(Ics)), norm(F_l(content)))
-//   style     = sum_{l = 1..5} MSE(mu(F_l(Ics)), mu(F_l(style))) + MSE(sigma(F_l(Ics)), sigma(F_l(style)))
+//   content   = sum_{l in content levels} MSE(norm(F_l(Ics)), norm(F_l(content)))
+//   style     = sum_{l in style levels} MSE(mu(F_l(Ics)), mu(F_l(style))) + MSE(sigma(F_l(Ics)), sigma(F_l(style)))
 //   identity1 = MSE(Icc, content) + MSE(Iss, style)
 //   identity2 = sum_{l = 1..5} MSE(F_l(Icc), F_l(content)) + MSE(F_l(Iss), F_l(style))
 //   noise     = MSE(Ics_N, Ics), neither side detached (the illumination loss)
@@ -20,7 +20,16 @@
 
 namespace s4d::nn {
 
-// HGST's weights (ALGORITHMS.md 4.5); its content and style terms span other levels than these.
+// The relu<l>_1 levels of the content and style terms: MCCNet's (content 4, 5; style 1..5) or
+// HGST's (content 3, 4, 5; style 5, 2, 3, 4, 5: relu5_1 counted twice, relu1_1 not at all).
+struct MccLossLevels {
+  std::vector<int> content = {4, 5};
+  std::vector<int> style = {1, 2, 3, 4, 5};
+  static MccLossLevels mccnet() { return {}; }
+  static MccLossLevels hgst() { return {{3, 4, 5}, {5, 2, 3, 4, 5}}; }
+};
+
+// HGST's weights (ALGORITHMS.md 4.5).
 struct MccLossWeights {
   float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f;
 };
@@ -66,6 +75,7 @@ MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
 // 32) and adds its gradients to grads. content_noise is the content plus Gaussian noise (MCCNet
 // and HGST draw sigma ~ U(0.01, 0.02) per step), the same size.
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
-                              const Tensor& content_noise, const MccLossWeights& weights, MccGrads& grads);
+                              const Tensor& content_noise, const MccLossLevels& levels, const MccLossWeights& weights,
+                              MccGrads& grads);
 
 }  // namespace s4d::nn

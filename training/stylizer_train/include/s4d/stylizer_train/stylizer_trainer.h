@@ -24,6 +24,7 @@ struct StylizerTrainSettings {
   int resize = 512, crop = 256;  // HGST's
   double lr = 1e-4;              // Adam, HGST's
   uint64_t seed = 0;
+  nn::MccLossLevels levels = nn::MccLossLevels::hgst();
   nn::MccLossWeights weights;
 };
 
