@@ -85,4 +85,8 @@ set(S4D_SHADER_VARIANTS
   "nn_squares_over_sum_bwd|nn/nn_squares_over_sum_bwd.comp"
   "nn_mse|nn/nn_mse.comp"
   "nn_tv_l1|nn/nn_tv_l1.comp"
+  "nn_avgpool3|nn/nn_avgpool3.comp|S4D_NN_AVGPOOL_BWD=0"
+  "nn_avgpool3_bwd|nn/nn_avgpool3.comp|S4D_NN_AVGPOOL_BWD=1"
+  "nn_channel_max|nn/nn_channel_max.comp"
+  "nn_selfsim_bwd|nn/nn_selfsim_bwd.comp"
 )

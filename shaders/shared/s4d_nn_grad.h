@@ -85,6 +85,23 @@
 #define S4D_B_TV1_GRAD 1      // [c, h, w], added to
 #define S4D_B_TV1_PARTIALS 2  // [ceil(n / S4D_NN_WG)]
 
+// HGST's self-similarity term "Iins" (ALGORITHMS.md 4.5) on v = avgpool3(relu5_1), v >= 0, per
+// channel c of L values: mean_i min_j (1 - v_i v_j / S), S the sum of squares of the whole tensor,
+// which is 1 - mean(v_c) max(v_c) / S. nn_avgpool3 / nn_avgpool3_bwd: 3x3 mean, stride 1, no
+// padding, and its adjoint (NnResizeParams: in = the pool's input size, out = its output size,
+// n_out = the count written; bindings S4D_B_RESIZE_IN, S4D_B_RESIZE_OUT). nn_channel_max: per
+// channel (one workgroup) the maximum and the index of its first occurrence (as a float).
+// nn_selfsim_bwd: per element dv (+)= weight / C d(sum_c Iins_c)/dv, from the channel sums
+// (nn_channel_dots of (v, v)) and maxima, each invocation summing S and T = sum_c mean_c max_c
+// over the channels; invocation 0 writes sum_c Iins_c = C - T / S to value[0].
+#define S4D_B_CMAX_IN 0     // [c, count]
+#define S4D_B_CMAX_OUT 1    // [2, c]: maxima, then their first indices
+#define S4D_B_SELFSIM_V 0      // [c, count]
+#define S4D_B_SELFSIM_SUMS 1   // [2, c] (sum v, sum v^2)
+#define S4D_B_SELFSIM_MAX 2    // [2, c] nn_channel_max's
+#define S4D_B_SELFSIM_GRAD 3   // [c, count], added to
+#define S4D_B_SELFSIM_VALUE 4  // [1]
+
 S4D_NAMESPACE_BEGIN
 
 // Push constants of nn_conv_wgrad.
@@ -121,6 +138,14 @@ struct NnMseParams {
   float scale;
   uint _pad0;
   uint _pad1;
+};
+
+// Push constants of nn_selfsim_bwd.
+struct NnSelfsimParams {
+  uint channels;
+  uint count;
+  float weight;
+  uint _pad0;
 };
 
 // Push constants of nn_tv_l1.

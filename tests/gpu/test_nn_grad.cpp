@@ -157,6 +157,28 @@ TEST_CASE("L1 total variation adds weight dTV/dx to the gradient and sums the TV
   CHECK(nn::squared_error_value(context(), partials) == doctest::Approx(ref::tv_l1(to_double(x))).epsilon(1e-6));
 }
 
+// Kernels nn_avgpool3, nn_avgpool3_bwd, nn_channel_max, nn_selfsim_bwd.
+TEST_CASE("3x3 average pooling, its gradient and the self-similarity term match their twins") {
+  std::mt19937 rng(27);
+  const auto x = test::random_chw(3, 9, 11, rng);
+  const auto dy = test::random_chw(3, 7, 9, rng);
+  const auto v = test::random_chw(5, 9, 13, rng, 0.05f, 1.0f);  // 117 values per channel: two reduction passes
+  const auto prior = test::random_chw(5, 9, 13, rng);
+  auto [pooled, dpool, grad, value] = run([&](engine::Recorder& r) {
+    nn::Tensor g = test::upload(prior, "grad");
+    engine::Buffer val = nn::selfsim(r, test::upload(v, "v"), g, 0.5f);
+    return std::tuple{nn::avgpool3(r, test::upload(x)), nn::avgpool3_backward(r, test::upload(dy, "dy")), std::move(g),
+                      std::move(val)};
+  });
+  CHECK(max_rel(nn::download(context(), pooled), ref::avgpool3(to_double(x)).v) < 1e-6);  // sums of 9: measured 9.7e-8
+  CHECK(max_rel(nn::download(context(), dpool), ref::avgpool3_bwd(to_double(dy)).v) < 1e-6);  // measured 1.2e-7
+  auto twin = ref::selfsim_bwd(to_double(v));
+  for (size_t i = 0; i < twin.v.size(); ++i) twin.v[i] = prior.v[i] + 0.5 / 5 * twin.v[i];
+  CHECK(max_rel(nn::download(context(), grad), twin.v) < 1e-5);  // float sums over 585 values: measured 3.0e-8
+  // The value from the same float sums: equal to the printed 4.98725.
+  CHECK(context().download<float>(value, 1)[0] == doctest::Approx(ref::selfsim(to_double(v))).epsilon(1e-5));
+}
+
 TEST_CASE("backward layers refuse mismatched shapes before recording") {
   std::mt19937 rng(25);
   {

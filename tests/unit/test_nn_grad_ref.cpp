@@ -125,3 +125,15 @@ TEST_CASE("the L1 total variation's gradient matches finite differences") {
   // Piecewise linear; random values keep every difference away from 0: rounding only, measured 2.9e-9.
   CHECK(fd_error(x.v, tv, one, s4d::ref::tv_l1_bwd(x).v) < 1e-8);
 }
+
+TEST_CASE("the 3x3 average pooling's and the self-similarity's gradients match finite differences") {
+  std::mt19937 rng(5);
+  Chw<double> x = random_chw(2, 5, 6, rng);
+  const Chw<double> r = random_chw(2, 3, 4, rng);
+  auto pool = [&] { return s4d::ref::avgpool3(x).v; };
+  CHECK(fd_error(x.v, pool, r.v, s4d::ref::avgpool3_bwd(r).v) < 1e-8);  // linear: measured 5.5e-10
+  Chw<double> v = random_chw(3, 2, 3, rng, 0.1, 1.0);  // positive and distinct: the maxima stay put
+  const std::vector<double> one{1.0};
+  auto sim = [&] { return std::vector<double>{s4d::ref::selfsim(v)}; };
+  CHECK(fd_error(v.v, sim, one, s4d::ref::selfsim_bwd(v).v) < 1e-7);  // smooth for distinct maxima: measured 5.0e-9
+}

@@ -56,7 +56,7 @@ static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
 static_assert(sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
-static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16 && sizeof(NnTvL1Params) == 16);
+static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16 && sizeof(NnTvL1Params) == 16 && sizeof(NnSelfsimParams) == 16);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
@@ -187,6 +187,7 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnStatsBwdParams, S4D_MEMBER(NnStatsBwdParams, channels), S4D_MEMBER(NnStatsBwdParams, count), S4D_MEMBER(NnStatsBwdParams, mode), S4D_MEMBER(NnStatsBwdParams, _pad0)),
       S4D_STRUCT(NnMseParams, S4D_MEMBER(NnMseParams, n), S4D_MEMBER(NnMseParams, scale), S4D_MEMBER(NnMseParams, _pad0), S4D_MEMBER(NnMseParams, _pad1)),
       S4D_STRUCT(NnTvL1Params, S4D_MEMBER(NnTvL1Params, channels), S4D_MEMBER(NnTvL1Params, height), S4D_MEMBER(NnTvL1Params, width), S4D_MEMBER(NnTvL1Params, weight)),
+      S4D_STRUCT(NnSelfsimParams, S4D_MEMBER(NnSelfsimParams, channels), S4D_MEMBER(NnSelfsimParams, count), S4D_MEMBER(NnSelfsimParams, weight), S4D_MEMBER(NnSelfsimParams, _pad0)),
       S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
                  S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
                  S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),

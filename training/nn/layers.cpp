@@ -183,6 +183,11 @@ Tensor maxpool2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, (x.h + 1) / 2, (x.w + 1) / 2, "maxpool");
 }
 
+Tensor avgpool3(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 3 || x.w < 3) fail("avgpool3", "needs H, W >= 3, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_avgpool3, x.h - 2, x.w - 2, "avgpool3");
+}
+
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   if (x.h < 2 || x.w < 2) fail("maxpool", "floor mode needs H, W >= 2, got " + x.shape());
   // nn_maxpool with floor(in / 2) outputs: every window lies inside the input, so no clamping applies.

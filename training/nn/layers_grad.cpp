@@ -158,6 +158,46 @@ Tensor maxpool2_backward(engine::Recorder& rec, const Tensor& x, const Tensor& d
   return dx;
 }
 
+Tensor avgpool3_backward(engine::Recorder& rec, const Tensor& dy) {
+  Tensor dx = make_tensor(rec.context(), "avgpool3 dx", dy.c, dy.h + 2, dy.w + 2);
+  const gpu::NnResizeParams p{.channels = dy.c,
+                              .in_height = dx.h,
+                              .in_width = dx.w,
+                              .out_height = dy.h,
+                              .out_width = dy.w,
+                              .n_out = static_cast<uint32_t>(dx.count()),
+                              .pad = 0,
+                              ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_avgpool3_bwd),
+               {S4D_BIND(RESIZE_IN, dy.buffer), S4D_BIND(RESIZE_OUT, dx.buffer)}, p, ceil_div(dx.count(), S4D_NN_WG));
+  rec.barrier();
+  return dx;
+}
+
+engine::Buffer channel_max(engine::Recorder& rec, const Tensor& x) {
+  check_loop("channel_max", ceil_div(x.plane(), S4D_NN_STATS_WG), x.shape());
+  engine::Buffer out(rec.context(), "channel maxima", 2 * size_t{x.c} * sizeof(float));
+  const gpu::NnStatsBwdParams p{.channels = x.c, .count = static_cast<uint32_t>(x.plane()), .mode = 0, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_channel_max), {S4D_BIND(CMAX_IN, x.buffer), S4D_BIND(CMAX_OUT, out)},
+               p, x.c);
+  rec.barrier();
+  return out;
+}
+
+engine::Buffer selfsim(engine::Recorder& rec, const Tensor& v, const Tensor& grad, float weight) {
+  check_same("selfsim", v, grad);
+  check_loop("selfsim", v.c, "channels " + std::to_string(v.c));
+  const engine::Buffer sums = channel_dots(rec, v, v), maxima = channel_max(rec, v);
+  engine::Buffer value(rec.context(), "selfsim value", sizeof(float));
+  const gpu::NnSelfsimParams p{.channels = v.c, .count = static_cast<uint32_t>(v.plane()), .weight = weight, ._pad0 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_selfsim_bwd),
+               {S4D_BIND(SELFSIM_V, v.buffer), S4D_BIND(SELFSIM_SUMS, sums), S4D_BIND(SELFSIM_MAX, maxima),
+                S4D_BIND(SELFSIM_GRAD, grad.buffer), S4D_BIND(SELFSIM_VALUE, value)},
+               p, ceil_div(v.count(), S4D_NN_WG));
+  rec.barrier();
+  return value;
+}
+
 engine::Buffer channel_dots(engine::Recorder& rec, const Tensor& a, const Tensor& b) {
   check_same("channel_dots", a, b);
   check_loop("channel_dots", ceil_div(a.plane(), S4D_NN_STATS_WG), a.shape());

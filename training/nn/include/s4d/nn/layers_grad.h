@@ -38,6 +38,13 @@ void relu_backward(engine::Recorder& rec, Tensor& dy, const Tensor& y);
 Tensor upsample2_backward(engine::Recorder& rec, const Tensor& dy);
 // dx of maxpool2 (ceil mode) given its input x and dy [c, ceil(h/2), ceil(w/2)].
 Tensor maxpool2_backward(engine::Recorder& rec, const Tensor& x, const Tensor& dy);
+// dx of avgpool3 given dy [c, h - 2, w - 2].
+Tensor avgpool3_backward(engine::Recorder& rec, const Tensor& dy);
+// Per channel [maxima..., index of each maximum's first occurrence (as floats)...] ([2, c]).
+engine::Buffer channel_max(engine::Recorder& rec, const Tensor& x);
+// HGST's self-similarity of v = avgpool3(relu5_1) >= 0 (s4d_nn_grad.h): grad += weight / C times
+// the gradient of sum_c Iins_c; returns a one-float buffer holding sum_c Iins_c.
+engine::Buffer selfsim(engine::Recorder& rec, const Tensor& v, const Tensor& grad, float weight);
 // Per channel [sum_p a, sum_p a b] ([2, c]).
 engine::Buffer channel_dots(engine::Recorder& rec, const Tensor& a, const Tensor& b);
 // dx += dL/dx of mean_std(x) (its output `stats`) given dstats = [dmu..., dsigma...].

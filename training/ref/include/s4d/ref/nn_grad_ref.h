@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "s4d/ref/nn_ref.h"
@@ -158,6 +159,75 @@ T squared_error(const std::vector<T>& a, const std::vector<T>& b) {
   T s = 0;
   for (size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
   return s;
+}
+
+// AvgPool2d(3, 1): [c, h - 2, w - 2].
+template <class T>
+Chw<T> avgpool3(const Chw<T>& x) {
+  Chw<T> y(x.c, x.h - 2, x.w - 2);
+  for (uint32_t c = 0; c < x.c; ++c)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px) {
+        T s = 0;
+        for (uint32_t dy = 0; dy < 3; ++dy)
+          for (uint32_t dx = 0; dx < 3; ++dx) s += x.at(c, py + dy, px + dx);
+        y.at(c, py, px) = s / T(9);
+      }
+  return y;
+}
+
+// Adjoint of avgpool3 (dy [c, h - 2, w - 2]).
+template <class T>
+Chw<T> avgpool3_bwd(const Chw<T>& dy) {
+  Chw<T> dx(dy.c, dy.h + 2, dy.w + 2);
+  for (uint32_t c = 0; c < dy.c; ++c)
+    for (uint32_t py = 0; py < dy.h; ++py)
+      for (uint32_t px = 0; px < dy.w; ++px)
+        for (uint32_t a = 0; a < 3; ++a)
+          for (uint32_t b = 0; b < 3; ++b) dx.at(c, py + a, px + b) += dy.at(c, py, px) / T(9);
+  return dx;
+}
+
+// HGST's self-similarity of v >= 0 summed over channels: sum_c mean_i min_j (1 - v_i v_j / S), S the
+// sum of squares of the whole tensor (written as the minimum over j, not in closed form).
+template <class T>
+T selfsim(const Chw<T>& v) {
+  const size_t n = size_t{v.h} * v.w;
+  T s = 0, total = 0;
+  for (const T e : v.v) s += e * e;
+  for (uint32_t c = 0; c < v.c; ++c) {
+    T mean = 0;
+    for (size_t i = 0; i < n; ++i) {
+      T m = std::numeric_limits<T>::infinity();
+      for (size_t j = 0; j < n; ++j) m = std::min(m, T(1) - v.v[c * n + i] * v.v[c * n + j] / s);
+      mean += m / T(n);
+    }
+    total += mean;
+  }
+  return total;
+}
+
+// d selfsim / dv for v >= 0, where min_j (1 - v_i v_j / S) = 1 - v_i max(v) / S.
+template <class T>
+Chw<T> selfsim_bwd(const Chw<T>& v) {
+  const size_t n = size_t{v.h} * v.w;
+  T s = 0, t = 0;
+  for (const T e : v.v) s += e * e;
+  std::vector<T> mean(v.c, T(0)), mx(v.c);
+  std::vector<size_t> arg(v.c, 0);
+  for (uint32_t c = 0; c < v.c; ++c) {
+    mx[c] = v.v[c * n];
+    for (size_t i = 0; i < n; ++i) {
+      mean[c] += v.v[c * n + i] / T(n);
+      if (v.v[c * n + i] > mx[c]) mx[c] = v.v[c * n + i], arg[c] = i;
+    }
+    t += mean[c] * mx[c];
+  }
+  Chw<T> g(v.c, v.h, v.w);
+  for (uint32_t c = 0; c < v.c; ++c)
+    for (size_t i = 0; i < n; ++i)
+      g.v[c * n + i] = -mx[c] / (T(n) * s) - (i == arg[c] ? mean[c] / s : T(0)) + T(2) * t * v.v[c * n + i] / (s * s);
+  return g;
 }
 
 // sum over channels of |x[y, x] - x[y, x + 1]| + |x[y, x] - x[y + 1, x]| (MCCNet's TV term).
