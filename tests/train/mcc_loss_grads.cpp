@@ -2,9 +2,9 @@
 // and MCC parameters, for mcc_loss_reference.py to compare with its PyTorch reference. DIR holds
 // vgg.safetensors, decoder.safetensors, mcc.safetensors (the state-dict names the hgst stylizer
 // reads) and inputs.safetensors ("content", "style", "content_noise": [3, H, W]). Prints one JSON object:
-// {"loss": {"content": .., "style": .., "identity1": .., "identity2": .., "noise": .., "tv": .., "total": ..},
+// {"loss": {"content": .., "style": .., "identity1": .., "identity2": .., "noise": .., "tv": .., "selfsim": .., "total": ..},
 //  "grads": {"decoder.<prefix>.weight": [...], ..., "MCCN.f.bias": [...], ...}}.
-//   mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT_WEIGHT STYLE_WEIGHT IDENTITY1_WEIGHT IDENTITY2_WEIGHT NOISE_WEIGHT TV_WEIGHT mccnet|hgst
+//   mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT_WEIGHT STYLE_WEIGHT IDENTITY1_WEIGHT IDENTITY2_WEIGHT NOISE_WEIGHT TV_WEIGHT SELFSIM_WEIGHT mccnet|hgst
 // (the content and style levels, nn::MccLossLevels).
 #include <cstdio>
 #include <cstdlib>
@@ -35,8 +35,8 @@ nn::Tensor read_image(engine::Context& ctx, const io::SafetensorsFile& file, con
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 14 || (std::string(argv[13]) != "mccnet" && std::string(argv[13]) != "hgst")) {
-    std::fprintf(stderr, "usage: mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT STYLE IDENTITY1 IDENTITY2 NOISE TV mccnet|hgst\n");
+  if (argc != 15 || (std::string(argv[14]) != "mccnet" && std::string(argv[14]) != "hgst")) {
+    std::fprintf(stderr, "usage: mcc_loss_grads DIR W1 W2 W3 W4 W5 CONTENT STYLE IDENTITY1 IDENTITY2 NOISE TV SELFSIM mccnet|hgst\n");
     return 2;
   }
   try {
@@ -45,8 +45,9 @@ int main(int argc, char** argv) {
     for (int l = 0; l < 5; ++l) widths.level[l] = static_cast<uint32_t>(std::atoi(argv[2 + l]));
     const nn::MccLossWeights weights{std::strtof(argv[7], nullptr), std::strtof(argv[8], nullptr),
                                      std::strtof(argv[9], nullptr), std::strtof(argv[10], nullptr),
-                                     std::strtof(argv[11], nullptr), std::strtof(argv[12], nullptr)};
-    const nn::MccLossLevels levels = std::string(argv[13]) == "hgst" ? nn::MccLossLevels::hgst() : nn::MccLossLevels::mccnet();
+                                     std::strtof(argv[11], nullptr), std::strtof(argv[12], nullptr),
+                                     std::strtof(argv[13], nullptr)};
+    const nn::MccLossLevels levels = std::string(argv[14]) == "hgst" ? nn::MccLossLevels::hgst() : nn::MccLossLevels::mccnet();
     engine::Context ctx;  // ContextOptions::from_env(): S4D_VALIDATION, the device choice
     const nn::VggEncoder encoder(ctx, io::SafetensorsFile(dir + "/vgg.safetensors"), 5, widths);
     const nn::VggDecoder decoder(ctx, io::SafetensorsFile(dir + "/decoder.safetensors"), widths);
@@ -61,8 +62,8 @@ int main(int argc, char** argv) {
     ctx.run(std::move(rec));
     const nn::MccLossValues v = record.values(ctx, weights);
     std::printf("{\"loss\": {\"content\": %.9g, \"style\": %.9g, \"identity1\": %.9g, \"identity2\": %.9g, "
-                "\"noise\": %.9g, \"tv\": %.9g, \"total\": %.9g},\n",
-                v.content, v.style, v.identity1, v.identity2, v.noise, v.tv, v.total);
+                "\"noise\": %.9g, \"tv\": %.9g, \"selfsim\": %.9g, \"total\": %.9g},\n",
+                v.content, v.style, v.identity1, v.identity2, v.noise, v.tv, v.selfsim, v.total);
     std::printf("\"grads\": {");
     bool first = true;
     auto print_grads = [&](const std::string& name, const nn::ConvWeights& w, const nn::ConvGrads& g) {

@@ -23,7 +23,7 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"init", "a folder with decoder.safetensors and mcc_module.safetensors to start from (default: random)", true, "DIR"},
       {"steps", "Adam steps, one content/style pair each (default 160000, HGST's)", true, "N"},
       {"resize", "images are resized to N x N first (default 512)", true, "N"},
-      {"crop", "then randomly cropped to N x N, a multiple of 8 (default 256)", true, "N"},
+      {"crop", "then randomly cropped to N x N, a multiple of 8, at least 40 (default 256)", true, "N"},
       {"lr", "Adam's learning rate (default 1e-4)", true, "X"},
       {"seed", "seed of the initialisation, the pairs and the crops (default 0)", true, "N"},
       {"loss-levels", "VGG levels of the content and style terms: hgst (default) or mccnet (docs/stylization.md)", true,

@@ -38,11 +38,11 @@ void MccLossRecord::add(Term term, engine::Buffer partials, double factor) {
 }
 
 MccLossValues MccLossRecord::values(engine::Context& ctx, const MccLossWeights& weights) const {
-  std::array<double, 6> sums{};
+  std::array<double, 7> sums{};
   for (const Part& p : parts_) sums[p.term] += p.factor * squared_error_value(ctx, p.partials);
-  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], sums[tv], 0};
+  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], sums[tv], sums[selfsim], 0};
   v.total = weights.content * v.content + weights.style * v.style + weights.identity1 * v.identity1 +
-            weights.identity2 * v.identity2 + weights.noise * v.noise + weights.tv * v.tv;
+            weights.identity2 * v.identity2 + weights.noise * v.noise + weights.tv * v.tv + weights.selfsim * v.selfsim;
   return v;
 }
 
@@ -64,8 +64,8 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
   if (content_noise.c != content.c || content_noise.h != content.h || content_noise.w != content.w)
     throw std::invalid_argument("mcc loss: the noisy content " + content_noise.shape() + " differs from the content " + content.shape());
   for (const Tensor* t : {&content, &style})
-    if (t->c != 3 || t->h % 8 != 0 || t->w % 8 != 0 || t->h < 32 || t->w < 32)
-      throw std::invalid_argument("mcc loss: images must be [3, H, W] with H, W multiples of 8 and at least 32, got " + t->shape());
+    if (t->c != 3 || t->h % 8 != 0 || t->w % 8 != 0 || t->h < 40 || t->w < 40)
+      throw std::invalid_argument("mcc loss: images must be [3, H, W] with H, W multiples of 8 and at least 40, got " + t->shape());
   MccLossRecord record;
   const std::vector<Tensor> fc = enc.forward_tape(rec, content), fs = enc.forward_tape(rec, style);
   auto level = [&](const std::vector<Tensor>& tape, int l) -> const Tensor& { return tape[enc.level_step(l)]; };
@@ -103,6 +103,12 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
                  squared_error(rec, si, ss, dstats.buffer, 2 * size_t{xi.c}, static_cast<float>(2.0 * weights.style / n)),
                  1.0 / n);
       mean_std_backward(rec, xi, si, dstats.buffer, dlevels[l - 1]);
+    }
+    {
+      const Tensor pooled = avgpool3(rec, level(fi, 5));
+      Tensor dpooled = zero_tensor(rec, "d selfsim", pooled.c, pooled.h, pooled.w);
+      record.add(MccLossRecord::selfsim, selfsim(rec, pooled, dpooled, weights.selfsim), 1.0 / pooled.c);
+      dlevels[4] = add(rec, dlevels[4], avgpool3_backward(rec, dpooled));
     }
     backward_through(rec, net, mcc, dec, add(rec, enc.backward(rec, fi, std::move(dlevels)), d_ics), grads);
     backward_through(rec, net, mcc_n, dec_n, d_ics_n, grads);

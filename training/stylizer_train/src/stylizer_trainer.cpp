@@ -106,7 +106,7 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
 
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& s, const StepFn& on_step) {
   if (s.steps < 1) throw std::invalid_argument("--steps: expected 1 or more, got " + std::to_string(s.steps));
-  if (s.crop < 32 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 32, got " + std::to_string(s.crop));
+  if (s.crop < 40 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 40, got " + std::to_string(s.crop));
   if (s.resize < s.crop) throw std::invalid_argument("--resize " + std::to_string(s.resize) + " is smaller than --crop " + std::to_string(s.crop));
   if (!(s.lr > 0)) throw std::invalid_argument("--lr: expected a positive learning rate");
   const std::vector<io::ImageF> contents = load_all(list_images(s.content_dir, "--content"), s.resize);

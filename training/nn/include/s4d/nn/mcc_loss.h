@@ -8,7 +8,9 @@
 //   identity2 = sum_{l = 1..5} MSE(F_l(Icc), F_l(content)) + MSE(F_l(Iss), F_l(style))
 //   noise     = MSE(Ics_N, Ics), neither side detached (the illumination loss)
 //   tv        = sum |Ics[.., y, x] - Ics[.., y, x + 1]| + |Ics[.., y, x] - Ics[.., y + 1, x]| (a sum)
-// total = the weighted sum. HGST's self-similarity and CCPL terms (ALGORITHMS.md 4.5) are not here yet.
+//   selfsim   = HGST's "Iins" on v = avgpool3(F_5(Ics)): the mean over channels of
+//               mean_i min_j (1 - v_i v_j / |v|^2) (s4d_nn_grad.h)
+// total = the weighted sum. HGST's CCPL term (ALGORITHMS.md 4.5) is not here yet.
 #pragma once
 #include <array>
 #include <vector>
@@ -31,18 +33,18 @@ struct MccLossLevels {
 
 // HGST's weights (ALGORITHMS.md 4.5).
 struct MccLossWeights {
-  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f;
+  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f, selfsim = 1.0f;
 };
 
 // The terms' values, unweighted, and the weighted total.
 struct MccLossValues {
-  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, tv = 0, total = 0;
+  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, tv = 0, selfsim = 0, total = 0;
 };
 
 // Recorded loss terms: partial sums (squared errors, TV) with the factor that turns each into its term.
 class MccLossRecord {
  public:
-  enum Term { content, style, identity1, identity2, noise, tv };
+  enum Term { content, style, identity1, identity2, noise, tv, selfsim };
   void add(Term term, engine::Buffer partials, double factor);
   // After the recording ran.
   MccLossValues values(engine::Context& ctx, const MccLossWeights& weights) const;
@@ -72,7 +74,7 @@ struct MccGrads {
 MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
 
 // Records the loss of one pair of RGB images [3, H, W] in [0, 1] (H, W multiples of 8, at least
-// 32) and adds its gradients to grads. content_noise is the content plus Gaussian noise (MCCNet
+// 40: relu5_1 of 3x3 for the 3x3 pool) and adds its gradients to grads. content_noise is the content plus Gaussian noise (MCCNet
 // and HGST draw sigma ~ U(0.01, 0.02) per step), the same size.
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
                               const Tensor& content_noise, const MccLossLevels& levels, const MccLossWeights& weights,
