@@ -35,9 +35,9 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
                        "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]\n"
                        "    [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
-                       "MCCNet's loss (content, style, identity 1 and 2, noise, TV) at HGST's weights; HGST's other\n"
-                       "terms are not implemented yet (docs/stylization.md, \"Training HGST: status\"). --out is\n"
-                       "then a --weights folder for the hgst and mccnet stylizers.",
+                       "HGST's loss without its CCPL term (content, style, identity 1 and 2, noise, TV,\n"
+                       "self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
+                       "--weights folder for the hgst and mccnet stylizers.",
                        specs);
     return 0;
   }
@@ -67,8 +67,8 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   const auto start = std::chrono::steady_clock::now();
   const auto losses = stylizer_train::train_stylizer(ctx, s, [&](int step, const nn::MccLossValues& l) {
     if (step == 1 || step % 10 == 0 || step == s.steps)
-      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g tv %.4g)\n", step,
-                  l.total, l.content, l.style, l.identity1, l.identity2, l.noise, l.tv);
+      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g tv %.4g selfsim %.4g)\n",
+                  step, l.total, l.content, l.style, l.identity1, l.identity2, l.noise, l.tv, l.selfsim);
   });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "trained " << losses.size() << " steps in " << seconds << " s; weights in " << s.out.string() << "\n";

@@ -1,4 +1,4 @@
-// MCCNet's training loss (diyiiyiii/MCCNet net.py; ALGORITHMS.md 4.5 lists HGST's additions) for
+// The MCCNet/HGST training loss (diyiiyiii/MCCNet net.py and HGST, ALGORITHMS.md 4.5) for
 // one content/style pair, forward and backward on the GPU: with F_l = relu<l>_1 of the fixed VGG
 // encoder, Ics = Dec(MCC(Fc_4, Fs_4)), Icc = Dec(MCC(Fc_4, Fc_4)), Iss = Dec(MCC(Fs_4, Fs_4)),
 // Ics_N = Dec(MCC(F_4(content + noise), Fs_4)) and MSE the mean squared error,

@@ -1,9 +1,9 @@
 // Trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (ALGORITHMS.md 4.5):
 // each step one random (content, style) pair, both resized to resize x resize (aspect not kept, as
-// HGST) and randomly cropped to crop x crop, the MCCNet loss (s4d/nn/mcc_loss.h) and its
+// HGST) and randomly cropped to crop x crop, the loss of s4d/nn/mcc_loss.h and its
 // gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
 // weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
-// .safetensors). HGST's batch of 4, self-similarity and CCPL terms are not here yet.
+// .safetensors). HGST's batch of 4 and CCPL term are not here yet.
 #pragma once
 #include <cstdint>
 #include <filesystem>
