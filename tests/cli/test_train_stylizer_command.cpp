@@ -40,7 +40,7 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
   const std::string common = "--content " + (dir / "content").string() + " --styles " + (dir / "styles").string() +
                              " --vgg " + (dir / "vgg.safetensors").string();
   const auto log = dir / "log.txt";
-  REQUIRE(test::run_style4d("train-stylizer", common + " --out " + (dir / "w").string() + " --steps 3 --resize 48 --crop 40", log) == 0);
+  REQUIRE(test::run_style4d("train-stylizer", common + " --out " + (dir / "w").string() + " --steps 3 --save-every 2 --resize 48 --crop 40", log) == 0);
   const std::string text = test::read_text(log);
   CHECK(text.find("step 3 loss") != std::string::npos);
   CHECK(text.find("trained 3 steps") != std::string::npos);
@@ -49,6 +49,8 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
 
   CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --crop 36", log) != 0);
   CHECK(test::read_text(log).find("--crop: expected a multiple of 8") != std::string::npos);
+  CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --save-every 0", log) != 0);
+  CHECK(test::read_text(log).find("--save-every: expected 1 or more") != std::string::npos);
   CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --lr fast", log) != 0);
   CHECK(test::read_text(log).find("--lr: expected a number, got 'fast'") != std::string::npos);
   CHECK(test::run_style4d("train-stylizer", "--content " + (dir / "styles" / "b.png").string() + " --styles " +

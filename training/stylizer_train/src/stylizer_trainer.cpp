@@ -106,6 +106,7 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
 
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& s, const StepFn& on_step) {
   if (s.steps < 1) throw std::invalid_argument("--steps: expected 1 or more, got " + std::to_string(s.steps));
+  if (s.save_every < 1) throw std::invalid_argument("--save-every: expected 1 or more, got " + std::to_string(s.save_every));
   if (s.crop < 40 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 40, got " + std::to_string(s.crop));
   if (s.resize < s.crop) throw std::invalid_argument("--resize " + std::to_string(s.resize) + " is smaller than --crop " + std::to_string(s.crop));
   if (!(s.lr > 0)) throw std::invalid_argument("--lr: expected a positive learning rate");
@@ -141,6 +142,12 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
       }
     ctx.run(std::move(rec));
   }
+  std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
+  for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
+  auto save_weights = [&] {
+    save(ctx, s.out / "decoder.safetensors", decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
+    save(ctx, s.out / "mcc_module.safetensors", mcc_params, {false, false, false, true});
+  };
   optim::Adam adam(ctx, 1, "stylizer adam");
   std::mt19937_64 rng(s.seed);
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
@@ -171,11 +178,8 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     if (!std::isfinite(losses.back().total))
       throw std::runtime_error("train-stylizer: the loss is not finite at step " + std::to_string(step));
     if (on_step) on_step(step, losses.back());
+    if (step % s.save_every == 0 || step == s.steps) save_weights();
   }
-  std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
-  for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
-  save(ctx, s.out / "decoder.safetensors", decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
-  save(ctx, s.out / "mcc_module.safetensors", mcc_params, {false, false, false, true});
   return losses;
 }
 

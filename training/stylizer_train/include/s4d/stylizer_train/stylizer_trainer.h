@@ -21,6 +21,7 @@ struct StylizerTrainSettings {
   std::filesystem::path init;                     // a folder with decoder and mcc_module .safetensors; empty: random
   std::filesystem::path out;                      // the weights folder written
   int steps = 160000;
+  int save_every = 10000;  // the weights are written every this many steps and at the end (HGST's)
   int resize = 512, crop = 256;  // HGST's
   double lr = 1e-4;              // Adam, HGST's
   uint64_t seed = 0;
