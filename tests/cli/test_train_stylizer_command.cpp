@@ -40,7 +40,7 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
   const std::string common = "--content " + (dir / "content").string() + " --styles " + (dir / "styles").string() +
                              " --vgg " + (dir / "vgg.safetensors").string();
   const auto log = dir / "log.txt";
-  REQUIRE(test::run_style4d("train-stylizer", common + " --out " + (dir / "w").string() + " --steps 3 --save-every 2 --resize 48 --crop 40", log) == 0);
+  REQUIRE(test::run_style4d("train-stylizer", common + " --out " + (dir / "w").string() + " --steps 3 --batch 2 --save-every 2 --resize 48 --crop 40", log) == 0);
   const std::string text = test::read_text(log);
   CHECK(text.find("step 3 loss") != std::string::npos);
   CHECK(text.find("trained 3 steps") != std::string::npos);

@@ -1,7 +1,7 @@
 // style4d train-stylizer --content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]
-// [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]: trains
-// the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (s4d_stylizer_train) and
-// writes a weights folder for --stylizer hgst.
+// [--batch N] [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]:
+// trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (s4d_stylizer_train)
+// and writes a weights folder for --stylizer hgst.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -22,6 +22,7 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"out", "the weights folder written: decoder, mcc_module and vgg_normalised .safetensors", true, "DIR"},
       {"init", "a folder with decoder.safetensors and mcc_module.safetensors to start from (default: random)", true, "DIR"},
       {"steps", "Adam steps, one content/style pair each (default 160000, HGST's)", true, "N"},
+      {"batch", "content/style pairs per Adam step (default 4, HGST's)", true, "N"},
       {"save-every", "write the weights every N steps and at the end (default 10000, HGST's)", true, "N"},
       {"resize", "images are resized to N x N first (default 512)", true, "N"},
       {"crop", "then randomly cropped to N x N, a multiple of 8, at least 40 (default 256)", true, "N"},
@@ -33,8 +34,8 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("train-stylizer",
-                       "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N] [--save-every N]\n"
-                       "    [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]",
+                       "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N] [--batch N]\n"
+                       "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
                        "HGST's loss without its CCPL term (content, style, identity 1 and 2, noise, TV,\n"
                        "self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
@@ -50,6 +51,7 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   s.out = args.require("out");
   s.init = args.get_or("init", "");
   s.steps = parse_number<int>("steps", args.get_or("steps", "160000"));
+  s.batch = parse_number<int>("batch", args.get_or("batch", "4"));
   s.save_every = parse_number<int>("save-every", args.get_or("save-every", "10000"));
   s.resize = parse_number<int>("resize", args.get_or("resize", "512"));
   s.crop = parse_number<int>("crop", args.get_or("crop", "256"));

@@ -106,6 +106,7 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
 
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& s, const StepFn& on_step) {
   if (s.steps < 1) throw std::invalid_argument("--steps: expected 1 or more, got " + std::to_string(s.steps));
+  if (s.batch < 1) throw std::invalid_argument("--batch: expected 1 or more, got " + std::to_string(s.batch));
   if (s.save_every < 1) throw std::invalid_argument("--save-every: expected 1 or more, got " + std::to_string(s.save_every));
   if (s.crop < 40 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 40, got " + std::to_string(s.crop));
   if (s.resize < s.crop) throw std::invalid_argument("--resize " + std::to_string(s.resize) + " is smaller than --crop " + std::to_string(s.crop));
@@ -152,29 +153,51 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   std::mt19937_64 rng(s.seed);
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
   std::vector<nn::MccLossValues> losses;
+  // A batch's loss is the mean over its pairs of every term but TV, which HGST sums.
+  nn::MccLossWeights per_pair = s.weights;
+  for (float* w : {&per_pair.content, &per_pair.style, &per_pair.identity1, &per_pair.identity2, &per_pair.noise,
+                   &per_pair.selfsim})
+    *w /= static_cast<float>(s.batch);
+  const auto crop = static_cast<uint32_t>(s.crop);
   for (int step = 1; step <= s.steps; ++step) {
-    const std::vector<float> c = sample(contents[pick_content(rng)], s.crop, rng);
-    const std::vector<float> st = sample(styles[pick_style(rng)], s.crop, rng);
-    // MCCNet's and HGST's noise: sigma ~ U(0.01, 0.02), then N(0, sigma^2) per value, not clamped.
-    std::vector<float> noisy = c;
+    nn::MccGrads grads;
+    {
+      engine::Recorder rec(ctx, "stylizer gradients");
+      grads = nn::zero_mcc_grads(rec, net);
+      ctx.run(std::move(rec));
+    }
+    // MCCNet's and HGST's noise: sigma ~ U(0.01, 0.02) per batch, then N(0, sigma^2) per value, not clamped.
     std::normal_distribution<float> noise(0.0f, std::uniform_real_distribution<float>(0.01f, 0.02f)(rng));
-    for (float& v : noisy) v += noise(rng);
-    const nn::Tensor content = nn::upload_tensor(ctx, "content", 3, uint32_t(s.crop), uint32_t(s.crop), c);
-    const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, uint32_t(s.crop), uint32_t(s.crop), noisy);
-    const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, uint32_t(s.crop), uint32_t(s.crop), st);
-    engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
-    nn::MccGrads grads = nn::zero_mcc_grads(rec, net);
-    const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.levels, s.weights, grads);
+    nn::MccLossValues step_loss;
+    for (int b = 0; b < s.batch; ++b) {  // one submission per pair: the tapes of one pair at a time
+      const std::vector<float> c = sample(contents[pick_content(rng)], s.crop, rng);
+      const std::vector<float> st = sample(styles[pick_style(rng)], s.crop, rng);
+      std::vector<float> noisy = c;
+      for (float& v : noisy) v += noise(rng);
+      const nn::Tensor content = nn::upload_tensor(ctx, "content", 3, crop, crop, c);
+      const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, crop, crop, noisy);
+      const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, crop, crop, st);
+      engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
+      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.levels, per_pair, grads);
+      ctx.run(std::move(rec));
+      const nn::MccLossValues v = record.values(ctx, per_pair);
+      const double share = 1.0 / s.batch;  // the terms' means over the batch, the batch's total
+      step_loss.content += share * v.content, step_loss.style += share * v.style;
+      step_loss.identity1 += share * v.identity1, step_loss.identity2 += share * v.identity2;
+      step_loss.noise += share * v.noise, step_loss.tv += share * v.tv, step_loss.selfsim += share * v.selfsim;
+      step_loss.total += v.total;
+    }
     std::vector<const engine::Buffer*> g;
     for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
     for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});
     adam.set_group(0, {.lr = s.lr, .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
     adam.upload();
+    engine::Recorder rec(ctx, "stylizer adam " + std::to_string(step));
     for (size_t i = 0; i < params.size(); ++i)
       adam.record(rec, 0, *params[i], *g[i], moments[2 * i], moments[2 * i + 1],
                   static_cast<uint32_t>(params[i]->size() / sizeof(float)));
     ctx.run(std::move(rec));
-    losses.push_back(record.values(ctx, s.weights));
+    losses.push_back(step_loss);
     if (!std::isfinite(losses.back().total))
       throw std::runtime_error("train-stylizer: the loss is not finite at step " + std::to_string(step));
     if (on_step) on_step(step, losses.back());

@@ -1,9 +1,9 @@
 // Trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (ALGORITHMS.md 4.5):
-// each step one random (content, style) pair, both resized to resize x resize (aspect not kept, as
-// HGST) and randomly cropped to crop x crop, the loss of s4d/nn/mcc_loss.h and its
+// each step a batch of random (content, style) pairs, each image resized to resize x resize (aspect
+// not kept, as HGST) and randomly cropped to crop x crop, the loss of s4d/nn/mcc_loss.h and its
 // gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
 // weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
-// .safetensors). HGST's batch of 4 and CCPL term are not here yet.
+// .safetensors). HGST's CCPL term is not here yet.
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -21,6 +21,7 @@ struct StylizerTrainSettings {
   std::filesystem::path init;                     // a folder with decoder and mcc_module .safetensors; empty: random
   std::filesystem::path out;                      // the weights folder written
   int steps = 160000;
+  int batch = 4;  // pairs per step (HGST's); the loss is their mean, TV their sum
   int save_every = 10000;  // the weights are written every this many steps and at the end (HGST's)
   int resize = 512, crop = 256;  // HGST's
   double lr = 1e-4;              // Adam, HGST's
@@ -32,7 +33,8 @@ struct StylizerTrainSettings {
 // One step's loss values.
 using StepFn = std::function<void(int step, const nn::MccLossValues& loss)>;
 
-// Runs the training and writes settings.out; returns the loss of every step. Throws
+// Runs the training and writes settings.out; returns every step's loss (the terms' means over the
+// batch, the batch's total). Throws
 // std::invalid_argument naming the setting or file that is wrong.
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& settings,
                                               const StepFn& on_step = {});
