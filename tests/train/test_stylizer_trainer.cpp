@@ -74,3 +74,10 @@ TEST_CASE("a few dozen train-stylizer steps lower the MCCNet loss and write weig
   CHECK(out[0].width == 40);
   for (const float v : out[0].data) REQUIRE(std::isfinite(v));
 }
+
+TEST_CASE("HGST's learning rate steps down every 2000 iterations") {
+  CHECK(stylizer_train::hgst_learning_rate(1e-4, 1) == 1e-4);
+  CHECK(stylizer_train::hgst_learning_rate(1e-4, 1999) == 1e-4);
+  CHECK(stylizer_train::hgst_learning_rate(1e-4, 2000) == doctest::Approx(1e-4 / (1 + 5e-5)).epsilon(1e-12));
+  CHECK(stylizer_train::hgst_learning_rate(1e-4, 160000) == doctest::Approx(1e-4 / 1.004).epsilon(1e-12));
+}

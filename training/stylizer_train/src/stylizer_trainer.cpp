@@ -104,6 +104,8 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
 
 }  // namespace
 
+double hgst_learning_rate(double lr, int step) { return lr / (1.0 + 5e-5 * static_cast<double>(step / 2000)); }
+
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& s, const StepFn& on_step) {
   if (s.steps < 1) throw std::invalid_argument("--steps: expected 1 or more, got " + std::to_string(s.steps));
   if (s.batch < 1) throw std::invalid_argument("--batch: expected 1 or more, got " + std::to_string(s.batch));
@@ -190,7 +192,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     std::vector<const engine::Buffer*> g;
     for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
     for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});
-    adam.set_group(0, {.lr = s.lr, .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
+    adam.set_group(0, {.lr = hgst_learning_rate(s.lr, step), .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
     adam.upload();
     engine::Recorder rec(ctx, "stylizer adam " + std::to_string(step));
     for (size_t i = 0; i < params.size(); ++i)

@@ -24,11 +24,15 @@ struct StylizerTrainSettings {
   int batch = 4;  // pairs per step (HGST's); the loss is their mean, TV their sum
   int save_every = 10000;  // the weights are written every this many steps and at the end (HGST's)
   int resize = 512, crop = 256;  // HGST's
-  double lr = 1e-4;              // Adam, HGST's
+  double lr = 1e-4;              // Adam, HGST's, decayed by hgst_learning_rate
   uint64_t seed = 0;
   nn::MccLossLevels levels = nn::MccLossLevels::hgst();
   nn::MccLossWeights weights;
 };
+
+// HGST's learning rate at a 1-based step: lr / (1 + 5e-5 floor(step / 2000)) (train_new.py's
+// adjust_learning_rate, run every 2000 iterations; about 0.996 lr after 160,000 steps).
+double hgst_learning_rate(double lr, int step);
 
 // One step's loss values.
 using StepFn = std::function<void(int step, const nn::MccLossValues& loss)>;
