@@ -16,6 +16,7 @@
 #include "s4d_flow.h"
 #include "s4d_loss.h"
 #include "s4d_nn.h"
+#include "s4d_nn_grad.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
@@ -54,6 +55,8 @@ static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(
 static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
+static_assert(sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
+static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16 && sizeof(NnTvL1Params) == 16 && sizeof(NnSelfsimParams) == 16);
 static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
@@ -179,6 +182,12 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnAttnParams, S4D_MEMBER(NnAttnParams, channels), S4D_MEMBER(NnAttnParams, n_c),
                  S4D_MEMBER(NnAttnParams, n_s), S4D_MEMBER(NnAttnParams, first), S4D_MEMBER(NnAttnParams, chunk),
                  S4D_MEMBER(NnAttnParams, _pad0), S4D_MEMBER(NnAttnParams, _pad1), S4D_MEMBER(NnAttnParams, _pad2)),
+      S4D_STRUCT(NnWgradParams, S4D_MEMBER(NnWgradParams, cin), S4D_MEMBER(NnWgradParams, cout), S4D_MEMBER(NnWgradParams, height), S4D_MEMBER(NnWgradParams, width), S4D_MEMBER(NnWgradParams, chunk_rows), S4D_MEMBER(NnWgradParams, chunks), S4D_MEMBER(NnWgradParams, slots), S4D_MEMBER(NnWgradParams, invocations)),
+      S4D_STRUCT(NnWgradReduceParams, S4D_MEMBER(NnWgradReduceParams, slots), S4D_MEMBER(NnWgradReduceParams, weights), S4D_MEMBER(NnWgradReduceParams, chunks), S4D_MEMBER(NnWgradReduceParams, flags)),
+      S4D_STRUCT(NnStatsBwdParams, S4D_MEMBER(NnStatsBwdParams, channels), S4D_MEMBER(NnStatsBwdParams, count), S4D_MEMBER(NnStatsBwdParams, mode), S4D_MEMBER(NnStatsBwdParams, _pad0)),
+      S4D_STRUCT(NnMseParams, S4D_MEMBER(NnMseParams, n), S4D_MEMBER(NnMseParams, scale), S4D_MEMBER(NnMseParams, _pad0), S4D_MEMBER(NnMseParams, _pad1)),
+      S4D_STRUCT(NnTvL1Params, S4D_MEMBER(NnTvL1Params, channels), S4D_MEMBER(NnTvL1Params, height), S4D_MEMBER(NnTvL1Params, width), S4D_MEMBER(NnTvL1Params, weight)),
+      S4D_STRUCT(NnSelfsimParams, S4D_MEMBER(NnSelfsimParams, channels), S4D_MEMBER(NnSelfsimParams, count), S4D_MEMBER(NnSelfsimParams, weight), S4D_MEMBER(NnSelfsimParams, _pad0)),
       S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
                  S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
                  S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),

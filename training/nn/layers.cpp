@@ -4,6 +4,7 @@
 
 #include "s4d/engine/buffer_from.h"
 #include "s4d/primitives/shader_pipeline.h"
+#include "layer_checks.h"
 #include "s4d_nn.h"
 
 namespace s4d::nn {
@@ -12,17 +13,8 @@ namespace {
 
 using primitives::ceil_div;
 using primitives::shader_pipeline;
-
-[[noreturn]] void fail(const std::string& layer, const std::string& what) {
-  throw std::invalid_argument(layer + ": " + what);
-}
-
-void check_loop(const std::string& layer, uint64_t iterations, const std::string& what) {
-  // llvmpipe silently ends invocations past 65,535 loop iterations (s4d_nn.h).
-  if (iterations > S4D_NN_MAX_LOOP)
-    fail(layer, what + " needs " + std::to_string(iterations) + " loop iterations per invocation, over the " +
-                    std::to_string(S4D_NN_MAX_LOOP) + " the kernels allow");
-}
+using detail::check_loop;
+using detail::fail;
 
 void check_stats_input(const std::string& layer, const Tensor& x) {
   if (x.plane() < 2) fail(layer, "needs at least 2 values per channel, got " + x.shape());
@@ -189,6 +181,11 @@ void relu_inplace(engine::Recorder& rec, Tensor& x) {
 
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, (x.h + 1) / 2, (x.w + 1) / 2, "maxpool");
+}
+
+Tensor avgpool3(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 3 || x.w < 3) fail("avgpool3", "needs H, W >= 3, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_avgpool3, x.h - 2, x.w - 2, "avgpool3");
 }
 
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {

@@ -51,6 +51,8 @@ void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeight
 void relu_inplace(engine::Recorder& rec, Tensor& x);
 // MaxPool2d(2, 2, ceil_mode=True): [c, ceil(h/2), ceil(w/2)].
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
+// AvgPool2d(3, 1) (no padding): [c, h - 2, w - 2]; needs H, W >= 3.
+Tensor avgpool3(engine::Recorder& rec, const Tensor& x);
 // MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
 // AvgPool2d(2) (floor mode, CLIP's ModifiedResNet): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
