@@ -37,7 +37,7 @@ static_assert(sizeof(RadixParams) == 16 && sizeof(RadixParams) <= S4D_MAX_PUSH_C
 static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
-static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
+static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 64);
 static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(AddParams) == 16 && sizeof(MaskParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -54,7 +54,7 @@ static_assert(sizeof(NnConvParams) == 32 && sizeof(NnEltParams) == 16 && sizeof(
 static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
-static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(RasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
 // kernels read them as 13 vec4s), and the quadric is whole vec4s with room for Q and b.
@@ -65,7 +65,7 @@ static_assert(S4D_STYLE_MLP_W1 == 0 && S4D_STYLE_MLP_B1 == S4D_STYLE_MLP_W1 + 8 
 static_assert(S4D_STYLE_MLP_STRIDE == 4 * S4D_STYLE_MLP_VEC4S);
 static_assert(S4D_STYLE_QUADRIC_B == S4D_STYLE_QUADRIC_Q + 6 && S4D_STYLE_QUADRIC_B + 3 <= S4D_STYLE_QUADRIC_STRIDE &&
               S4D_STYLE_QUADRIC_STRIDE % 4 == 0);
-// A style batch in shared memory (style_batch.glsl: id, xy, conic/opacity, colour/depth, quadric,
+// A style batch in shared memory (raster_batch.glsl: id, xy, conic/opacity, colour/depth, quadric,
 // MLP, plus a counter) fits lavapipe's 32 KiB.
 static_assert(S4D_STYLE_BATCH * (4 + 8 + 16 + 16 + 4 * S4D_STYLE_QUADRIC_STRIDE + 4 * S4D_STYLE_MLP_STRIDE) + 64 <=
               32768);
@@ -99,8 +99,9 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(BinningParams, S4D_MEMBER(BinningParams, n), S4D_MEMBER(BinningParams, tiles_x),
                  S4D_MEMBER(BinningParams, _pad0), S4D_MEMBER(BinningParams, _pad1)),
       S4D_STRUCT(RasterParams, S4D_MEMBER(RasterParams, size), S4D_MEMBER(RasterParams, background),
-                 S4D_MEMBER(RasterParams, flags), S4D_MEMBER(RasterParams, _pad0), S4D_MEMBER(RasterParams, _pad1),
-                 S4D_MEMBER(RasterParams, _pad2)),
+                 S4D_MEMBER(RasterParams, intrinsics), S4D_MEMBER(RasterParams, flags),
+                 S4D_MEMBER(RasterParams, depth_mode), S4D_MEMBER(RasterParams, time),
+                 S4D_MEMBER(RasterParams, depth_scale)),
       S4D_STRUCT(LossParams, S4D_MEMBER(LossParams, width), S4D_MEMBER(LossParams, height),
                  S4D_MEMBER(LossParams, channels), S4D_MEMBER(LossParams, n), S4D_MEMBER(LossParams, ssim_weight),
                  S4D_MEMBER(LossParams, inv_count), S4D_MEMBER(LossParams, mode), S4D_MEMBER(LossParams, _pad0)),
@@ -179,10 +180,6 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnAttnParams, S4D_MEMBER(NnAttnParams, channels), S4D_MEMBER(NnAttnParams, n_c),
                  S4D_MEMBER(NnAttnParams, n_s), S4D_MEMBER(NnAttnParams, first), S4D_MEMBER(NnAttnParams, chunk),
                  S4D_MEMBER(NnAttnParams, _pad0), S4D_MEMBER(NnAttnParams, _pad1), S4D_MEMBER(NnAttnParams, _pad2)),
-      S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
-                 S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
-                 S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),
-                 S4D_MEMBER(StyleRasterParams, depth_scale)),
   };
 }
 
