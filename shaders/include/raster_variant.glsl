@@ -12,6 +12,10 @@
 #if S4D_STYLE
 #define S4D_RASTER_BATCH S4D_STYLE_BATCH
 #define S4D_RASTER_UNROLL S4D_STYLE_UNROLL
+#define S4D_RASTER_MARK_UNROLL S4D_STYLE_MARK_UNROLL
+#if S4D_RASTER_MARK_UNROLL != 8
+#error "the marking loops call their step 8 times per iteration"
+#endif
 #else
 #define S4D_RASTER_BATCH S4D_TILE_PIXELS
 #define S4D_RASTER_UNROLL S4D_BLEND_UNROLL

@@ -30,17 +30,48 @@ void blend(uint j, uint batch, uint position0) {
   last = position0 + j + 1u;
 }
 
+#if S4D_STYLE
+#include "raster_walk.glsl"
+
+// Marks slot j of `todo` when a pixel of this subgroup that still blends may meet it.
+void blend_mark(uint j, uint batch, inout uvec2 todo) {
+  if (j >= batch) return;  // uniform: every invocation has the same batch
+  raster_walk_mark(todo, j, !done && !pair_bound(j).b.skip);
+}
+
+// Blends the next marked slot, if any, and unmarks it.
+void blend_next(inout uvec2 todo, uint batch, uint position0) {
+  if (todo == uvec2(0u)) return;
+  blend(raster_walk_pop(todo), batch, position0);
+}
+
+// Blends a loaded batch in two passes (raster_walk.glsl): which slots meet a pixel of this subgroup
+// (the cheap bound, S4D_RASTER_MARK_UNROLL per iteration), then only those, in list order,
+// S4D_RASTER_UNROLL per iteration. Loops only, written out (llvmpipe's loop-iteration cap, see
+// s4d_style_splat.h).
+void blend_batch(uint batch, uint position0) {
+  uvec2 todo = uvec2(0u);
+  for (uint j = 0u; j < batch; j += S4D_RASTER_MARK_UNROLL) {
+    blend_mark(j, batch, todo), blend_mark(j + 1u, batch, todo), blend_mark(j + 2u, batch, todo);
+    blend_mark(j + 3u, batch, todo), blend_mark(j + 4u, batch, todo), blend_mark(j + 5u, batch, todo);
+    blend_mark(j + 6u, batch, todo), blend_mark(j + 7u, batch, todo);
+  }
+  while (!done && todo != uvec2(0u)) {
+    blend_next(todo, batch, position0), blend_next(todo, batch, position0);
+    blend_next(todo, batch, position0), blend_next(todo, batch, position0);
+  }
+}
+#else
 // Blends a loaded batch, S4D_RASTER_UNROLL entries per loop iteration written out without a loop
-// (llvmpipe's loop-iteration cap, see s4d_splat.h and s4d_style_splat.h).
+// (llvmpipe's loop-iteration cap, see s4d_splat.h).
 void blend_batch(uint batch, uint position0) {
   for (uint j = 0u; !done && j < batch; j += S4D_RASTER_UNROLL) {
     blend(j, batch, position0), blend(j + 1u, batch, position0);
     blend(j + 2u, batch, position0), blend(j + 3u, batch, position0);
-#if S4D_RASTER_UNROLL == 8
     blend(j + 4u, batch, position0), blend(j + 5u, batch, position0);
     blend(j + 6u, batch, position0), blend(j + 7u, batch, position0);
-#endif
   }
 }
+#endif
 
 #endif  // SPLAT_BLEND_GLSL

@@ -45,6 +45,7 @@
 // loop per atomic, 62 per entry (52 weights + 10 grad2d): 18 + 64 * 62 per batch, 16 batches =
 // 1024 entries, kept at 900 for ~9,400 iterations of contended retries.
 #define S4D_STYLE_UNROLL 4
+#define S4D_STYLE_MARK_UNROLL 8
 #define S4D_LLVMPIPE_MAX_STYLE_LIST 232000u
 #define S4D_LLVMPIPE_MAX_STYLE_LIST_CAS 900u
 

@@ -174,6 +174,22 @@ void accumulate(uint j, uint batch, uint end) {
 #endif
 }
 
+#if S4D_STYLE
+#include "raster_walk.glsl"
+
+// Marks slot j of `todo` when it may meet a pixel of this subgroup in front of its last contributor.
+void accumulate_mark(uint j, uint batch, uint end, inout uvec2 todo) {
+  if (j >= batch) return;  // uniform: every invocation has the same batch
+  raster_walk_mark(todo, j, end - 1u - j < last && !pair_bound(j).b.skip);
+}
+
+// Accumulates the next marked slot, if any, and unmarks it.
+void accumulate_next(inout uvec2 todo, uint batch, uint end) {
+  if (todo == uvec2(0u)) return;  // uniform: the same todo in the whole subgroup
+  accumulate(raster_walk_pop(todo), batch, end);
+}
+#endif
+
 void main() {
   uint tile = flat_group_id();
   if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: barriers stay uniform
@@ -208,13 +224,27 @@ void main() {
     raster_load_batch(lid, range_begin + end - 1u, true, batch);  // slot j: list position end - 1 - j
     barrier();
     // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
-    for (uint j = end - min(end, subgroup_last); j < batch; j += S4D_RASTER_UNROLL) {
+    uint first = end - min(end, subgroup_last);
+#if S4D_STYLE
+    // The compacted walk (raster_walk.glsl): mark the slots a pixel of this subgroup meets, visit those.
+    uvec2 todo = uvec2(0u);
+    for (uint j = first; j < batch; j += S4D_RASTER_MARK_UNROLL) {
+      accumulate_mark(j, batch, end, todo), accumulate_mark(j + 1u, batch, end, todo);
+      accumulate_mark(j + 2u, batch, end, todo), accumulate_mark(j + 3u, batch, end, todo);
+      accumulate_mark(j + 4u, batch, end, todo), accumulate_mark(j + 5u, batch, end, todo);
+      accumulate_mark(j + 6u, batch, end, todo), accumulate_mark(j + 7u, batch, end, todo);
+    }
+    while (todo != uvec2(0u)) {
+      accumulate_next(todo, batch, end), accumulate_next(todo, batch, end);
+      accumulate_next(todo, batch, end), accumulate_next(todo, batch, end);
+    }
+#else
+    for (uint j = first; j < batch; j += S4D_RASTER_UNROLL) {
       accumulate(j, batch, end), accumulate(j + 1u, batch, end);
       accumulate(j + 2u, batch, end), accumulate(j + 3u, batch, end);
-#if S4D_RASTER_UNROLL == 8
       accumulate(j + 4u, batch, end), accumulate(j + 5u, batch, end);
       accumulate(j + 6u, batch, end), accumulate(j + 7u, batch, end);
-#endif
     }
+#endif
   }
 }

@@ -6,6 +6,9 @@
 // (ALGORITHMS.md 4.3); its outputs are the plain ones, so raster_bwd and project_bwd read them alike.
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#if S4D_STYLE
+#extension GL_KHR_shader_subgroup_vote : require  // raster_walk.glsl
+#endif
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
 
