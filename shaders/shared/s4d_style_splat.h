@@ -36,17 +36,18 @@
 // List entries per shared-memory batch. A batch holds 13 MLP vec4s, 3 quadric vec4s and the plain
 // rasterizer's 10 floats (+ id) per entry: 64 entries take 19 KiB of lavapipe's 32 KiB.
 #define S4D_STYLE_BATCH 64
-// The style blend loops visit S4D_STYLE_UNROLL entries per iteration, written out (the plain
-// rasterizer's S4D_BLEND_UNROLL pattern, s4d_splat.h). Each copy inlines the MLP (and its backward
-// and 62 atomics), so 4 rather than 8: on lavapipe the kernels then compile in ~9 s instead of ~22 s
-// cold (Mesa caches them). llvmpipe counts a loop's final, exiting condition check as an iteration
-// too, so a batch costs 1 + (64 / 4 + 1) = 18 of its 65535 and 3640 batches = 232,960 entries fit
-// (measured: 232,000 render whole, 233,500 lose the end). The compare-and-swap backward adds one
-// loop per atomic, 62 per entry (52 weights + 10 grad2d): 18 + 64 * 62 per batch, 16 batches =
-// 1024 entries, kept at 900 for ~9,400 iterations of contended retries.
+// The style kernels walk a batch in two loops (raster_walk.glsl): S4D_STYLE_MARK_UNROLL slots per
+// iteration test the cheap bound, then S4D_STYLE_UNROLL marked slots per iteration run the MLP, both
+// written out (the plain rasterizer's S4D_BLEND_UNROLL pattern, s4d_splat.h). Each visit inlines the
+// MLP (and its backward and 62 atomics), so 4 rather than 8: on lavapipe the kernels then compile in
+// ~9 s instead of ~22 s cold (Mesa caches them). llvmpipe counts a loop's final, exiting condition
+// check as an iteration too, so a batch costs at most 1 + (64 / 8 + 1) + (64 / 4 + 1) = 27 of its
+// 65535 and 2427 batches = 155,328 entries fit. The compare-and-swap backward adds one loop per
+// atomic, 62 per entry (52 weights + 10 grad2d): 27 + 64 * 62 per batch, 16 batches = 1024 entries,
+// kept at 900 for ~9,000 iterations of contended retries.
 #define S4D_STYLE_UNROLL 4
 #define S4D_STYLE_MARK_UNROLL 8
-#define S4D_LLVMPIPE_MAX_STYLE_LIST 232000u
+#define S4D_LLVMPIPE_MAX_STYLE_LIST 155000u
 #define S4D_LLVMPIPE_MAX_STYLE_LIST_CAS 900u
 
 // Binding ids of style_quadric.

@@ -69,15 +69,13 @@ static_assert(S4D_STYLE_QUADRIC_B == S4D_STYLE_QUADRIC_Q + 6 && S4D_STYLE_QUADRI
 // MLP, plus a counter) fits lavapipe's 32 KiB.
 static_assert(S4D_STYLE_BATCH * (4 + 8 + 16 + 16 + 4 * S4D_STYLE_QUADRIC_STRIDE + 4 * S4D_STYLE_MLP_STRIDE) + 64 <=
               32768);
-// llvmpipe's loop cap, counting each loop's exiting check: 1 + (64 / S4D_STYLE_UNROLL + 1) loop
-// iterations per batch forward and backward, plus one compare-and-swap loop per atomic (62 per
-// entry) on the fallback path.
-static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
-                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) <=
-              65535);
-static_assert(1 +
-                  (S4D_LLVMPIPE_MAX_STYLE_LIST_CAS + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
-                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) +
+// llvmpipe's loop cap, counting each loop's exiting check: 1 + (64 / S4D_STYLE_MARK_UNROLL + 1) +
+// (64 / S4D_STYLE_UNROLL + 1) loop iterations per batch at most, forward and backward (the marking
+// loop and the walk over the marked slots, raster_walk.glsl), plus one compare-and-swap loop per
+// atomic (62 per entry) on the fallback path.
+constexpr long kStyleBatchLoops = 3 + S4D_STYLE_BATCH / S4D_STYLE_MARK_UNROLL + S4D_STYLE_BATCH / S4D_STYLE_UNROLL;
+static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH * kStyleBatchLoops <= 65535);
+static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST_CAS + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH * kStyleBatchLoops +
                   S4D_LLVMPIPE_MAX_STYLE_LIST_CAS * (S4D_STYLE_MLP_STRIDE + S4D_G2D_STRIDE) <=
               65535);
 
