@@ -67,14 +67,13 @@ struct PairSample {
 #endif
 };
 
-// The pair's sample when it is cheap (plain), else a bound that skips no pair the full sample keeps
-// (style). Where b.skip is false, pair_finish() completes it.
+// A cheap bound on the pair's sample: it skips no pair that pair_sample() keeps. Plain: the sample
+// itself. Style: the sample with opacity o + 0.5, without the MLP; dO < 0.5 and float rounding is
+// monotone, so (o + 0.5) G < 1/255 implies o' G < 1/255 (and power > 0 is the same test).
 PairSample pair_bound(uint j) {
   PairSample s;
   vec4 co = s_conic_opacity[j];
 #if S4D_STYLE
-  // dO < 0.5 and float rounding is monotone, so (o + 0.5) G < 1/255 already implies o' G < 1/255:
-  // the same skip decision without running the MLP on pairs outside the footprint.
   s.b = splat_sample(s_xy[j], vec4(co.xyz, co.w + 0.5), centre);
 #else
   s.b = splat_sample(s_xy[j], co, centre);
@@ -83,9 +82,10 @@ PairSample pair_bound(uint j) {
   return s;
 }
 
-// Completes a pair whose bound did not skip: the style variant runs the MLP and samples with o'.
-void pair_finish(uint j, inout PairSample s) {
+// The pair's sample. Style: the MLP on (time, depth feature), then the sample with o' = o + dO.
+PairSample pair_sample(uint j) {
 #if S4D_STYLE
+  PairSample s;
   vec4 co = s_conic_opacity[j];
   precise vec2 x = vec2(p.time, style_depth_feature(j));
   if ((p.flags & S4D_STYLE_INPUT_SIGMOID) != 0u) x = 1.0 / (1.0 + exp(-x));
@@ -94,6 +94,9 @@ void pair_finish(uint j, inout PairSample s) {
   precise float opacity = co.w + (s.m.s.w - 0.5);
   s.opacity = opacity;
   s.b = splat_sample(s_xy[j], vec4(co.xyz, opacity), centre);
+  return s;
+#else
+  return pair_bound(j);
 #endif
 }
 

@@ -13,9 +13,7 @@ uint count = 0u, last = 0u;
 // Blends entry j of the batch whose first entry is list position `position0`.
 void blend(uint j, uint batch, uint position0) {
   if (done || j >= batch) return;
-  PairSample s = pair_bound(j);
-  if (s.b.skip) return;
-  pair_finish(j, s);
+  PairSample s = pair_sample(j);
   if (s.b.skip) return;
   float next = T * (1.0 - s.b.alpha);
   if (next < S4D_MIN_TRANSMITTANCE) {

@@ -98,18 +98,13 @@ void add_v_mlp4(uint index, vec4 v) {
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
-  PairSample s = pair_bound(j);
+  PairSample s = pair_sample(j);
   bool contributes = position < last && !s.b.skip;
   // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
   // gradient code below is skipped instead of executed under an all-false mask, and the reductions
   // inside stay legal.
   if (!subgroupAny(contributes)) return;
-  if (contributes) {
-    pair_finish(j, s);
-    contributes = !s.b.skip;
-  }
 #if S4D_STYLE
-  if (!subgroupAny(contributes)) return;  // the bound admitted pairs the full sample skips
   StyleMlpEval m = StyleMlpEval(vec2(0.0), vec4(0.0), vec4(0.0), vec4(0.0));  // with dz = 0: zero cotangents
   vec4 dz = vec4(0.0);
 #endif
