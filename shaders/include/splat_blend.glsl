@@ -31,10 +31,10 @@ void blend(uint j, uint batch, uint position0) {
 #if S4D_STYLE
 #include "raster_walk.glsl"
 
-// Marks slot j of `todo` when a pixel of this subgroup that still blends may meet it.
-void blend_mark(uint j, uint batch, inout uvec2 todo) {
+// Marks slot j in `bits` when this pixel still blends and may meet it.
+void blend_mark(uint j, uint batch, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
-  raster_walk_mark(todo, j, !done && !pair_bound(j).b.skip);
+  raster_walk_mark(bits, j, !done && !pair_bound(j).b.skip);
 }
 
 // Blends the next marked slot, if any, and unmarks it.
@@ -44,16 +44,17 @@ void blend_next(inout uvec2 todo, uint batch, uint position0) {
 }
 
 // Blends a loaded batch in two passes (raster_walk.glsl): which slots meet a pixel of this subgroup
-// (the cheap bound, S4D_RASTER_MARK_UNROLL per iteration), then only those, in list order,
+// (the cheap bound, S4D_RASTER_MARK_UNROLL per iteration, then one subgroupOr), then only those, in list order,
 // S4D_RASTER_UNROLL per iteration. Loops only, written out (llvmpipe's loop-iteration cap, see
 // s4d_style_splat.h).
 void blend_batch(uint batch, uint position0) {
-  uvec2 todo = uvec2(0u);
+  uvec2 bits = uvec2(0u);
   for (uint j = 0u; j < batch; j += S4D_RASTER_MARK_UNROLL) {
-    blend_mark(j, batch, todo), blend_mark(j + 1u, batch, todo), blend_mark(j + 2u, batch, todo);
-    blend_mark(j + 3u, batch, todo), blend_mark(j + 4u, batch, todo), blend_mark(j + 5u, batch, todo);
-    blend_mark(j + 6u, batch, todo), blend_mark(j + 7u, batch, todo);
+    blend_mark(j, batch, bits), blend_mark(j + 1u, batch, bits), blend_mark(j + 2u, batch, bits);
+    blend_mark(j + 3u, batch, bits), blend_mark(j + 4u, batch, bits), blend_mark(j + 5u, batch, bits);
+    blend_mark(j + 6u, batch, bits), blend_mark(j + 7u, batch, bits);
   }
+  uvec2 todo = raster_walk_todo(bits);
   while (!done && todo != uvec2(0u)) {
     blend_next(todo, batch, position0), blend_next(todo, batch, position0);
     blend_next(todo, batch, position0), blend_next(todo, batch, position0);

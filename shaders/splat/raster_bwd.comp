@@ -172,10 +172,10 @@ void accumulate(uint j, uint batch, uint end) {
 #if S4D_STYLE
 #include "raster_walk.glsl"
 
-// Marks slot j of `todo` when it may meet a pixel of this subgroup in front of its last contributor.
-void accumulate_mark(uint j, uint batch, uint end, inout uvec2 todo) {
+// Marks slot j in `bits` when it may meet this pixel in front of its last contributor.
+void accumulate_mark(uint j, uint batch, uint end, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
-  raster_walk_mark(todo, j, end - 1u - j < last && !pair_bound(j).b.skip);
+  raster_walk_mark(bits, j, end - 1u - j < last && !pair_bound(j).b.skip);
 }
 
 // Accumulates the next marked slot, if any, and unmarks it.
@@ -222,13 +222,14 @@ void main() {
     uint first = end - min(end, subgroup_last);
 #if S4D_STYLE
     // The compacted walk (raster_walk.glsl): mark the slots a pixel of this subgroup meets, visit those.
-    uvec2 todo = uvec2(0u);
+    uvec2 bits = uvec2(0u);
     for (uint j = first; j < batch; j += S4D_RASTER_MARK_UNROLL) {
-      accumulate_mark(j, batch, end, todo), accumulate_mark(j + 1u, batch, end, todo);
-      accumulate_mark(j + 2u, batch, end, todo), accumulate_mark(j + 3u, batch, end, todo);
-      accumulate_mark(j + 4u, batch, end, todo), accumulate_mark(j + 5u, batch, end, todo);
-      accumulate_mark(j + 6u, batch, end, todo), accumulate_mark(j + 7u, batch, end, todo);
+      accumulate_mark(j, batch, end, bits), accumulate_mark(j + 1u, batch, end, bits);
+      accumulate_mark(j + 2u, batch, end, bits), accumulate_mark(j + 3u, batch, end, bits);
+      accumulate_mark(j + 4u, batch, end, bits), accumulate_mark(j + 5u, batch, end, bits);
+      accumulate_mark(j + 6u, batch, end, bits), accumulate_mark(j + 7u, batch, end, bits);
     }
+    uvec2 todo = raster_walk_todo(bits);
     while (todo != uvec2(0u)) {
       accumulate_next(todo, batch, end), accumulate_next(todo, batch, end);
       accumulate_next(todo, batch, end), accumulate_next(todo, batch, end);

@@ -7,7 +7,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #if S4D_STYLE
-#extension GL_KHR_shader_subgroup_vote : require  // raster_walk.glsl
+#extension GL_KHR_shader_subgroup_arithmetic : require  // raster_walk.glsl
 #endif
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
