@@ -20,8 +20,8 @@
 #define S4D_RASTER_BATCH S4D_TILE_PIXELS
 #define S4D_RASTER_UNROLL S4D_BLEND_UNROLL
 #endif
-#if S4D_RASTER_UNROLL != 4 && S4D_RASTER_UNROLL != 8
-#error "the blend loops call their step 4 or 8 times per iteration"
+#if (S4D_STYLE && S4D_RASTER_UNROLL != 4) || (!S4D_STYLE && S4D_RASTER_UNROLL != 8)
+#error "the blend loops call their step 4 (style) or 8 (plain) times per iteration"
 #endif
 
 #endif  // RASTER_VARIANT_GLSL

@@ -44,9 +44,9 @@ void blend_next(inout uvec2 todo, uint batch, uint position0) {
 }
 
 // Blends a loaded batch in two passes (raster_walk.glsl): which slots meet a pixel of this subgroup
-// (the cheap bound, S4D_RASTER_MARK_UNROLL per iteration, then one subgroupOr), then only those, in list order,
-// S4D_RASTER_UNROLL per iteration. Loops only, written out (llvmpipe's loop-iteration cap, see
-// s4d_style_splat.h).
+// (the cheap bound, S4D_RASTER_MARK_UNROLL per iteration, then one subgroupOr), then only those, in
+// list order, S4D_RASTER_UNROLL per iteration. Loops only, written out (llvmpipe's loop-iteration
+// cap, see s4d_style_splat.h).
 void blend_batch(uint batch, uint position0) {
   uvec2 bits = uvec2(0u);
   for (uint j = 0u; j < batch; j += S4D_RASTER_MARK_UNROLL) {
