@@ -1,9 +1,10 @@
 // `s4d_bench_splat --style`: the style variant of the rasterizer family (GaussianParams::style)
-// against the plain one on the same scene (splat_scene.h) and device: wall-clock forward() and backward() of each, measured
-// alternately so load changes on a shared machine hit both alike, with tile instances,
-// pixel-Gaussian pairs and the time of each stage (run::stage_ms_json). One JSON line per (scene,
-// variant) on stdout, with the 1-minute load average around the point; a table on stderr. The
-// smallest scene's style image is checked against the CPU twin. Timings are never pass/fail.
+// against the plain one on the same scene (splat_scene.h) and device: wall-clock forward() and
+// backward() of each, measured alternately so load changes on a shared machine hit both alike, with
+// tile instances, pixel-Gaussian pairs and the time of each stage (run::stage_ms_json). One JSON
+// line per (scene, variant) on stdout, with the 1-minute load average around the point; a table on
+// stderr. The smallest scene's style image is checked against the CPU twin. Timings are never
+// pass/fail.
 //
 //   s4d_bench_splat --style [--sizes 128x128:1000,... | --ply F --cameras transforms.json [--camera K]
 //                           | --suite peer] [--repeats 5] [--depth ndc|relative] [--cas]

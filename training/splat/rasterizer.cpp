@@ -273,8 +273,8 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     if (g.style != nullptr)
       bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g.style->weights)});
     const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
-    rec.dispatch_raw(shader_pipeline(*ctx_, g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd),
-                     bind, &raster, sizeof raster, num_tiles);
+    const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
+    rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
     ctx_->run(std::move(rec));
   }
   RenderStats stats{.instances = instances, .longest_tile_list = 0};
@@ -338,8 +338,9 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   if (style != nullptr)
     bind.insert(bind.end(), {S4D_BIND(RBWD_QUADRIC, quadric_), S4D_BIND(RBWD_STYLE_MLP, *style->weights),
                              S4D_BIND(RBWD_V_STYLE_MLP, *out.v_style_mlp)});
-  const shaders::Id id = style != nullptr ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
-                                          : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
+  const shaders::Id id = style != nullptr
+                             ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
+                             : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
   const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
   rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
   rec.barrier();

@@ -57,7 +57,8 @@ struct StylePairs {
   template <Cutoff kCutoff>
   Pair sample(size_t i, const PixelRay<T>& pix) const {
     Pair p;
-    const T feature = detail::style_depth_feature(&quadric[kStyleQuadricStride * i], proj.depth[i], pix.rx, pix.ry, mlp);
+    const T feature =
+        detail::style_depth_feature(&quadric[kStyleQuadricStride * i], proj.depth[i], pix.rx, pix.ry, mlp);
     p.m = detail::style_mlp_fwd(&mlp.weights[kStyleMlpStride * i], mlp.time, feature, mlp.input_sigmoid);
     p.opacity = proj.opacity[i] + (p.m.s[3] - detail::lit<T>(0.5));
     for (size_t ch = 0; ch < 3; ++ch) p.color[ch] = proj.rgb[3 * i + ch] + (2 * p.m.s[ch] - 1);
