@@ -9,6 +9,7 @@
 //   s4d_bench_splat --ply F --cameras transforms.json [--camera K] [...]
 //   s4d_bench_splat --suite peer [...]
 //   s4d_bench_splat --write-peer-scene DIR [--gaussians N] [--size WxH]
+//   s4d_bench_splat --style [scene options] [--repeats 5] [--depth ndc|relative] [--cas]
 //
 // --sizes draws seeded random scenes (splat_scene.h). --ply/--cameras benchmark a standard 3DGS
 // PLY seen by camera K (default 0) of a transforms.json. --suite peer runs the PyTorch peer's kind
@@ -17,7 +18,8 @@
 // 1,000 Gaussians at 128x128) for other tools and exits. --only fwd skips the backward (and its
 // gradient buffers); --only fwdbwd skips the forward line and the ceiling. A scene the device
 // cannot hold (memory, buffer range, lavapipe's tile-list cap) gets a line with "skipped": true and
-// the reason.
+// the reason. --style measures the style variant against the plain one instead
+// (style_splat_bench.h).
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
@@ -37,6 +39,7 @@
 #include "s4d/engine/context.h"
 #include "s4d/run/stage_times.h"
 #include "splat_bench.h"
+#include "style_splat_bench.h"
 
 namespace {
 
@@ -232,10 +235,13 @@ std::optional<Options> parse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--style") return s4d::bench::style_bench_main(argc, argv);
   const char* usage =
       "usage: s4d_bench_splat [--sizes WxH:N,... | --ply F --cameras transforms.json [--camera K] | --suite peer]\n"
       "                       [--repeats R] [--only fwd|fwdbwd]\n"
-      "       s4d_bench_splat --write-peer-scene DIR [--gaussians N] [--size WxH]\n";
+      "       s4d_bench_splat --write-peer-scene DIR [--gaussians N] [--size WxH]\n"
+      "       s4d_bench_splat --style [scene options] [--repeats R] [--depth ndc|relative] [--cas]\n";
   std::optional<Options> parsed;
   try {
     parsed = parse(argc, argv);

@@ -9,19 +9,22 @@
 #
 # Usage: bench/paper_tables.sh OUT [--data DIR | --run RUN] [--style IMG] [--adain-weights DIR]
 #                              [--adaattn-weights DIR] [--hgst-weights DIR] [--metric-weights DIR]
-#                              [--iters N] [--mlp-iters N] [--spiral-frames N] [--style-size N]
+#                              [--iters N] [--mlp-iters N] [--scratch-iters N] [--spiral-frames N]
+#                              [--style-size N]
 #                              [-- extra style4d train options...]
 #   e.g. bench/paper_tables.sh out/tables --adain-weights ~/w/adain --hgst-weights ~/w/hgst
 # Without --data or --run it trains the built-in scene (style4d synth) with the fast preset in
 # OUT/run. Weights default to weights/adain, weights/adaattn and weights/hgst in the repository.
+# --iters and --mlp-iters set stage 4 (default 1500 and 300); --scratch-iters the stage-1 length of
+# the methods that retrain 4DGS (default: the run's own schedule).
 # Writes OUT/paper_tables.json, OUT/paper_tables.md, OUT/bench/ (style4d bench's report) and
 # OUT/logs/.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n '2,18p' "$0" >&2; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,21p' "$0" >&2; exit 2; }
 out="$1"
 shift
 root="$(cd "$(dirname "$0")/.." && pwd)"
-data="" run="" style="$root/assets/styles/builtin.png" metric_weights="" iters=1500 mlp_iters=300 spiral="" style_size=512
+data="" run="" style="$root/assets/styles/builtin.png" metric_weights="" iters=1500 mlp_iters=300 scratch_iters="" spiral="" style_size=512
 adain="$root/weights/adain" adaattn="$root/weights/adaattn" hgst="$root/weights/hgst"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -34,6 +37,7 @@ while [ $# -gt 0 ]; do
     --metric-weights) metric_weights="$2"; shift 2 ;;
     --iters) iters="$2"; shift 2 ;;
     --mlp-iters) mlp_iters="$2"; shift 2 ;;
+    --scratch-iters) scratch_iters="$2"; shift 2 ;;
     --spiral-frames) spiral="$2"; shift 2 ;;
     --style-size) style_size="$2"; shift 2 ;;
     --) shift; break ;;
@@ -83,10 +87,16 @@ method() {
       args+=(--weights "$weights" --style-size "$style_size")
     fi
   fi
+  # Stage 4's length, or a retraining's (method scratch takes no stage-4 options).
+  if [[ " ${args[*]} " == *" --method scratch "* ]]; then
+    [ -z "$scratch_iters" ] || args+=(--iters "$scratch_iters")
+  else
+    args+=(--iters "$iters" --mlp-iters "$mlp_iters")
+  fi
   if [ "$state" = ok ] && [ ! -e "$run/style/$name/stylize.json" ]; then
     echo "[paper_tables] $name: stylize ${args[*]}" >&2
-    "$exe" stylize --run "$run" --style "$style" --name "$name" --iters "$iters" --mlp-iters "$mlp_iters" \
-      ${spiral:+--spiral-frames "$spiral"} "${args[@]}" > "$log" 2>&1 || state="failed: see $log"
+    "$exe" stylize --run "$run" --style "$style" --name "$name" ${spiral:+--spiral-frames "$spiral"} "${args[@]}" \
+      > "$log" 2>&1 || state="failed: see $log"
   fi
   echo "[paper_tables] $name: $state" >&2
   printf '%s\t%s\t%s\t%s\n' "$name" "$label" "$state" "$log" >> "$status"

@@ -2,6 +2,7 @@
 """Published metric checkpoints -> the safetensors files `style4d bench --metric-weights DIR` reads.
 
     python3 tools/convert_weights.py KIND CHECKPOINT DIR
+    python3 tools/convert_weights.py clipiqa_plus RN50.pt CLIP-IQA+_learned_prompts-603f3273.pth DIR
 
 KIND (docs/bench.md, "Learned metrics", has the table of files):
   vgg16, vgg19, alexnet  torchvision vgg16-397923af.pth, vgg19-dcbb9e9d.pth, alexnet-owt-7be5be79.pth
@@ -24,9 +25,19 @@ KIND (docs/bench.md, "Learned metrics", has the table of files):
                          -> musiq.safetensors / musiq_paq2piq.safetensors; width, depth, MLP, position grid
                          and scales read from the shapes (pyiqa: 384, 14, 1152, 10, 3), one output class
                          (the AVA checkpoint's 10-class head is refused)
+  clipiqa_plus           OpenAI CLIP's RN50.pt (a TorchScript archive or a state dict) and pyiqa's
+                         CLIP-IQA+_learned_prompts-603f3273.pth (the CoOp context, [2, 16, 512])
+                         -> clipiqa_plus.safetensors: the image tower "visual.*" as CLIP names it (the
+                         attention pool's positional_embedding dropped: pyiqa runs without it),
+                         "logit_scale" and "text_features" [2, embed] (good, bad): pyiqa's
+                         PromptLearner output, computed here in float64 through CLIP's text
+                         transformer from RN50.pt's text weights (which are then dropped). The prompt
+                         tokens come from OpenAI CLIP's tokenizer (the `clip` module of the
+                         openai-clip package that pyiqa imports).
 Every tensor's name and shape is checked against the network's definition; the state-dict names are
-kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 to compare with
-the publisher's (torchvision and pyiqa file names end in a prefix of it). Needs torch to read .pth.
+kept, so the native loaders read the file as PyTorch would. Prints the input's sha256 and compares it
+with the publisher's (tools/published_weights.py): a torchvision or CLIP file whose hash differs from
+the one its name or address carries is refused. Needs torch to read .pth.
 """
 import hashlib
 import json
@@ -34,6 +45,8 @@ import os
 import re
 import struct
 import sys
+
+import published_weights
 
 # torchvision's cfgs "D" (VGG16) and "E" (VGG19): channels of each 3x3 convolution, 0 for a max pool.
 VGG_CFGS = {
@@ -142,6 +155,150 @@ def ckdn():
     return spec
 
 
+def clip_visual(t, path):
+    """CLIP model.py's ModifiedResNet under "visual.": width w (conv3's outputs), block counts from
+    the layers present, embed 32 w, the output dim from c_proj. Returns (spec, (w, blocks, out))."""
+    for name in ("visual.conv3.weight", "visual.attnpool.c_proj.weight"):
+        if name not in t:
+            raise ConvertError("%s: missing %s (CLIP ResNet image tower)" % (path, name))
+    w, out = t["visual.conv3.weight"].shape[0], t["visual.attnpool.c_proj.weight"].shape[0]
+    blocks = [len({n.split(".")[2] for n in t if n.startswith("visual.layer%d." % l)}) for l in (1, 2, 3, 4)]
+
+    def bn(prefix, c):
+        return {prefix + "." + p: [c] for p in ("weight", "bias", "running_mean", "running_var")}
+
+    spec = {}
+    for i, (cout, cin) in enumerate([(w // 2, 3), (w // 2, w // 2), (w, w // 2)], 1):
+        spec["visual.conv%d.weight" % i] = [cout, cin, 3, 3]
+        spec.update(bn("visual.bn%d" % i, cout))
+    cin = w
+    for l, n in enumerate(blocks):
+        planes = w << l
+        for i in range(n):
+            p, inp = "visual.layer%d.%d" % (l + 1, i), cin if i == 0 else 4 * planes
+            for k, (co, ci, size) in enumerate([(planes, inp, 1), (planes, planes, 3), (4 * planes, planes, 1)], 1):
+                spec["%s.conv%d.weight" % (p, k)] = [co, ci, size, size]
+                spec.update(bn("%s.bn%d" % (p, k), co))
+            if i == 0 and (l > 0 or inp != 4 * planes):
+                spec[p + ".downsample.0.weight"] = [4 * planes, inp, 1, 1]
+                spec.update(bn(p + ".downsample.1", 4 * planes))
+        cin = 4 * planes
+    e = 32 * w
+    for name, rows in (("q_proj", e), ("k_proj", e), ("v_proj", e), ("c_proj", out)):
+        spec.update({"visual.attnpool.%s.weight" % name: [rows, e], "visual.attnpool.%s.bias" % name: [rows]})
+    return spec, (w, blocks, out)
+
+
+def clip_text(t, path, out):
+    """CLIP model.py's text tower: width from ln_final, context length from positional_embedding, the
+    blocks present (heads of 64 channels), text_projection to the image tower's output dim."""
+    for name in ("ln_final.weight", "positional_embedding", "token_embedding.weight"):
+        if name not in t:
+            raise ConvertError("%s: missing %s (CLIP's text tower, for the prompt features)" % (path, name))
+    width, length = t["ln_final.weight"].shape[0], t["positional_embedding"].shape[0]
+    spec = {"token_embedding.weight": [t["token_embedding.weight"].shape[0], width], "positional_embedding": [length, width],
+            "ln_final.weight": [width], "ln_final.bias": [width], "text_projection": [width, out]}
+    for i in range(len({n.split(".")[2] for n in t if n.startswith("transformer.resblocks.")})):
+        b = "transformer.resblocks.%d." % i
+        for name, shape in (("ln_1.weight", [width]), ("ln_1.bias", [width]), ("ln_2.weight", [width]), ("ln_2.bias", [width]),
+                            ("attn.in_proj_weight", [3 * width, width]), ("attn.in_proj_bias", [3 * width]),
+                            ("attn.out_proj.weight", [width, width]), ("attn.out_proj.bias", [width]),
+                            ("mlp.c_fc.weight", [4 * width, width]), ("mlp.c_fc.bias", [4 * width]),
+                            ("mlp.c_proj.weight", [width, 4 * width]), ("mlp.c_proj.bias", [width])):
+            spec[b + name] = shape
+    if length < 22 or width % 64 != 0:
+        raise ConvertError("%s: a text tower of width %d and context %d cannot hold CLIP-IQA+'s prompts (needs 22 "
+                           "tokens, 64-wide heads)" % (path, width, length))
+    return spec
+
+
+def clip_prompt_features(t, ctx, tokenize, path):
+    """pyiqa's PromptLearner.forward in float64: the tokens of "X x16 Good photo.." / "... Bad photo..",
+    their embeddings with the 16 "X" replaced by the learned context split around the first 3 class
+    tokens ("good photo ." or "bad photo ."), CLIP's text transformer (pre-LayerNorm blocks, causal
+    mask, QuickGELU), ln_final, the end-of-text token's row times text_projection."""
+    import torch
+    import torch.nn.functional as F
+    n_ctx, width = 16, t["ln_final.weight"].shape[0]
+    if ctx.dim() == 2:
+        ctx = ctx.unsqueeze(0).expand(2, -1, -1)
+    if list(ctx.shape) != [2, n_ctx, width]:
+        raise ConvertError("%s: the learned context has shape %s, needs [2, %d, %d] (or [%d, %d])" %
+                           (path, list(ctx.shape), n_ctx, width, n_ctx, width))
+    prefix = " ".join(["X"] * n_ctx) + " "
+    tokens = tokenize([prefix + "Good photo..", prefix + "Bad photo.."])
+    d = {k: v.double() for k, v in t.items()}
+    emb = d["token_embedding.weight"][tokens]
+    half = n_ctx // 2
+    x = torch.cat([emb[:, :1], ctx[:, :half].double(), emb[:, 1 + n_ctx:4 + n_ctx], ctx[:, half:].double(),
+                   emb[:, 4 + n_ctx:]], dim=1) + d["positional_embedding"]
+    length, heads = x.shape[1], width // 64
+    mask = torch.full((length, length), float("-inf"), dtype=torch.float64).triu(1)
+    layers = len({n.split(".")[2] for n in t if n.startswith("transformer.resblocks.")})
+    for i in range(layers):
+        b = "transformer.resblocks.%d." % i
+        h = F.layer_norm(x, (width,), d[b + "ln_1.weight"], d[b + "ln_1.bias"])
+        q, k, v = (h @ d[b + "attn.in_proj_weight"].T + d[b + "attn.in_proj_bias"]).split(width, dim=-1)
+        split = lambda z: z.reshape(2, length, heads, width // heads).transpose(1, 2)
+        scores = split(q) @ split(k).transpose(-1, -2) / (width // heads) ** 0.5 + mask
+        a = (scores.softmax(-1) @ split(v)).transpose(1, 2).reshape(2, length, width)
+        x = x + a @ d[b + "attn.out_proj.weight"].T + d[b + "attn.out_proj.bias"]
+        h = F.layer_norm(x, (width,), d[b + "ln_2.weight"], d[b + "ln_2.bias"])
+        h = h @ d[b + "mlp.c_fc.weight"].T + d[b + "mlp.c_fc.bias"]
+        h = h * torch.sigmoid(1.702 * h)
+        x = x + h @ d[b + "mlp.c_proj.weight"].T + d[b + "mlp.c_proj.bias"]
+    x = F.layer_norm(x, (width,), d["ln_final.weight"], d["ln_final.bias"])
+    return (x[torch.arange(2), tokens.argmax(dim=-1)] @ d["text_projection"]).float()
+
+
+def openai_tokenize(texts):
+    try:
+        import clip
+    except ImportError as e:
+        raise ConvertError("clipiqa_plus needs OpenAI CLIP's tokenizer, the `clip` module pyiqa imports "
+                           "(pip install openai-clip): %s" % e)
+    return clip.tokenize(texts)
+
+
+def load_clip(path):
+    """RN50.pt as OpenAI publishes it (a TorchScript archive), or a plain state dict."""
+    import torch
+    try:
+        state = {k: v for k, v in torch.jit.load(path, map_location="cpu").state_dict().items()}
+    except Exception:
+        return load_state_dict(path)
+    return state
+
+
+def clipiqa_plus(clip_path, prompts_path, tokenize=openai_tokenize):
+    import torch
+    t = load_clip(clip_path)
+    refuse_unknown(clip_path, t, [r"visual\.(conv\d|bn\d)\..*", r"visual\.layer\d\.\d+\..*", r"visual\.attnpool\..*",
+                                  r"transformer\.resblocks\.\d+\..*", r"token_embedding\.weight", r"positional_embedding",
+                                  r"ln_final\.(weight|bias)", r"text_projection", r"logit_scale",
+                                  r"input_resolution", r"context_length", r"vocab_size"], "clipiqa_plus (CLIP RN50.pt)")
+    refuse_unknown(clip_path, {n: v for n, v in t.items() if n.startswith("visual.")},
+                   [r"visual\.(conv\d\.weight|bn\d\.(weight|bias|running_mean|running_var|num_batches_tracked))",
+                    r"visual\.layer\d\.\d+\.(conv\d\.weight|(bn\d|downsample\.1)\.(weight|bias|running_mean|running_var|"
+                    r"num_batches_tracked)|downsample\.0\.weight)",
+                    r"visual\.attnpool\.(positional_embedding|[qkvc]_proj\.(weight|bias))"], "clipiqa_plus (CLIP ResNet)")
+    spec, (w, blocks, out) = clip_visual(t, clip_path)
+    spec["logit_scale"] = []
+    tensors = check(clip_path, t, spec, "CLIP ResNet (width %d, blocks %s, %d outputs)" % (w, blocks, out))
+    if (w, blocks, out) != (64, [3, 4, 6, 3], 1024):
+        print("note: %s is not CLIP RN50 (width %d, blocks %s, %d outputs); pyiqa's clipiqa+ uses RN50" %
+              (clip_path, w, blocks, out))
+    text = check(clip_path, t, clip_text(t, clip_path, out), "CLIP text transformer")
+    try:
+        ctx = torch.load(prompts_path, map_location="cpu")
+    except Exception as e:
+        raise ConvertError("%s: not a PyTorch file (%s: %s)" % (prompts_path, type(e).__name__, e))
+    if not torch.is_tensor(ctx) or not ctx.is_floating_point():
+        raise ConvertError("%s: holds a %s, not the learned context tensor" % (prompts_path, type(ctx).__name__))
+    features = clip_prompt_features(text, ctx, tokenize, prompts_path)
+    tensors["text_features"] = check(prompts_path, {"text_features": features}, {"text_features": [2, out]},
+                                     "CLIP-IQA+ prompt features")["text_features"]
+    return {"clipiqa_plus.safetensors": tensors}
 def musiq(path, t):
     """pyiqa archs/musiq_arch.py's MUSIQ: the ResNet root (StdConv conv_root 7x7 and GroupNorm gn_root of
     width 64, block1 = one Bottleneck 64 -> 256 with conv1/2/3, conv_proj and their gn*), embedding =
@@ -325,24 +482,38 @@ def convert(kind, path):
                                  r"mlp\.fc1|mlp\.fc2)\.(weight|bias)"], kind)
         return {kind + ".safetensors": musiq(path, t)}
     raise ConvertError("unknown KIND '%s' (vgg16, vgg19, alexnet, lpips_vgg, lpips_alex, dists, vgg_normalised, dino_vitb16, "
-                       "ckdn, musiq, musiq_paq2piq)" % kind)
+                       "ckdn, clipiqa_plus, musiq, musiq_paq2piq)" % kind)
 
 
-def main(argv):
-    if len(argv) != 4 or argv[1] in ("-h", "--help"):
+def check_published(path, digest):
+    """Prints the input's sha256; refuses a published file whose hash differs from its publisher's."""
+    print("sha256 %s  %s" % (digest, path))
+    note = published_weights.check(os.path.basename(path), digest)
+    if note:
+        print("note: " + note)
+
+
+def main(argv, tokenize=openai_tokenize):
+    inputs = 3 if len(argv) > 1 and argv[1] == "clipiqa_plus" else 2
+    if len(argv) != 2 + inputs or argv[1] in ("-h", "--help"):
         sys.stderr.write(__doc__)
         return 2
-    kind, path, out_dir = argv[1:]
+    kind, paths, out_dir = argv[1], argv[2:-1], argv[-1]
+    path = paths[0]
     try:
         digest = sha256(path)
-        print("sha256 %s  %s" % (digest, path))
-        files = convert(kind, path)
+        check_published(path, digest)
+        if kind == "clipiqa_plus":
+            check_published(paths[1], sha256(paths[1]))
+            files = clipiqa_plus(path, paths[1], tokenize)
+        else:
+            files = convert(kind, path)
         os.makedirs(out_dir, exist_ok=True)
         for name, tensors in files.items():
             target = os.path.join(out_dir, name)
             write_safetensors(target, tensors, {"format": "pt", "source": os.path.basename(path), "source_sha256": digest})
             print("wrote %s (%d tensors)" % (target, len(tensors)))
-    except (ConvertError, OSError) as e:
+    except (ConvertError, published_weights.HashMismatch, OSError) as e:
         sys.stderr.write("convert_weights: %s\n" % e)
         return 1
     return 0

@@ -20,7 +20,7 @@ std::vector<MetricEntry> build() {
   return {
       {"uiqm", "UIQM", true, "native (s4d::metrics::uiqm)", "", std::nullopt},
       {"clipiqa_plus", "CLIP-IQA+", true, "pyiqa clipiqa+ (RN50)", "[0,1] RGB, no resize, CLIP mean/std",
-       needs("", "CLIP-IQA+_learned_prompts-603f3273.pth and OpenAI RN50.pt")},
+       needs("clipiqa_plus.safetensors", "OpenAI CLIP's RN50.pt and pyiqa's CLIP-IQA+_learned_prompts-603f3273.pth")},
       {"musiq", "MUSIQ", true, "pyiqa musiq (KonIQ)", "multi-scale 224/384 + full resolution",
        needs("musiq.safetensors", "pyiqa's musiq_koniq_ckpt-e95806b9.pth")},
       {"qalign", "Q-Align", true, "pyiqa qalign, task aesthetic", "q-future/one-align (8B parameters)",

@@ -23,6 +23,7 @@ constexpr const char* kDino = "dino_vitb16.safetensors";
 constexpr const char* kCkdn = "ckdn.safetensors";
 constexpr const char* kMusiq = "musiq.safetensors";
 constexpr const char* kMusiqPaq2piq = "musiq_paq2piq.safetensors";
+constexpr const char* kClipIqa = "clipiqa_plus.safetensors";
 
 bool wanted(const std::vector<std::string>& keys, const char* key) {
   return keys.empty() || std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -62,7 +63,7 @@ std::string missing(const NativeLearnedOptions& o, const std::vector<std::string
 
 const std::vector<std::string>& native_learned_keys() {
   static const std::vector<std::string> keys = {"dists", "style_lpips", "content_lpips", "style_loss_gram",
-                                                   "dino_score", "ckdn", "musiq", "musiq_paq2piq"};
+                                                   "dino_score", "ckdn", "clipiqa_plus", "musiq", "musiq_paq2piq"};
   return keys;
 }
 
@@ -118,6 +119,11 @@ NativeLearned::NativeLearned(engine::Context& ctx, const NativeLearnedOptions& o
     ckdn_ = std::make_unique<metrics::Ckdn>(ctx, io::SafetensorsFile(*options.weights_dir / kCkdn));
   else
     unavailable_["ckdn"] = missing(options, {kCkdn}, "pyiqa's CKDN_model_best-38b27dc6.pth");
+  if (all_present(options, {kClipIqa}))
+    clipiqa_ = std::make_unique<metrics::ClipIqaPlus>(ctx, io::SafetensorsFile(*options.weights_dir / kClipIqa));
+  else
+    unavailable_["clipiqa_plus"] =
+        missing(options, {kClipIqa}, "OpenAI CLIP's RN50.pt and pyiqa's CLIP-IQA+_learned_prompts-603f3273.pth");
   if (all_present(options, {kMusiq}))
     musiq_ = std::make_unique<metrics::Musiq>(ctx, io::SafetensorsFile(*options.weights_dir / kMusiq));
   else
@@ -139,6 +145,13 @@ std::string NativeLearned::impl(const std::string& key) const {
     return "native DINO ViT (dino_vitb16.safetensors: width " + std::to_string(s.width) + ", " + std::to_string(s.depth) +
            " blocks, " + std::to_string(s.heads) + " heads, patch " + std::to_string(s.patch) + ") on the GPU";
   }
+  if (key == "clipiqa_plus") {
+    const nn::ClipResnet& n = clipiqa_->net();
+    return "native CLIP-IQA+, CLIP ResNet (clipiqa_plus.safetensors: width " + std::to_string(n.width()) + ", blocks " +
+           std::to_string(n.blocks()[0]) + "-" + std::to_string(n.blocks()[1]) + "-" + std::to_string(n.blocks()[2]) + "-" +
+           std::to_string(n.blocks()[3]) + ", " + std::to_string(n.heads()) + " heads, " + std::to_string(n.output_dim()) +
+           "-d) + stored prompt features, on the GPU";
+  }
   if (key == "ckdn") return "native CKDN, two ResNet-50 stems + layer2 + MLP (ckdn.safetensors) on the GPU";
   if (key == "musiq" || key == "musiq_paq2piq") {
     const nn::MusiqShape& s = (key == "musiq" ? musiq_ : musiq_paq2piq_)->shape();
@@ -155,6 +168,10 @@ std::string NativeLearned::impl(const std::string& key) const {
 }
 
 std::string NativeLearned::convention(const std::string& key) const {
+  if (key == "clipiqa_plus")
+    return "pyiqa clipiqa+ (RN50): RGB [0,1] at full resolution, no resize, OpenAI CLIP mean/std, no position embedding "
+           "(pos_embedding=False), softmax(exp(logit_scale) cos(image, [good, bad] prompt features)) of the good prompt; "
+           "mean over frames";
   if (key == "ckdn")
     return "pyiqa ckdn(x = stylised frame, y = style image): RGB [0,1], shorter side to 329 (x bicubic antialiased, y "
            "nearest), 288x288 centre crop, ImageNet mean/std, sigmoid of the MLP on the global average of "
@@ -214,6 +231,7 @@ void NativeLearned::score_frame(const io::ImageF& stylised, const io::ImageF& or
     if (!style_gram_) style_gram_ = gram_->grams(style_);
     per_frame["style_loss_gram"].push_back(metrics::gram_loss(gram_->grams(stylised), *style_gram_));
   }
+  if (clipiqa_ && wanted(keys, "clipiqa_plus")) per_frame["clipiqa_plus"].push_back((*clipiqa_)(stylised));
   if (ckdn_ && !style_image.empty() && wanted(keys, "ckdn")) per_frame["ckdn"].push_back((*ckdn_)(stylised, style_));
   if (musiq_ && wanted(keys, "musiq")) per_frame["musiq"].push_back((*musiq_)(stylised));
   if (musiq_paq2piq_ && wanted(keys, "musiq_paq2piq")) per_frame["musiq_paq2piq"].push_back((*musiq_paq2piq_)(stylised));

@@ -12,21 +12,7 @@ layout(push_constant) uniform Push { NnStatsParams p; };
 layout(std430, binding = S4D_B_STATS_IN) readonly buffer In { float x[]; };
 layout(std430, binding = S4D_B_STATS_OUT) writeonly buffer Out { float stats[]; };
 
-shared float partial[S4D_NN_STATS_WG];
-
-// Sum of v over the workgroup; every invocation gets it.
-float wg_sum(float v) {
-  uint l = gl_LocalInvocationIndex;
-  partial[l] = v;
-  barrier();
-  for (uint s = S4D_NN_STATS_WG / 2; s > 0; s >>= 1) {
-    if (l < s) partial[l] += partial[l + s];
-    barrier();
-  }
-  float total = partial[0];
-  barrier();  // partial[] is reused by the next call
-  return total;
-}
+#include "nn_wg_sum.glsl"
 
 void main() {
   uint c = flat_group_id(), l = gl_LocalInvocationIndex;

@@ -104,8 +104,9 @@
 #define S4D_B_GELU_DATA 0  // [n], in place
 // nn_vit_embed: out[c, 0] = pos[c, 0] and out[c, t] = patches[c, t - 1] + pos[c, t] for t >= 1,
 // where the host folds the class token into pos[:, 0] (NnEltParams: n = c * tokens, count = tokens).
+// nn_prepend_token (the same file): out[c, 0] = pos[c], out[c, t] = patches[c, t - 1], no embedding.
 #define S4D_B_VIT_PATCHES 0  // [c, tokens - 1]: the patch embedding's [c, gh, gw]
-#define S4D_B_VIT_POS 1      // [c, tokens]
+#define S4D_B_VIT_POS 1      // [c, tokens]; nn_prepend_token: [c], the first token only
 #define S4D_B_VIT_OUT 2      // [c, tokens]
 // nn_attn_average (nn_attn_apply with S4D_NN_ATTN_AVERAGE): out[c, first + i] = sum_j P[i, j] V[c, j],
 // the attention of a transformer, bindings S4D_B_ATTN_P, S4D_B_ATTN_V and S4D_B_ATTN_AVG_OUT (no content).

@@ -88,11 +88,12 @@
 #define S4D_B_RASTER_LAST 9         // [H*W] u32 1 + tile-list position of the last blended Gaussian
 #define S4D_B_RASTER_FINAL_T 10     // [H*W] T_final, kept exact for the backward (1 - alpha loses it)
 
-#define S4D_B_RBWD_RANGES 0
-#define S4D_B_RBWD_GAUSSIAN_IDS 1
-#define S4D_B_RBWD_XY 2
-#define S4D_B_RBWD_CONIC_OPACITY 3
-#define S4D_B_RBWD_COLOR_DEPTH 4
+// raster_bwd reads raster_fwd's inputs at the same bindings (raster_batch.glsl declares them once).
+#define S4D_B_RBWD_RANGES S4D_B_RASTER_RANGES
+#define S4D_B_RBWD_GAUSSIAN_IDS S4D_B_RASTER_GAUSSIAN_IDS
+#define S4D_B_RBWD_XY S4D_B_RASTER_XY
+#define S4D_B_RBWD_CONIC_OPACITY S4D_B_RASTER_CONIC_OPACITY
+#define S4D_B_RBWD_COLOR_DEPTH S4D_B_RASTER_COLOR_DEPTH
 #define S4D_B_RBWD_FINAL_T 5
 #define S4D_B_RBWD_LAST 6
 #define S4D_B_RBWD_V_RGB 7          // [H*W*3]
@@ -145,14 +146,16 @@ struct BinningParams {
   uint _pad1;
 };
 
-// Push constants of raster_fwd and raster_bwd.
+// Push constants of raster_fwd and raster_bwd, plain and style variants. The last four fields
+// and `intrinsics` drive the style variants only (s4d_style_splat.h).
 struct RasterParams {
-  uvec4 size;       // (width, height, tiles_x, tiles_y)
-  vec4 background;  // (r, g, b, unused)
-  uint flags;       // S4D_RASTER_HAS_V_ALPHA | S4D_RASTER_HAS_V_DEPTH (raster_bwd)
-  uint _pad0;
-  uint _pad1;
-  uint _pad2;
+  uvec4 size;         // (width, height, tiles_x, tiles_y)
+  vec4 background;    // (r, g, b, unused)
+  vec4 intrinsics;    // (fx, fy, cx, cy): pixel (i, j) looks along ((i + 0.5 - cx)/fx, (j + 0.5 - cy)/fy, 1)
+  uint flags;         // S4D_RASTER_HAS_V_ALPHA | S4D_RASTER_HAS_V_DEPTH (raster_bwd) | S4D_STYLE_INPUT_SIGMOID
+  uint depth_mode;    // S4D_STYLE_DEPTH_NDC or S4D_STYLE_DEPTH_RELATIVE
+  float time;         // style MLP input x0, normalised time in [0, 1)
+  float depth_scale;  // S4D_STYLE_DEPTH_RELATIVE: world units -> feature units
 };
 
 S4D_NAMESPACE_END

@@ -24,72 +24,43 @@
 #define S4D_STYLE_QUADRIC_STRIDE 12
 #define S4D_STYLE_SCALE_EPS 1e-7  // S^-2 = 1 / (s^2 + 1e-7) as in GOF: flat Gaussians keep a finite Q
 
-// The depth feature x1 of t* (StyleRasterParams.depth_mode).
+// The depth feature x1 of t* (RasterParams.depth_mode).
 #define S4D_STYLE_DEPTH_NDC 0u       // far/(far - near) (1 - near/t*), t* clamped to [near, far]: in [0, 1]
 #define S4D_STYLE_DEPTH_RELATIVE 1u  // (t* - z_i) * depth_scale, z_i the Gaussian's camera-space depth
 #define S4D_STYLE_NDC_NEAR 0.2       // 2DGS/GOF's planes
 #define S4D_STYLE_NDC_FAR 100.0
 
-// StyleRasterParams.flags: S4D_RASTER_HAS_V_ALPHA and S4D_RASTER_HAS_V_DEPTH (backward) plus:
+// RasterParams.flags: S4D_RASTER_HAS_V_ALPHA and S4D_RASTER_HAS_V_DEPTH (backward) plus:
 #define S4D_STYLE_INPUT_SIGMOID 4u  // x = sigmoid(x) before layer 1 (SuperGaussians does)
 
 // List entries per shared-memory batch. A batch holds 13 MLP vec4s, 3 quadric vec4s and the plain
 // rasterizer's 10 floats (+ id) per entry: 64 entries take 19 KiB of lavapipe's 32 KiB.
 #define S4D_STYLE_BATCH 64
-// The style blend loops visit S4D_STYLE_UNROLL entries per iteration, written out (the plain
-// rasterizer's S4D_BLEND_UNROLL pattern, s4d_splat.h). Each copy inlines the MLP (and its backward
-// and 62 atomics), so 4 rather than 8: on lavapipe the kernels then compile in ~9 s instead of ~22 s
-// cold (Mesa caches them). llvmpipe counts a loop's final, exiting condition check as an iteration
-// too, so a batch costs 1 + (64 / 4 + 1) = 18 of its 65535 and 3640 batches = 232,960 entries fit
-// (measured: 232,000 render whole, 233,500 lose the end). The compare-and-swap backward adds one
-// loop per atomic, 62 per entry (52 weights + 10 grad2d): 18 + 64 * 62 per batch, 16 batches =
-// 1024 entries, kept at 900 for ~9,400 iterations of contended retries.
+// The style kernels walk a batch in two loops (raster_walk.glsl): S4D_STYLE_MARK_UNROLL slots per
+// iteration test the cheap bound, then S4D_STYLE_UNROLL marked slots per iteration run the MLP, both
+// written out (the plain rasterizer's S4D_BLEND_UNROLL pattern, s4d_splat.h). Each visit inlines the
+// MLP (and its backward and 62 atomics), so 4 rather than 8: on lavapipe the kernels then compile in
+// ~9 s instead of ~22 s cold (Mesa caches them). llvmpipe counts a loop's final, exiting condition
+// check as an iteration too, so a batch costs at most 1 + (64 / 8 + 1) + (64 / 4 + 1) = 27 of its
+// 65535 and 2427 batches = 155,328 entries fit. The compare-and-swap backward adds one loop per
+// atomic, 62 per entry (52 weights + 10 grad2d): 27 + 64 * 62 per batch, 16 batches = 1024 entries,
+// kept at 900 for ~9,000 iterations of contended retries.
 #define S4D_STYLE_UNROLL 4
-#define S4D_LLVMPIPE_MAX_STYLE_LIST 232000u
+#define S4D_STYLE_MARK_UNROLL 8
+#define S4D_LLVMPIPE_MAX_STYLE_LIST 155000u
 #define S4D_LLVMPIPE_MAX_STYLE_LIST_CAS 900u
 
-// Binding ids. The inputs 0..6 are the same in style_raster_fwd and style_raster_bwd.
+// Binding ids of style_quadric.
 #define S4D_B_SQUAD_MEANS 0         // [N*3]
 #define S4D_B_SQUAD_LOG_SCALES 1    // [N*3]
 #define S4D_B_SQUAD_QUATS 2         // [N*4]
 #define S4D_B_SQUAD_QUADRIC 3       // [N*S4D_STYLE_QUADRIC_STRIDE]; zeros for culled Gaussians
 
-#define S4D_B_STYLE_RANGES 0
-#define S4D_B_STYLE_GAUSSIAN_IDS 1
-#define S4D_B_STYLE_XY 2
-#define S4D_B_STYLE_CONIC_OPACITY 3
-#define S4D_B_STYLE_COLOR_DEPTH 4
-#define S4D_B_STYLE_QUADRIC 5       // [N*S4D_STYLE_QUADRIC_STRIDE]
-#define S4D_B_STYLE_MLP 6           // [N*S4D_STYLE_MLP_STRIDE]
-
-#define S4D_B_SRAST_RGB 7           // outputs as S4D_B_RASTER_RGB .. S4D_B_RASTER_FINAL_T
-#define S4D_B_SRAST_ALPHA 8
-#define S4D_B_SRAST_DEPTH 9
-#define S4D_B_SRAST_COUNT 10
-#define S4D_B_SRAST_LAST 11
-#define S4D_B_SRAST_FINAL_T 12
-
-#define S4D_B_SRBWD_FINAL_T 7
-#define S4D_B_SRBWD_LAST 8
-#define S4D_B_SRBWD_V_RGB 9         // [H*W*3]
-#define S4D_B_SRBWD_V_ALPHA 10      // [H*W], read only with S4D_RASTER_HAS_V_ALPHA
-#define S4D_B_SRBWD_V_DEPTH 11      // [H*W], read only with S4D_RASTER_HAS_V_DEPTH
-#define S4D_B_SRBWD_GRAD2D 12       // [N*S4D_G2D_STRIDE], accumulated (zero it first)
-#define S4D_B_SRBWD_V_MLP 13        // [N*S4D_STYLE_MLP_STRIDE], accumulated (zero it first)
-
-S4D_NAMESPACE_BEGIN
-
-// Push constants of style_raster_fwd and style_raster_bwd.
-struct StyleRasterParams {
-  uvec4 size;         // (width, height, tiles_x, tiles_y)
-  vec4 background;    // (r, g, b, unused)
-  vec4 intrinsics;    // (fx, fy, cx, cy): pixel (i, j) looks along ((i + 0.5 - cx)/fx, (j + 0.5 - cy)/fy, 1)
-  uint flags;         // S4D_RASTER_HAS_V_ALPHA | S4D_RASTER_HAS_V_DEPTH | S4D_STYLE_INPUT_SIGMOID
-  uint depth_mode;    // S4D_STYLE_DEPTH_NDC or S4D_STYLE_DEPTH_RELATIVE
-  float time;         // MLP input x0, normalised time in [0, 1)
-  float depth_scale;  // S4D_STYLE_DEPTH_RELATIVE: world units -> feature units
-};
-
-S4D_NAMESPACE_END
+// The style variants of raster_fwd and raster_bwd take the plain bindings (s4d_splat.h) plus:
+#define S4D_B_RASTER_QUADRIC 11     // [N*S4D_STYLE_QUADRIC_STRIDE]
+#define S4D_B_RASTER_STYLE_MLP 12   // [N*S4D_STYLE_MLP_STRIDE]
+#define S4D_B_RBWD_QUADRIC S4D_B_RASTER_QUADRIC
+#define S4D_B_RBWD_STYLE_MLP S4D_B_RASTER_STYLE_MLP
+#define S4D_B_RBWD_V_STYLE_MLP 13   // [N*S4D_STYLE_MLP_STRIDE], accumulated (zero it first)
 
 #endif  // S4D_STYLE_SPLAT_H

@@ -1,19 +1,20 @@
 // raster_fwd: one 16x16 workgroup per tile, one invocation per pixel. The tile's depth-sorted list
-// streams through shared memory in batches of 256; each pixel blends front to back until its
-// transmittance would drop below 1e-4 (ALGORITHMS.md 1.5), and the workgroup stops as soon as every
-// pixel is done.
+// streams through shared memory in batches of S4D_RASTER_BATCH (raster_batch.glsl); each pixel
+// blends front to back until its transmittance would drop below 1e-4 (ALGORITHMS.md 1.5), and the
+// workgroup stops as soon as every pixel is done. The style variant (S4D_STYLE=1) runs each pair's
+// MLP inside the blend (raster_pair.glsl) and blends c + dRGB with alpha min(0.99, (o + dO) G)
+// (ALGORITHMS.md 4.3); its outputs are the plain ones, so raster_bwd and project_bwd read them alike.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "s4d_splat.h"
+#if S4D_STYLE
+#extension GL_KHR_shader_subgroup_arithmetic : require  // raster_walk.glsl
+#endif
+#include "s4d_style_splat.h"
 #include "flat_group.glsl"
 
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
 layout(push_constant) uniform Push { RasterParams p; };
-layout(std430, binding = S4D_B_RASTER_RANGES) readonly buffer Ranges { uvec2 ranges[]; };
-layout(std430, binding = S4D_B_RASTER_GAUSSIAN_IDS) readonly buffer GaussianIds { uint gaussian_ids[]; };
-layout(std430, binding = S4D_B_RASTER_XY) readonly buffer Xy { vec2 xy[]; };
-layout(std430, binding = S4D_B_RASTER_CONIC_OPACITY) readonly buffer ConicOpacity { vec4 conic_opacity[]; };
-layout(std430, binding = S4D_B_RASTER_COLOR_DEPTH) readonly buffer ColorDepth { vec4 color_depth[]; };
+#include "raster_batch.glsl"
 layout(std430, binding = S4D_B_RASTER_RGB) writeonly buffer OutRgb { float out_rgb[]; };
 layout(std430, binding = S4D_B_RASTER_ALPHA) writeonly buffer OutAlpha { float out_alpha[]; };
 layout(std430, binding = S4D_B_RASTER_DEPTH) writeonly buffer OutDepth { float out_depth[]; };
@@ -21,9 +22,6 @@ layout(std430, binding = S4D_B_RASTER_COUNT) writeonly buffer OutCount { uint ou
 layout(std430, binding = S4D_B_RASTER_LAST) writeonly buffer OutLast { uint out_last[]; };
 layout(std430, binding = S4D_B_RASTER_FINAL_T) writeonly buffer OutFinalT { float out_final_t[]; };
 
-shared vec2 s_xy[S4D_TILE_PIXELS];
-shared vec4 s_conic_opacity[S4D_TILE_PIXELS];
-shared vec4 s_color_depth[S4D_TILE_PIXELS];
 shared uint s_done;
 #include "splat_blend.glsl"
 
@@ -34,24 +32,23 @@ void main() {
   uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
   bool inside = pix.x < p.size.x && pix.y < p.size.y;
   centre = vec2(pix) + 0.5;
+#if S4D_STYLE
+  ray = (centre - p.intrinsics.zw) / p.intrinsics.xy;
+#endif
   uvec2 range = ranges[tile];
   done = !inside;
 
-  for (uint base = range.x; base < range.y; base += S4D_TILE_PIXELS) {
+  for (uint base = range.x; base < range.y; base += S4D_RASTER_BATCH) {
     barrier();
     if (lid == 0u) s_done = 0u;
     barrier();
     if (done) atomicAdd(s_done, 1u);
     barrier();
     if (s_done == S4D_TILE_PIXELS) break;
-    if (base + lid < range.y) {
-      uint g = gaussian_ids[base + lid];
-      s_xy[lid] = xy[g];
-      s_conic_opacity[lid] = conic_opacity[g];
-      s_color_depth[lid] = color_depth[g];
-    }
+    uint batch = min(uint(S4D_RASTER_BATCH), range.y - base);
+    raster_load_batch(lid, base, false, batch);
     barrier();
-    blend_batch(min(uint(S4D_TILE_PIXELS), range.y - base), base - range.x);
+    blend_batch(batch, base - range.x);
   }
   if (!inside) return;
   uint o = pix.y * p.size.x + pix.x;

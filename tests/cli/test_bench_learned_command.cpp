@@ -119,6 +119,7 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   const auto none = run_bench(f, "", "none").at("results")[0];
   CHECK(none.at("content_lpips").at("unavailable").get<std::string>().find("--metric-weights DIR") != std::string::npos);
   CHECK(none.at("dino_score").at("unavailable").get<std::string>().find("dino_vitb16.safetensors") != std::string::npos);
+  CHECK(none.at("clipiqa_plus").at("unavailable").get<std::string>().find("clipiqa_plus.safetensors") != std::string::npos);
   // A folder with only dists.safetensors (nothing loads: every network lacks a file): each key names
   // what its network is missing.
   const fs::path partial_dir = f.root / "partial_weights";
@@ -137,6 +138,9 @@ TEST_CASE("bench --metric-weights scores lpips, dists and the gram loss as the l
   const std::string ckdn_why = partial.at("ckdn").at("unavailable").get<std::string>();
   CHECK(ckdn_why.find("add ckdn.safetensors to " + partial_dir.string()) != std::string::npos);
   CHECK(ckdn_why.find("CKDN_model_best-38b27dc6.pth") != std::string::npos);
+  const std::string clipiqa_why = partial.at("clipiqa_plus").at("unavailable").get<std::string>();
+  CHECK(clipiqa_why.find("add clipiqa_plus.safetensors to " + partial_dir.string()) != std::string::npos);
+  CHECK(clipiqa_why.find("RN50.pt and pyiqa's CLIP-IQA+_learned_prompts-603f3273.pth") != std::string::npos);
   // A folder holding the other network's files: --lpips-net alex asks for the AlexNet files and points
   // at the VGG ones there; --gram-vgg torchvision likewise at vgg_normalised.
   const auto alex = run_bench(f, "--metric-weights " + weights.string() + " --lpips-net alex --gram-vgg torchvision", "alex")

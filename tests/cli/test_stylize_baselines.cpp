@@ -1,6 +1,6 @@
 // The paper's baselines 4DGS(AdaIN) and 4DGS(AdaAttN) end to end (`style4d stylize --stylizer
 // adain|adaattn --method scratch`) on a tiny run of the built-in scene (3 cameras, 3 frames, 32x24,
-// 20 + 20 iterations, so the scratch runs are as short), with random weights at the published
+// 20 + 20 iterations; the scratch runs retrain with 12 + 20), with random weights at the published
 // networks' shapes written as the safetensors files the stylizers read. Each must leave a scratch run
 // whose style file names its Gaussian count, renders that differ from the original scene, and stage-3
 // frames equal to what `stylize-frames` gives with the same stylizer, weights, style and frames.
@@ -89,7 +89,7 @@ void check_baseline(const std::string& stylizer) {
   const std::string network = " --stylizer " + stylizer + " --weights " + weights.string() + " --style-size 32";
   const fs::path log = r.dir / (name + ".log");
   REQUIRE_MESSAGE(run_style4d("stylize", "--run " + r.run.string() + " --style " + s4d::test::kBuiltinStyle + " --name " + name +
-                                             network + " --method scratch --iters 10 --mlp-iters 5 --spiral-frames 2",
+                                             network + " --method scratch --iters 12 --spiral-frames 2",
                               log) == 0,
                   read_text(log));
   const fs::path dir = r.run / "style" / name;
@@ -100,6 +100,11 @@ void check_baseline(const std::string& stylizer) {
   CHECK(summary.at("method") == "scratch");
   const nlohmann::json scratch = nlohmann::json::parse(read_text(dir / "run" / "train.json"));
   CHECK(scratch.at("complete") == true);
+  // --iters sets the retraining's length (the run's stage 1 trained 20), the rest of its settings are the run's.
+  const nlohmann::json original = nlohmann::json::parse(read_text(r.run / "train.json"));
+  CHECK(scratch.at("settings").at("iterations") == 12);
+  CHECK(original.at("settings").at("iterations") == 20);
+  CHECK(scratch.at("settings").at("fine_iterations") == original.at("settings").at("fine_iterations"));
   const s4d::run::StyleFile file = s4d::run::read_style_file(s4d::run::style_file_path(r.run, name));
   CHECK(file.method == s4d::run::StyleMethod::scratch);
   CHECK(file.count == scratch.at("num_gaussians").get<uint32_t>());

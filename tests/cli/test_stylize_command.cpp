@@ -173,12 +173,20 @@ TEST_CASE("the viewer's capture of a style matches the offline render of that st
   CHECK(test::max_abs_diff(io::read_png(shot), render_frame("full", "full_for_view")) <= 1.0f / 255.0f + 1e-6f);
 }
 
-TEST_CASE("running the same stylize again reuses stage 3's frames and the finished stage 4") {
+TEST_CASE("running the same stylize again reuses stage 3's frames and the finished stage 4, from a moved style image too") {
   const fs::path dir = styled("full", "--iters 60 --mlp-iters 20 --spiral-frames 4");
   const test::Run4d& r = test::run4d();
+  // The style keeps its own 8-bit copy of the image (the built-in style is an 8-bit PNG: equal).
+  CHECK(test::max_abs_diff(io::read_png(run::style_image_path(r.run, "full")), io::read_png(kStyle)) == 0.0f);
+  // The same pixels from another path are the same request.
+  const fs::path moved = r.root / "moved" / "builtin.png";
+  fs::create_directories(moved.parent_path());
+  fs::copy_file(kStyle, moved, fs::copy_options::overwrite_existing);
   const fs::path log = r.root / "stylize_again.log";
-  REQUIRE(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle + " --name full --iters 60 --mlp-iters 20 --spiral-frames 4",
-                            log) == 0);
+  REQUIRE_MESSAGE(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + moved.string() +
+                                                   " --name full --iters 60 --mlp-iters 20 --spiral-frames 4",
+                                    log) == 0,
+                  test::read_text(log));
   const nlohmann::json j = read_json(dir / "stylize.json");
   CHECK(j.at("stage3").at("reused") == true);
   CHECK(j.at("stage4").at("iterations") == 60);

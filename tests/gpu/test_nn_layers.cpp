@@ -143,7 +143,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
 }
 
-// Kernels nn_relu, nn_maxpool, nn_maxpool3s2, nn_upsample, nn_subsample2.
+// Kernels nn_relu, nn_maxpool, nn_avgpool2, nn_maxpool3s2, nn_upsample, nn_subsample2.
 TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and subsampling match their twins exactly") {
   std::mt19937 rng(4);
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {1, 3}}) {
@@ -164,6 +164,15 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and su
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2_floor(r, gx); }));
     CHECK(max_rel(pooled, ref::maxpool2_floor(to_double(x)).v) == 0.0);
+    // AvgPool2d(2) (CLIP's ModifiedResNet), floor mode as well.
+    const auto averaged = nn::download(context(), run([&](engine::Recorder& r) { return nn::avgpool2(r, gx); }));
+    const auto average_twin = ref::avgpool2(to_double(x));
+    REQUIRE(averaged.size() == size_t{3} * (h / 2) * (w / 2));
+    CHECK(max_rel(averaged, average_twin.v) < 1e-6);  // three float sums and a division by 4: measured 1.1e-7
+  }
+  {
+    engine::Recorder rec(context(), "refused");
+    CHECK_THROWS_AS(nn::avgpool2(rec, test::upload(test::random_chw(2, 1, 4, rng))), std::invalid_argument);
   }
   // 3x3 stride 2 (AlexNet, kernel nn_maxpool3s2): floor((in - 3) / 2) + 1 outputs.
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 9}, {3, 3}, {8, 6}}) {

@@ -95,6 +95,19 @@ TEST_CASE("vit_embed puts the class token first and adds the position embedding"
   CHECK_THROWS_AS(nn::vit_embed(rec, gpatches, wrong), std::invalid_argument);
 }
 
+// Kernel nn_prepend_token (nn::vit_embed with only a first token).
+TEST_CASE("vit_embed with only a first token puts it before the unchanged patches") {
+  std::mt19937 rng(45);
+  const auto patches = test::random_chw(70, 3, 5, rng), first = test::random_chw(70, 1, 1, rng);
+  const auto gpatches = test::upload(patches), gfirst = test::upload(first);
+  const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::vit_embed(r, gpatches, gfirst); }));
+  const auto twin = ref::vit_embed(to_double(patches), to_double(first));
+  REQUIRE(gpu.size() == size_t{70} * 16);
+  CHECK(max_rel(gpu, twin.v) == 0.0);  // copies
+  CHECK(gpu[16] == first.v[1]);
+  CHECK(gpu[17] == patches.v[15]);
+}
+
 // Kernel nn_attn_average, with nn_attn_scores and nn_softmax_rows.
 TEST_CASE("a transformer's attention matches its twin whatever the chunk") {
   std::mt19937 rng(44);

@@ -1,8 +1,8 @@
 // The style kernels at lavapipe's float-atomic tile-list limit (S4D_LLVMPIPE_MAX_STYLE_LIST in
 // s4d_style_splat.h): a list that long renders and differentiates every entry, so the limit is
-// honest (llvmpipe would stop the loops silently, dropping the entries at the end). Slow: llvmpipe
-// runs every pair's MLP, skipped or not (its ifs are masks, not branches), 2 x 59M pairs here:
-// 25-50 s on the shared 2-core machine.
+// honest (llvmpipe would stop the loops silently, dropping the entries at the end). The fillers meet
+// every pixel's cheap bound, so every batch takes both of its walks in full (raster_walk.glsl), the
+// most loop iterations a list of that length can cost. Slow: 2 x 40M pairs with their MLP.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -26,9 +26,9 @@ constexpr std::array<float, 3> kBg = {0.3f, 0.3f, 0.3f};
 
 TEST_CASE("a tile list at the float-atomic limit renders and differentiates every entry") {
   // 32 Gaussians in front and 32 behind blend at every pixel (G > 0.8, o' = 0.1 +- 0.06: alpha in
-  // [0.03, 0.16], and T stays above 1e-4); in between, fillers just right of the image whose 3-sigma
-  // rectangle still covers the tile but whose G < 2e-4 keeps (o + 0.5) G under 1/255, so every pixel
-  // skips them. If llvmpipe stopped the loops early, the forward would lose the back ones and the
+  // [0.03, 0.16], and T stays above 1e-4); in between, fillers over the whole tile whose bound
+  // (o + 0.5) G = 0.7 G > 0.5 marks them at every pixel, but whose MLP gives dO = -0.5 (opacity row
+  // of W3 zero, its bias -40), so o' = -0.3 and every pixel skips them after running the MLP. If llvmpipe stopped the loops early, the forward would lose the back ones and the
   // backward (which walks back to front) the front ones; the list without fillers is the reference.
   const Cam cam = test::tile_camera();
   std::mt19937 rng(52);
@@ -41,10 +41,14 @@ TEST_CASE("a tile list at the float-atomic limit renders and differentiates ever
   }
   reference = g;
   for (size_t i = visible; i < n; ++i)
-    test::add_gaussian(g, cam, 18, 2 + 12 * u01(rng), 3 + 6 * u01(rng), 0.2f, 1e-4f, rng);
+    test::add_gaussian(g, cam, 8 + 4 * u(rng), 8 + 4 * u(rng), 3 + 6 * u01(rng), 20, 0.2f, rng);
   ref::StyleMlp<float> mlp = test::random_mlp(n, ref::StyleDepth::relative, false, rng);
   for (size_t i = 0; i < visible; ++i)  // |dO| < 0.06: W3's opacity row and b3's opacity entry scaled down
     for (size_t c = 0; c < 5; ++c) mlp.weights[ref::kStyleMlpStride * i + S4D_STYLE_MLP_W3 + 4 * c + 3] *= 0.05f;
+  for (size_t i = visible; i < n; ++i) {  // dO = sigmoid(-40) - 0.5 = -0.5
+    for (size_t c = 0; c < 4; ++c) mlp.weights[ref::kStyleMlpStride * i + S4D_STYLE_MLP_W3 + 4 * c + 3] = 0;
+    mlp.weights[ref::kStyleMlpStride * i + S4D_STYLE_MLP_B3 + 3] = -40;
+  }
   ref::StyleMlp<float> reference_mlp = mlp;
   reference_mlp.weights.resize(ref::kStyleMlpStride * visible);
 

@@ -22,7 +22,8 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_musiq import Musiq
-from reference_nets import Ckdn, adain_vgg, dino_state_dict
+from reference_nets import Ckdn, ClipModel, adain_vgg, dino_state_dict
+from torch_reference_clipiqa import tokenize
 import torch
 import torch.nn as nn
 import torchvision
@@ -224,6 +225,75 @@ def main():
             "DINO's training head (a full checkpoint, not the pretrain file)")
     refused("dino_vitb16", {k: v for k, v in small.items() if k != "blocks.1.mlp.fc2.bias"}, ["missing blocks.1.mlp.fc2.bias"],
             "a missing DINO bias")
+    # A random file under a published name: its hash cannot be the publisher's. torchvision's downloader
+    # checks the name's hash prefix, so the converter refuses it; pyiqa's does not, so it only notes it.
+    p, path, out = convert("vgg16", vgg16_published, name="vgg16-397923af.pth")
+    line = p.stderr.strip()
+    check(p.returncode == 1 and "vgg16-397923af.pth: sha256 " in line and "published vgg16-397923af.pth has 397923af" in line
+          and not os.path.exists(out), "a torchvision name with another file's hash is refused: " + line)
+    p, path, out = convert("dists", ab, name="DISTS_weights-f5e65c96.pth")
+    check(p.returncode == 0 and "note: DISTS_weights-f5e65c96.pth: sha256 " in p.stdout and "pyiqa does not check it" in p.stdout
+          and os.path.exists(os.path.join(out, "dists.safetensors")), "a pyiqa name with another hash converts with a note")
+    # CLIP-IQA+: OpenAI's RN50.pt is a TorchScript archive (here traced from reference_nets.ClipModel at a
+    # small width) and pyiqa's prompts file a bare tensor. The file keeps the image tower's tensors bit
+    # for bit, logit_scale, and the two prompt features; the text tower and the attention pool's
+    # positional_embedding (unused: pos_embedding=False) are dropped.
+    clip_model = ClipModel(width=8, blocks=[1, 2, 1, 1], embed=16, text_width=64, text_layers=2, vocab=64).eval()
+    clip_pt, prompts = os.path.join(work, "clip_rn50_random.pt"), os.path.join(work, "CLIP-IQA+_learned_prompts.pth")
+    torch.jit.save(torch.jit.trace(clip_model, torch.rand(1, 3, 64, 64)), clip_pt)
+    ctx = torch.randn(2, 16, 64)
+    torch.save(ctx, prompts)
+
+    def convert_clip(clip_path, prompts_path, out, tokenizer=tokenize):
+        stdout, stderr = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            code = convert_weights.main(["convert_weights.py", "clipiqa_plus", clip_path, prompts_path, out], tokenizer)
+        return subprocess.CompletedProcess([], code, stdout.getvalue(), stderr.getvalue())
+
+    out = os.path.join(work, "out_clipiqa")
+    p = convert_clip(clip_pt, prompts, out)
+    check(p.returncode == 0 and "is not CLIP RN50 (width 8, blocks [1, 2, 1, 1], 16 outputs)" in p.stdout,
+          "a TorchScript CLIP archive and a prompts tensor convert, with a note on the width (%s)" % p.stderr.strip())
+    got, _ = read_safetensors(os.path.join(out, "clipiqa_plus.safetensors"))
+    visual = {k: v for k, v in clip_model.state_dict().items()
+              if k.startswith("visual.") and "positional_embedding" not in k and not k.endswith("num_batches_tracked")}
+    with torch.no_grad():
+        features = clip_model.double().prompt_features(tokenize(["X " * 16 + "Good photo..", "X " * 16 + "Bad photo.."]),
+                                                       ctx.double())
+    clip_model.float()
+    check(sorted(got) == sorted(list(visual) + ["logit_scale", "text_features"]) and
+          all(torch.equal(got[k], v) for k, v in visual.items()) and float(got["logit_scale"]) == float(clip_model.logit_scale),
+          "clipiqa_plus: the image tower (%d tensors) bit for bit and logit_scale; text tower and position embedding dropped"
+          % len(visual))
+    worst = float((got["text_features"].double() - features).abs().max() / features.abs().max())
+    # The converter's functional text transformer against nn.MultiheadAttention's, both float64, stored
+    # as float32: measured 3.6e-8 of the largest value.
+    check(list(got["text_features"].shape) == [2, 16] and worst < 1e-7,
+          "clipiqa_plus: the prompt features match the reference PromptLearner (%.1e of the largest value)" % worst)
+
+    def clip_refused(state, parts, what, ctx_value=ctx, tokenizer=tokenize):
+        bad_files.append(what)
+        path, ctx_path = os.path.join(work, "bad_%d.pt" % len(bad_files)), os.path.join(work, "bad_%d_ctx.pth" % len(bad_files))
+        torch.save(state, path)
+        torch.save(ctx_value, ctx_path)
+        p = convert_clip(path, ctx_path, os.path.join(work, "x_clip"), tokenizer)
+        line = p.stderr.strip()
+        check(p.returncode == 1 and all(x in line for x in parts) and not os.path.exists(os.path.join(work, "x_clip")),
+              "%s is refused: %s" % (what, line))
+
+    clip_state = clip_model.state_dict()
+    clip_refused(dict(clip_state, **{"visual.attnpool.extra": torch.zeros(3)}), ["unexpected tensor 'visual.attnpool.extra'"],
+                 "an unknown CLIP tensor")
+    clip_refused({k: v for k, v in clip_state.items() if k != "visual.layer2.1.bn2.running_var"},
+                 ["missing visual.layer2.1.bn2.running_var"], "a CLIP ResNet without a BatchNorm statistic")
+    clip_refused({k: v for k, v in clip_state.items() if k != "transformer.resblocks.1.mlp.c_fc.bias"},
+                 ["missing transformer.resblocks.1.mlp.c_fc.bias"], "a CLIP text tower without a bias")
+    clip_refused(clip_state, ["learned context has shape [2, 8, 64]", "needs [2, 16, 64]"], "a learned context of 8 tokens",
+                 ctx_value=torch.randn(2, 8, 64))
+    clip_refused(dict(clip_state, **{"text_projection": torch.randn(64, 32)}), ["text_projection", "[64, 32]", "[64, 16]"],
+                 "a text projection of another width than the image tower's")
+    clip_refused(clip_state, ["needs OpenAI CLIP's tokenizer", "openai-clip"], "a conversion without the clip package",
+                 tokenizer=convert_weights.openai_tokenize)
     with open(os.path.join(work, "not_a_checkpoint.pth"), "w") as f:
         f.write("hello")
     p = run_converter("vgg16", os.path.join(work, "not_a_checkpoint.pth"), os.path.join(work, "x"))

@@ -16,6 +16,7 @@
 #include "s4d_flow.h"
 #include "s4d_loss.h"
 #include "s4d_nn.h"
+#include "s4d_nn_grad.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
 #include "s4d_splat.h"
@@ -37,7 +38,7 @@ static_assert(sizeof(RadixParams) == 16 && sizeof(RadixParams) <= S4D_MAX_PUSH_C
 static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
-static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 48);
+static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 64);
 static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(AddParams) == 16 && sizeof(MaskParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -55,7 +56,9 @@ static_assert(sizeof(NnConvStridedParams) == 48);
 static_assert(sizeof(NnStatsParams) == 16 && sizeof(NnAdainParams) == 16 && sizeof(NnBlendParams) == 16);
 static_assert(sizeof(NnAttnParams) == 32);
 static_assert(sizeof(NnGroupNormParams) == 48);
-static_assert(sizeof(StyleRasterParams) == 64 && sizeof(StyleRasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
+static_assert(sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
+static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16 && sizeof(NnTvL1Params) == 16 && sizeof(NnSelfsimParams) == 16);
+static_assert(sizeof(RasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
 // kernels read them as 13 vec4s), and the quadric is whole vec4s with room for Q and b.
@@ -66,19 +69,17 @@ static_assert(S4D_STYLE_MLP_W1 == 0 && S4D_STYLE_MLP_B1 == S4D_STYLE_MLP_W1 + 8 
 static_assert(S4D_STYLE_MLP_STRIDE == 4 * S4D_STYLE_MLP_VEC4S);
 static_assert(S4D_STYLE_QUADRIC_B == S4D_STYLE_QUADRIC_Q + 6 && S4D_STYLE_QUADRIC_B + 3 <= S4D_STYLE_QUADRIC_STRIDE &&
               S4D_STYLE_QUADRIC_STRIDE % 4 == 0);
-// A style batch in shared memory (style_batch.glsl: id, xy, conic/opacity, colour/depth, quadric,
+// A style batch in shared memory (raster_batch.glsl: id, xy, conic/opacity, colour/depth, quadric,
 // MLP, plus a counter) fits lavapipe's 32 KiB.
 static_assert(S4D_STYLE_BATCH * (4 + 8 + 16 + 16 + 4 * S4D_STYLE_QUADRIC_STRIDE + 4 * S4D_STYLE_MLP_STRIDE) + 64 <=
               32768);
-// llvmpipe's loop cap, counting each loop's exiting check: 1 + (64 / S4D_STYLE_UNROLL + 1) loop
-// iterations per batch forward and backward, plus one compare-and-swap loop per atomic (62 per
-// entry) on the fallback path.
-static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
-                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) <=
-              65535);
-static_assert(1 +
-                  (S4D_LLVMPIPE_MAX_STYLE_LIST_CAS + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH *
-                      (2 + S4D_STYLE_BATCH / S4D_STYLE_UNROLL) +
+// llvmpipe's loop cap, counting each loop's exiting check: 1 + (64 / S4D_STYLE_MARK_UNROLL + 1) +
+// (64 / S4D_STYLE_UNROLL + 1) loop iterations per batch at most, forward and backward (the marking
+// loop and the walk over the marked slots, raster_walk.glsl), plus one compare-and-swap loop per
+// atomic (62 per entry) on the fallback path.
+constexpr long kStyleBatchLoops = 3 + S4D_STYLE_BATCH / S4D_STYLE_MARK_UNROLL + S4D_STYLE_BATCH / S4D_STYLE_UNROLL;
+static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH * kStyleBatchLoops <= 65535);
+static_assert(1 + (S4D_LLVMPIPE_MAX_STYLE_LIST_CAS + S4D_STYLE_BATCH - 1) / S4D_STYLE_BATCH * kStyleBatchLoops +
                   S4D_LLVMPIPE_MAX_STYLE_LIST_CAS * (S4D_STYLE_MLP_STRIDE + S4D_G2D_STRIDE) <=
               65535);
 
@@ -100,8 +101,9 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(BinningParams, S4D_MEMBER(BinningParams, n), S4D_MEMBER(BinningParams, tiles_x),
                  S4D_MEMBER(BinningParams, _pad0), S4D_MEMBER(BinningParams, _pad1)),
       S4D_STRUCT(RasterParams, S4D_MEMBER(RasterParams, size), S4D_MEMBER(RasterParams, background),
-                 S4D_MEMBER(RasterParams, flags), S4D_MEMBER(RasterParams, _pad0), S4D_MEMBER(RasterParams, _pad1),
-                 S4D_MEMBER(RasterParams, _pad2)),
+                 S4D_MEMBER(RasterParams, intrinsics), S4D_MEMBER(RasterParams, flags),
+                 S4D_MEMBER(RasterParams, depth_mode), S4D_MEMBER(RasterParams, time),
+                 S4D_MEMBER(RasterParams, depth_scale)),
       S4D_STRUCT(LossParams, S4D_MEMBER(LossParams, width), S4D_MEMBER(LossParams, height),
                  S4D_MEMBER(LossParams, channels), S4D_MEMBER(LossParams, n), S4D_MEMBER(LossParams, ssim_weight),
                  S4D_MEMBER(LossParams, inv_count), S4D_MEMBER(LossParams, mode), S4D_MEMBER(LossParams, _pad0)),
@@ -186,10 +188,12 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(NnGroupNormParams, rows), S4D_MEMBER(NnGroupNormParams, col0),
                  S4D_MEMBER(NnGroupNormParams, cols), S4D_MEMBER(NnGroupNormParams, flags),
                  S4D_MEMBER(NnGroupNormParams, eps), S4D_MEMBER(NnGroupNormParams, _pad0)),
-      S4D_STRUCT(StyleRasterParams, S4D_MEMBER(StyleRasterParams, size), S4D_MEMBER(StyleRasterParams, background),
-                 S4D_MEMBER(StyleRasterParams, intrinsics), S4D_MEMBER(StyleRasterParams, flags),
-                 S4D_MEMBER(StyleRasterParams, depth_mode), S4D_MEMBER(StyleRasterParams, time),
-                 S4D_MEMBER(StyleRasterParams, depth_scale)),
+      S4D_STRUCT(NnWgradParams, S4D_MEMBER(NnWgradParams, cin), S4D_MEMBER(NnWgradParams, cout), S4D_MEMBER(NnWgradParams, height), S4D_MEMBER(NnWgradParams, width), S4D_MEMBER(NnWgradParams, chunk_rows), S4D_MEMBER(NnWgradParams, chunks), S4D_MEMBER(NnWgradParams, slots), S4D_MEMBER(NnWgradParams, invocations)),
+      S4D_STRUCT(NnWgradReduceParams, S4D_MEMBER(NnWgradReduceParams, slots), S4D_MEMBER(NnWgradReduceParams, weights), S4D_MEMBER(NnWgradReduceParams, chunks), S4D_MEMBER(NnWgradReduceParams, flags)),
+      S4D_STRUCT(NnStatsBwdParams, S4D_MEMBER(NnStatsBwdParams, channels), S4D_MEMBER(NnStatsBwdParams, count), S4D_MEMBER(NnStatsBwdParams, mode), S4D_MEMBER(NnStatsBwdParams, _pad0)),
+      S4D_STRUCT(NnMseParams, S4D_MEMBER(NnMseParams, n), S4D_MEMBER(NnMseParams, scale), S4D_MEMBER(NnMseParams, _pad0), S4D_MEMBER(NnMseParams, _pad1)),
+      S4D_STRUCT(NnTvL1Params, S4D_MEMBER(NnTvL1Params, channels), S4D_MEMBER(NnTvL1Params, height), S4D_MEMBER(NnTvL1Params, width), S4D_MEMBER(NnTvL1Params, weight)),
+      S4D_STRUCT(NnSelfsimParams, S4D_MEMBER(NnSelfsimParams, channels), S4D_MEMBER(NnSelfsimParams, count), S4D_MEMBER(NnSelfsimParams, weight), S4D_MEMBER(NnSelfsimParams, _pad0)),
   };
 }
 

@@ -172,14 +172,11 @@ TEST_CASE("hard-variant style backward is the true gradient where alpha is cappe
   const auto fwd = s4d::ref::render_style_fwd(g, mlp, cam, kBackground);
   CHECK(std::any_of(fwd.img.count.begin(), fwd.img.count.end(), [](int c) { return c < 6; }));  // stops early
   int capped = 0;  // (pixel, Gaussian) samples with o' G > 0.99
+  const s4d::ref::StylePairs<double> pairs{fwd.proj, fwd.quadric, mlp};
   for (size_t i = 0; i < g.size(); ++i)
     for (int y = 0; y < cam.height; ++y)
-      for (int x = 0; x < cam.width; ++x) {
-        const double px = x + 0.5, py = y + 0.5;
-        capped += s4d::ref::detail::style_sample<Cutoff::hard>(fwd.proj, fwd.quadric, mlp, i, px, py,
-                                                               (px - cam.cx) / cam.fx, (py - cam.cy) / cam.fy)
-                          .s.clamped;
-      }
+      for (int x = 0; x < cam.width; ++x)
+        capped += pairs.sample<Cutoff::hard>(i, s4d::ref::detail::pixel_ray(cam, x, y)).s.clamped;
   CHECK(capped > 0);
   const auto smooth = s4d::ref::render_style_fwd<Cutoff::smooth>(g, mlp, cam, kBackground);
   CHECK(max_abs_diff(fwd.img.rgb, smooth.img.rgb) > 1e-3);  // the cap and the stop changed the image

@@ -8,6 +8,8 @@
 #include <iostream>
 #include <memory>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "bench_ground_truth.h"
 #include "bench_modes.h"
@@ -29,10 +31,13 @@ namespace {
 struct Method {
   std::string name;  // a style of the run, or "original"
   fs::path style_image;
+  std::string style;  // the report's style column: the image's file name without extension
 };
 
-// The style image a style was trained with: request.json's style_image.path (s4d/style/stylize_run.h).
-fs::path requested_style_image(const fs::path& run, const std::string& style) {
+// The style image a style was trained with, as a Method's image and label: its copy in the style's
+// folder (run::style_image_path) labelled with the file name request.json records, or (a style from
+// before the copy was kept) the file request.json names (s4d/style/stylize_run.h).
+std::pair<fs::path, std::string> requested_style_image(const fs::path& run, const std::string& style) {
   const fs::path file = run::style_dir(run, style) / "request.json";
   std::ifstream in(file);
   if (!in) throw std::runtime_error(file.string() + ": missing; it names the style image (or pass --style-image S)");
@@ -47,7 +52,12 @@ fs::path requested_style_image(const fs::path& run, const std::string& style) {
                          : nullptr;
   if (!path || !path->is_string())
     throw std::runtime_error(file.string() + ": no string field style_image.path; pass --style-image S");
-  return path->get<std::string>();
+  const fs::path image = path->get<std::string>();
+  if (const fs::path copy = run::style_image_path(run, style); fs::exists(copy)) return {copy, image.stem().string()};
+  if (!fs::exists(image))
+    throw std::runtime_error(file.string() + ": style_image.path " + image.string() + " no longer exists (the style predates " +
+                             run::style_image_path(run, style).filename().string() + " copies); pass --style-image S");
+  return {image, image.stem().string()};
 }
 
 std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
@@ -69,8 +79,13 @@ std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
                                   run::style_file_path(run.root, name).string() + "); it has: " + known +
                                   " (train one with style4d stylize --run " + run.root.string() + " --style IMG --name " + name + ")");
     }
-    Method m{name, {}};
-    if (name != "original") m.style_image = args.get("style-image") ? fs::path(*args.get("style-image")) : requested_style_image(run.root, name);
+    Method m{name, {}, "none"};
+    if (name != "original" && args.get("style-image")) {
+      m.style_image = *args.get("style-image");
+      m.style = m.style_image.stem().string();
+    } else if (name != "original") {
+      std::tie(m.style_image, m.style) = requested_style_image(run.root, name);
+    }
     if (!m.style_image.empty()) io::read_png(m.style_image);  // fails naming the file when it is missing or not a PNG
     out.push_back(std::move(m));
   }
@@ -197,7 +212,7 @@ int bench_run(const Args& args, bench::FramesOptions options) {
   for (size_t i = 0; i < methods.size(); ++i) {
     const Method& m = methods[i];
     bench::RunMethodResult r{bench::pool_sequences(m.name, cameras[i]), std::move(spirals[i]),
-                             m.style_image.empty() ? "none" : m.style_image.stem().string(), m.style_image};
+                             m.style, m.style_image};
     r.test.frames = renders / m.name / "test";
     results.push_back(std::move(r));
   }

@@ -25,7 +25,7 @@ const std::vector<OptionSpec> kSpecs = {
     {"frames", "stylised frames: a folder of PNGs or a video (.mp4); repeat for several methods", true, "A"},
     {"name", "method label for the matching --frames (default: its file name); repeat in the same order", true, "NAME"},
     {"original", "original-scene render of the same cameras and times (PNG folder or video)", true, "B"},
-    {"style-image", "the style image the methods were given (--run: default each style's request.json)", true, "S"},
+    {"style-image", "the style image the methods were given (--run: default the copy each style keeps, RUN/style/NAME/style_image.png)", true, "S"},
     {"out", "report folder: report.json, report.md, report.csv, plots/, contact_sheet.png", true, "DIR"},
     {"scene", "scene label (default: the --original file name; --run: the run folder's name)", true, "NAME"},
     {"ground-truth", "captured frames matching --original; enables psnr", true, "C"},

@@ -32,12 +32,27 @@ float parse_float(const std::string& option, const std::string& text) {
   throw std::invalid_argument("--" + option + ": expected a number, got '" + text + "'");
 }
 
+// Method scratch retrains 4DGS with the run's settings: stage 4's options would do nothing there.
+void refuse_stage4_options(const Args& args) {
+  for (const char* option : {"style-setting", "mlp-iters", "batch", "checkpoint-every", "tv-weight", "mlp-lr", "mlp-lr-final",
+                             "depth-input", "depth-scale", "mlp-init", "region"})
+    if (args.get(option))
+      throw std::invalid_argument(std::string("--") + option + ": a stage-4 option; method scratch retrains 4DGS with the "
+                                  "run's settings (its length: --iters)");
+  for (const char* flag : {"input-sigmoid", "freeze-colors"})
+    if (args.flag(flag))
+      throw std::invalid_argument(std::string("--") + flag + ": a stage-4 option; method scratch retrains 4DGS with the "
+                                  "run's settings (its length: --iters)");
+}
+
 style::StyleConfig config_from_args(const Args& args) {
   style::StyleConfig c = style::style_setting(args.get_or("style-setting", "tuned"));
   if (auto v = args.get("method")) c.method = style::method_setting(*v);
+  if (c.method == run::StyleMethod::scratch) refuse_stage4_options(args);
   if (auto v = args.get("stylizer")) c.stylizer = *v;
   if (auto v = args.get("strength")) c.strength = parse_float("strength", *v);
-  if (auto v = args.get("iters")) style::set_iterations(c, parse_number<uint32_t>("iters", *v));
+  if (auto v = args.get("iters"); v && c.method != run::StyleMethod::scratch)
+    style::set_iterations(c, parse_number<uint32_t>("iters", *v));
   if (auto v = args.get("mlp-iters")) c.mlp_iterations = parse_number<uint32_t>("mlp-iters", *v);
   if (auto v = args.get("batch")) c.batch = parse_number<uint32_t>("batch", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
@@ -81,7 +96,8 @@ int cmd_stylize(const std::vector<std::string>& argv) {
                  "stylized frames) (default full)", true, "M"},
       {"style-setting", "stage 4's defaults: tuned (ours) or paper (Style4D's: MLPs from the start, their learning "
                         "rate 1e-4 -> 1e-5, 2 views a step); the options below override them (default tuned)", true, "S"},
-      {"iters", "stage 4 iterations (default 1500)", true, "N"},
+      {"iters", "stage 4 iterations (default 1500); method scratch: the retraining's iterations, the run's "
+                "schedules scaled to fit as `train --iters` does (default: the run's own)", true, "N"},
       {"mlp-iters", "method full: the last N iterations also train the MLPs (default: tuned 300, paper all; the "
                     "others train colours and opacities only, on the plain rasterizer)", true, "N"},
       {"batch", "stage 4 training views per step, gradients summed (default: tuned 1, paper 2)", true, "N"},
@@ -119,6 +135,8 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   req.style_image = args.require("style");
   req.name = args.get_or("name", "");
   req.config = config_from_args(args);
+  if (auto v = args.get("iters"); v && req.config.method == run::StyleMethod::scratch)
+    req.scratch_iterations = parse_number<uint32_t>("iters", *v);
   req.restart = args.flag("restart");
   if (auto v = args.get("weights")) req.weights = *v;
   req.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));

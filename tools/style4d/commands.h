@@ -18,6 +18,7 @@ int cmd_stylize_frames(const std::vector<std::string>& args);
 int cmd_sweep(const std::vector<std::string>& args);
 int cmd_synth(const std::vector<std::string>& args);
 int cmd_train(const std::vector<std::string>& args);
+int cmd_train_stylizer(const std::vector<std::string>& args);
 int cmd_view(const std::vector<std::string>& args);
 
 }  // namespace s4d::cli

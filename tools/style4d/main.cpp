@@ -33,6 +33,8 @@ const std::vector<Command>& commands() {
        s4d::cli::cmd_stylize},
       {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
       {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
+      {"train-stylizer", "train the MCCNet/HGST decoder and MCC module (VGG-19 fixed) into a --weights folder",
+       s4d::cli::cmd_train_stylizer},
       {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",
        s4d::cli::cmd_bench},
       {"sweep", "a benchmark sweep (scenes x styles x methods) as cells: plan, run on Slurm or locally, status, merged table",

@@ -216,29 +216,47 @@ ConvWeights upload_qkv(engine::Context& ctx, const std::string& name, uint32_t w
 }
 
 Tensor transformer_block(engine::Recorder& rec, const TransformerBlock& b, uint32_t heads, float eps, Tensor x) {
-  const uint32_t d = x.c, dh = d / heads, n = x.w;
+  const uint32_t d = x.c, n = x.w;
   if (x.h != 1 || b.qkv.cin != d || b.qkv.cout != 3 * d || d % heads != 0)
     fail("transformer block " + b.qkv.name + " of width " + std::to_string(b.qkv.cin) + " with " + std::to_string(heads) +
          " heads cannot take tokens " + x.shape());
   const Tensor qkv = conv1x1(rec, layernorm(rec, x, b.norm1, eps), b.qkv, false);
-  const size_t head_bytes = size_t{dh} * n * sizeof(float);
-  Tensor out = make_tensor(rec.context(), "attention heads", d, 1, n);
-  for (uint32_t h = 0; h < heads; ++h) {
-    std::array<Tensor, 3> qkv_h;  // this head's rows of q, k and v
-    for (uint32_t part = 0; part < 3; ++part) {
-      qkv_h[part] = make_tensor(rec.context(), "attention head", dh, 1, n);
-      rec.copy(qkv.buffer, qkv_h[part].buffer, head_bytes, (size_t{part} * d + size_t{h} * dh) * n * sizeof(float));
-    }
-    rec.barrier();
-    const Tensor head = transformer_attention(rec, qkv_h[0], qkv_h[1], qkv_h[2]);
-    rec.copy(head.buffer, out.buffer, head_bytes, 0, size_t{h} * head_bytes);
+  std::array<Tensor, 3> parts;  // q, k and v: consecutive runs of qkv's channels
+  for (uint32_t part = 0; part < 3; ++part) {
+    parts[part] = make_tensor(rec.context(), "attention q/k/v", d, 1, n);
+    rec.copy(qkv.buffer, parts[part].buffer, parts[part].count() * sizeof(float), size_t{part} * parts[part].count() * sizeof(float));
   }
   rec.barrier();
+  const Tensor out = multi_head_attention(rec, parts[0], parts[1], parts[2], heads);
   conv1x1_accumulate(rec, out, b.proj, x);
   Tensor hidden = conv1x1(rec, layernorm(rec, x, b.norm2, eps), b.fc1, false);
   gelu_inplace(rec, hidden);
   conv1x1_accumulate(rec, hidden, b.fc2, x);
   return x;
+}
+
+Tensor multi_head_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, uint32_t heads) {
+  const uint32_t d = q.c;
+  if (heads == 0 || d % heads != 0 || k.c != d || v.c != d || q.h != 1 || k.h != 1 || v.h != 1 || k.w != v.w)
+    throw std::invalid_argument("multi_head_attention: " + std::to_string(heads) + " heads over q " + q.shape() + ", k " +
+                                k.shape() + ", v " + v.shape() + " (needs [d, 1, nq], [d, 1, n], [d, 1, n], heads dividing d)");
+  const uint32_t dh = d / heads;
+  // Head h is channels h dh .. (h + 1) dh - 1: one contiguous run of each [d, 1, n] buffer.
+  const auto head = [&](const Tensor& t, uint32_t h) {
+    Tensor part = make_tensor(rec.context(), "attention head", dh, 1, t.w);
+    rec.copy(t.buffer, part.buffer, part.count() * sizeof(float), size_t{h} * part.count() * sizeof(float));
+    return part;
+  };
+  Tensor out = make_tensor(rec.context(), "attention heads", d, 1, q.w);
+  const size_t head_bytes = size_t{dh} * q.w * sizeof(float);
+  for (uint32_t h = 0; h < heads; ++h) {
+    const Tensor qh = head(q, h), kh = head(k, h), vh = head(v, h);
+    rec.barrier();
+    const Tensor o = transformer_attention(rec, qh, kh, vh);
+    rec.copy(o.buffer, out.buffer, head_bytes, 0, size_t{h} * head_bytes);
+  }
+  rec.barrier();
+  return out;
 }
 
 }  // namespace s4d::nn

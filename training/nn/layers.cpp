@@ -4,6 +4,7 @@
 
 #include "s4d/engine/buffer_from.h"
 #include "s4d/primitives/shader_pipeline.h"
+#include "layer_checks.h"
 #include "s4d_nn.h"
 
 namespace s4d::nn {
@@ -12,17 +13,8 @@ namespace {
 
 using primitives::ceil_div;
 using primitives::shader_pipeline;
-
-[[noreturn]] void fail(const std::string& layer, const std::string& what) {
-  throw std::invalid_argument(layer + ": " + what);
-}
-
-void check_loop(const std::string& layer, uint64_t iterations, const std::string& what) {
-  // llvmpipe silently ends invocations past 65,535 loop iterations (s4d_nn.h).
-  if (iterations > S4D_NN_MAX_LOOP)
-    fail(layer, what + " needs " + std::to_string(iterations) + " loop iterations per invocation, over the " +
-                    std::to_string(S4D_NN_MAX_LOOP) + " the kernels allow");
-}
+using detail::check_loop;
+using detail::fail;
 
 void check_stats_input(const std::string& layer, const Tensor& x) {
   if (x.plane() < 2) fail(layer, "needs at least 2 values per channel, got " + x.shape());
@@ -214,10 +206,20 @@ Tensor maxpool2(engine::Recorder& rec, const Tensor& x) {
   return resize(rec, x, shaders::Id::nn_maxpool, (x.h + 1) / 2, (x.w + 1) / 2, "maxpool");
 }
 
+Tensor avgpool3(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 3 || x.w < 3) fail("avgpool3", "needs H, W >= 3, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_avgpool3, x.h - 2, x.w - 2, "avgpool3");
+}
+
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x) {
   if (x.h < 2 || x.w < 2) fail("maxpool", "floor mode needs H, W >= 2, got " + x.shape());
   // nn_maxpool with floor(in / 2) outputs: every window lies inside the input, so no clamping applies.
   return resize(rec, x, shaders::Id::nn_maxpool, x.h / 2, x.w / 2, "maxpool");
+}
+
+Tensor avgpool2(engine::Recorder& rec, const Tensor& x) {
+  if (x.h < 2 || x.w < 2) fail("avgpool2", "needs H, W >= 2, got " + x.shape());
+  return resize(rec, x, shaders::Id::nn_avgpool2, x.h / 2, x.w / 2, "avgpool2");
 }
 
 Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad) {
@@ -319,12 +321,14 @@ void gelu_inplace(engine::Recorder& rec, Tensor& x) {
 }
 
 Tensor vit_embed(engine::Recorder& rec, const Tensor& patches, const Tensor& pos) {
-  if (pos.c != patches.c || pos.h != 1 || pos.plane() != patches.plane() + 1)
+  const bool first_only = pos.plane() == 1;
+  if (pos.c != patches.c || pos.h != 1 || (!first_only && pos.plane() != patches.plane() + 1))
     fail("vit_embed", "position embedding " + pos.shape() + " does not match patches " + patches.shape() +
-                          " (needs [c, 1, 1 + h w])");
-  Tensor y = make_tensor(rec.context(), "tokens", pos.c, 1, pos.w);
-  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = pos.w, ._pad0 = 0, ._pad1 = 0};
-  rec.dispatch(shader_pipeline(rec.context(), shaders::Id::nn_vit_embed),
+                          " (needs [c, 1, 1 + h w] or [c, 1, 1])");
+  const auto tokens = static_cast<uint32_t>(patches.plane() + 1);
+  Tensor y = make_tensor(rec.context(), "tokens", pos.c, 1, tokens);
+  const gpu::NnEltParams p{.n = static_cast<uint32_t>(y.count()), .count = tokens, ._pad0 = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(rec.context(), first_only ? shaders::Id::nn_prepend_token : shaders::Id::nn_vit_embed),
                {S4D_BIND(VIT_PATCHES, patches.buffer), S4D_BIND(VIT_POS, pos.buffer), S4D_BIND(VIT_OUT, y.buffer)}, p,
                ceil_div(y.count(), S4D_NN_WG));
   rec.barrier();

@@ -42,6 +42,7 @@ void check_sizes(const StyleFile& s, const std::string& where, bool reading) {
 
 fs::path style_dir(const fs::path& run_root, const std::string& name) { return RunDir{run_root}.style_dir() / name; }
 fs::path style_file_path(const fs::path& run_root, const std::string& name) { return style_dir(run_root, name) / kFileName; }
+fs::path style_image_path(const fs::path& run_root, const std::string& name) { return style_dir(run_root, name) / "style_image.png"; }
 
 void write_style_file(const fs::path& path, const StyleFile& s) {
   check_sizes(s, path.string(), false);

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "s4d/engine/device_info.h"
 #include "s4d/engine/recorder.h"
@@ -262,27 +263,18 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
                  {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
                  ceil_div(num_tiles, S4D_SPLAT_WG));
     stage.emplace(*ctx_, "raster");
-    if (g.style != nullptr) {
-      rec.dispatch(
-          shader_pipeline(*ctx_, shaders::Id::style_raster_fwd),
-          {S4D_BIND(STYLE_RANGES, ranges_), S4D_BIND(STYLE_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(STYLE_XY, xy_),
-           S4D_BIND(STYLE_CONIC_OPACITY, conic_opacity_), S4D_BIND(STYLE_COLOR_DEPTH, color_depth_),
-           S4D_BIND(STYLE_QUADRIC, quadric_), S4D_BIND(STYLE_MLP, *g.style->weights), S4D_BIND(SRAST_RGB, rgb_),
-           S4D_BIND(SRAST_ALPHA, alpha_), S4D_BIND(SRAST_DEPTH, depth_), S4D_BIND(SRAST_COUNT, count_),
-           S4D_BIND(SRAST_LAST, last_), S4D_BIND(SRAST_FINAL_T, final_t_)},
-          style_raster_params(*g.style, pp.cam, background, 0u), num_tiles);
-    } else {
-      gpu::RasterParams raster{};
-      raster.size = pp.cam.size;
-      raster.background = {background[0], background[1], background[2], 0.0f};
-      rec.dispatch(
-          shader_pipeline(*ctx_, shaders::Id::raster_fwd),
-          {S4D_BIND(RASTER_RANGES, ranges_), S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(RASTER_XY, xy_),
-           S4D_BIND(RASTER_CONIC_OPACITY, conic_opacity_), S4D_BIND(RASTER_COLOR_DEPTH, color_depth_),
-           S4D_BIND(RASTER_RGB, rgb_), S4D_BIND(RASTER_ALPHA, alpha_), S4D_BIND(RASTER_DEPTH, depth_),
-           S4D_BIND(RASTER_COUNT, count_), S4D_BIND(RASTER_LAST, last_), S4D_BIND(RASTER_FINAL_T, final_t_)},
-          raster, num_tiles);
-    }
+    std::vector<engine::Binding> bind = {
+        S4D_BIND(RASTER_RANGES, ranges_),      S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_),
+        S4D_BIND(RASTER_XY, xy_),              S4D_BIND(RASTER_CONIC_OPACITY, conic_opacity_),
+        S4D_BIND(RASTER_COLOR_DEPTH, color_depth_), S4D_BIND(RASTER_RGB, rgb_),
+        S4D_BIND(RASTER_ALPHA, alpha_),        S4D_BIND(RASTER_DEPTH, depth_),
+        S4D_BIND(RASTER_COUNT, count_),        S4D_BIND(RASTER_LAST, last_),
+        S4D_BIND(RASTER_FINAL_T, final_t_)};
+    if (g.style != nullptr)
+      bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g.style->weights)});
+    const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
+    const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
+    rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
     ctx_->run(std::move(rec));
   }
   RenderStats stats{.instances = instances, .longest_tile_list = 0};
@@ -324,10 +316,7 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
 
   const gpu::ProjectParams pp = project_params(g, cam_);
   const uint32_t num_tiles = pp.cam.size.z * pp.cam.size.w;
-  gpu::RasterParams raster{};
-  raster.size = pp.cam.size;
-  raster.background = {background_[0], background_[1], background_[2], 0.0f};
-  raster.flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
+  const uint32_t flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
   const bool float_atomics = ctx_->info().float_atomic_add_buffer && !options_.force_cas_atomics;
   check_list_length(ctx_->info(), longest_last_, style_last_, !float_atomics, "differentiate");
   const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
@@ -338,26 +327,22 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
   if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
   rec.barrier();
-  if (style_last_) {
-    const shaders::Id id = float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas;
-    rec.dispatch(shader_pipeline(*ctx_, id),
-                 {S4D_BIND(STYLE_RANGES, ranges_), S4D_BIND(STYLE_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(STYLE_XY, xy_),
-                  S4D_BIND(STYLE_CONIC_OPACITY, conic_opacity_), S4D_BIND(STYLE_COLOR_DEPTH, color_depth_),
-                  S4D_BIND(STYLE_QUADRIC, quadric_), S4D_BIND(STYLE_MLP, *g.style->weights),
-                  S4D_BIND(SRBWD_FINAL_T, final_t_), S4D_BIND(SRBWD_LAST, last_), S4D_BIND(SRBWD_V_RGB, *v.v_rgb),
-                  S4D_BIND(SRBWD_V_ALPHA, v.v_alpha ? *v.v_alpha : *v.v_rgb),
-                  S4D_BIND(SRBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(SRBWD_GRAD2D, grad2d_),
-                  S4D_BIND(SRBWD_V_MLP, *out.v_style_mlp)},
-                 style_raster_params(*g.style, pp.cam, background_, raster.flags), num_tiles);
-  } else {
-    rec.dispatch(shader_pipeline(*ctx_, float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas),
-                 {S4D_BIND(RBWD_RANGES, ranges_), S4D_BIND(RBWD_GAUSSIAN_IDS, gaussian_ids_), S4D_BIND(RBWD_XY, xy_),
-                  S4D_BIND(RBWD_CONIC_OPACITY, conic_opacity_), S4D_BIND(RBWD_COLOR_DEPTH, color_depth_),
-                  S4D_BIND(RBWD_FINAL_T, final_t_), S4D_BIND(RBWD_LAST, last_), S4D_BIND(RBWD_V_RGB, *v.v_rgb),
-                  S4D_BIND(RBWD_V_ALPHA, v.v_alpha ? *v.v_alpha : *v.v_rgb),
-                  S4D_BIND(RBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(RBWD_GRAD2D, grad2d_)},
-                 raster, num_tiles);
-  }
+  std::vector<engine::Binding> bind = {
+      S4D_BIND(RBWD_RANGES, ranges_),     S4D_BIND(RBWD_GAUSSIAN_IDS, gaussian_ids_),
+      S4D_BIND(RBWD_XY, xy_),             S4D_BIND(RBWD_CONIC_OPACITY, conic_opacity_),
+      S4D_BIND(RBWD_COLOR_DEPTH, color_depth_), S4D_BIND(RBWD_FINAL_T, final_t_),
+      S4D_BIND(RBWD_LAST, last_),         S4D_BIND(RBWD_V_RGB, *v.v_rgb),
+      S4D_BIND(RBWD_V_ALPHA, v.v_alpha ? *v.v_alpha : *v.v_rgb),
+      S4D_BIND(RBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(RBWD_GRAD2D, grad2d_)};
+  const StyleMlp* style = style_last_ ? g.style : nullptr;
+  if (style != nullptr)
+    bind.insert(bind.end(), {S4D_BIND(RBWD_QUADRIC, quadric_), S4D_BIND(RBWD_STYLE_MLP, *style->weights),
+                             S4D_BIND(RBWD_V_STYLE_MLP, *out.v_style_mlp)});
+  const shaders::Id id = style != nullptr
+                             ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
+                             : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
+  const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
+  rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
                {S4D_BIND(PBWD_MEANS, *g.means), S4D_BIND(PBWD_LOG_SCALES, *g.log_scales),

@@ -27,16 +27,18 @@ bool same_style_settings(const StyleMlp& a, const StyleMlp& b) {
          a.input_sigmoid == b.input_sigmoid;
 }
 
-gpu::StyleRasterParams style_raster_params(const StyleMlp& style, const gpu::SplatCamera& cam,
-                                           const std::array<float, 3>& background, uint32_t flags) {
-  gpu::StyleRasterParams p{};
+gpu::RasterParams raster_params(const StyleMlp* style, const gpu::SplatCamera& cam,
+                                const std::array<float, 3>& background, uint32_t flags) {
+  gpu::RasterParams p{};
   p.size = cam.size;
   p.background = {background[0], background[1], background[2], 0.0f};
+  p.flags = flags;
+  if (style == nullptr) return p;
   p.intrinsics = cam.intrinsics;
-  p.flags = flags | (style.input_sigmoid ? S4D_STYLE_INPUT_SIGMOID : 0u);
-  p.depth_mode = static_cast<uint32_t>(style.depth);
-  p.time = style.time;
-  p.depth_scale = style.depth_scale;
+  p.flags |= style->input_sigmoid ? S4D_STYLE_INPUT_SIGMOID : 0u;
+  p.depth_mode = static_cast<uint32_t>(style->depth);
+  p.time = style->time;
+  p.depth_scale = style->depth_scale;
   return p;
 }
 

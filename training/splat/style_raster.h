@@ -1,5 +1,5 @@
-// Host side of the style rasterizer's kernels (shaders/splat/style_*.comp): argument checks and push
-// constants. Private to s4d_splat; the Rasterizer records the dispatches.
+// Host side of the rasterizer family's style variants (GaussianParams::style): argument checks, and
+// the push constants of both variants. Private to s4d_splat; the Rasterizer records the dispatches.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -15,8 +15,9 @@ void check_style(const StyleMlp& style, uint32_t n);
 // Whether two descriptions render the same (their weight buffers aside).
 bool same_style_settings(const StyleMlp& a, const StyleMlp& b);
 
-// Push constants of style_raster_fwd / style_raster_bwd; `flags` holds S4D_RASTER_HAS_V_* bits.
-gpu::StyleRasterParams style_raster_params(const StyleMlp& style, const gpu::SplatCamera& cam,
-                                           const std::array<float, 3>& background, uint32_t flags);
+// Push constants of raster_fwd / raster_bwd, plain (style == nullptr) or style variant; `flags`
+// holds S4D_RASTER_HAS_V_* bits.
+gpu::RasterParams raster_params(const StyleMlp* style, const gpu::SplatCamera& cam,
+                                const std::array<float, 3>& background, uint32_t flags);
 
 }  // namespace s4d::splat

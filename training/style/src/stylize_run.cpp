@@ -9,6 +9,7 @@
 #include "s4d/data/npy.h"
 #include "s4d/data/poses_bounds.h"
 #include "s4d/io/image_file.h"
+#include "s4d/io/image_io.h"
 #include "s4d/run/style_file.h"
 #include "s4d/style/style_trainer.h"
 #include "s4d/stylize/registry.h"
@@ -29,6 +30,14 @@ nlohmann::json image_key(const fs::path& path, const io::ImageF& image) {
     h *= 1099511628211ull;
   }
   return {{"path", fs::absolute(path).string()}, {"width", image.width}, {"height", image.height}, {"hash", std::to_string(h)}};
+}
+
+// The request without where its style image was read from: the same pixels from a moved or copied
+// file continue the style rather than being refused as other settings.
+nlohmann::json without_image_path(nlohmann::json request) {
+  if (request.is_object() && request.contains("style_image") && request["style_image"].is_object())
+    request["style_image"].erase("path");
+  return request;
 }
 
 nlohmann::json read_json_or_null(const fs::path& file) {
@@ -87,25 +96,28 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const nlohmann::json network = req.weights.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json{{"weights", fs::absolute(req.weights).string()},
                                                                       {"style_size", req.style_size}};
-  const nlohmann::json request = {{"style_image", image_key(req.style_image, style_image)},
-                                  {"network", network},
-                                  {"settings", to_json(req.config)}};
+  nlohmann::json request = {{"style_image", image_key(req.style_image, style_image)},
+                            {"network", network},
+                            {"settings", to_json(req.config)}};
+  if (req.scratch_iterations > 0) request["scratch_iterations"] = req.scratch_iterations;
   const nlohmann::json previous = read_json_or_null(out.dir / "request.json");
   if (req.restart)
     for (const char* stale : {"checkpoint.s4dckpt", "style.s4dstyle", "run", "eval", "spiral", "stylize.json"})
       fs::remove_all(out.dir / stale);
-  else if (!previous.is_null() && previous != request)
+  else if (!previous.is_null() && without_image_path(previous) != without_image_path(request))
     throw std::invalid_argument("style " + name + " of " + run.root.string() + " was started with other settings (" +
                                 out.dir.string() + "/request.json); pass --restart to train it again, or another --name");
   fs::create_directories(out.dir);
   util::write_file_atomic(out.dir / "request.json", request.dump(2) + "\n");
+  // The style image travels with the style (bench's style metrics read it), 8-bit as its key hashes it.
+  io::write_png(run::style_image_path(run.root, name), style_image);
 
   out.style_image_key = request.at("style_image");
 
   // Stage 3.
   out.settings = {.strength = req.config.strength, .seed = req.config.seed};
   const nlohmann::json key = {{"stylizer", stylizer->name()}, {"strength", req.config.strength}, {"seed", req.config.seed},
-                              {"style_image", request.at("style_image")}, {"network", network}};
+                              {"style_image", without_image_path(request).at("style_image")}, {"network", network}};
   out.frames = stylize_dataset(run.dataset, *stylizer, style_image, out.settings, key, out.dir / "stylized");
   const StylizedFrames& frames = out.frames;
 
@@ -116,9 +128,11 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   if (req.config.method == run::StyleMethod::scratch) {
     write_dataset_layout(run.dataset, out.dir / "stylized");
     const fs::path scratch = out.dir / "run";
+    run::TrainConfig config = run.config;
+    if (req.scratch_iterations > 0) run::set_iterations(config, req.scratch_iterations);
     std::unique_ptr<train::Trainer> trainer = fs::exists(scratch / "run.json")
                                                   ? train::Trainer::resume(ctx, scratch)
-                                                  : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", run.config, scratch);
+                                                  : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", config, scratch);
     const train::TrainResult r = trainer->run(stop);
     if (!r.complete) return out;
     run::StyleFile file;

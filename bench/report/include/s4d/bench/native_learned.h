@@ -2,8 +2,9 @@
 // content_lpips (stylised vs original frame) and style_lpips (frame vs the style image resized to
 // the frame) with LPIPS-VGG, dists (consecutive stylised frames, DISTS(f_t+1, f_t)),
 // style_loss_gram (frame vs style image) with VGG19, dino_score (VBench subject consistency of
-// the stylised frames) with DINO ViT-B/16, ckdn (pyiqa's ckdn(frame, style image)) and musiq /
-// musiq_paq2piq (pyiqa's MUSIQ of each stylised frame, KonIQ / PaQ-2-PiQ weights). Each network
+// the stylised frames) with DINO ViT-B/16, ckdn (pyiqa's ckdn(frame, style image)), clipiqa_plus
+// (pyiqa's clipiqa+ of each stylised frame, CLIP RN50) and musiq / musiq_paq2piq (pyiqa's MUSIQ of
+// each stylised frame, KonIQ / PaQ-2-PiQ weights). Each network
 // loads once per call; a key whose
 // files are absent from DIR (or with no DIR) gets the reason and the file names. Files, in DIR, as
 // tools/convert_weights.py writes them from:
@@ -18,6 +19,8 @@
 //   ckdn.safetensors            pyiqa CKDN_model_best-38b27dc6.pth  ("net.qse_1.weight", ...)
 //   musiq.safetensors           pyiqa musiq_koniq_ckpt-e95806b9.pth  ("conv_root.weight", ...)
 //   musiq_paq2piq.safetensors   pyiqa musiq_paq2piq_ckpt-364c0c84.pth
+//   clipiqa_plus.safetensors    OpenAI RN50.pt + pyiqa CLIP-IQA+_learned_prompts-603f3273.pth
+//                               ("visual.conv1.weight", ..., "logit_scale", "text_features")
 #pragma once
 #include <filesystem>
 #include <map>
@@ -30,6 +33,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/metrics/dino_subject.h"
 #include "s4d/metrics/ckdn.h"
+#include "s4d/metrics/clipiqa.h"
 #include "s4d/metrics/dists.h"
 #include "s4d/metrics/gram_loss.h"
 #include "s4d/metrics/lpips.h"
@@ -62,8 +66,8 @@ class NativeLearned {
   std::string convention(const std::string& key) const;
 
   // Appends one frame's values to per_frame for the keys in `keys` (empty: all): content_lpips
-  // (stylised, original), musiq and musiq_paq2piq (stylised); with a style image style_lpips,
-  // style_loss_gram and ckdn; when the frame
+  // (stylised, original), clipiqa_plus, musiq and musiq_paq2piq (stylised); with a style image
+  // style_lpips, style_loss_gram and ckdn; when the frame
   // follows the previous call's frame in its video (`follows`), dists of the pair and dino_score's
   // s_i (against the video's first frame and the previous one). The style image's
   // features are cached per path and size, the previous frame's DISTS stages until the next call.
@@ -79,6 +83,7 @@ class NativeLearned {
   std::unique_ptr<metrics::DinoSubject> dino_;
   std::unique_ptr<metrics::Ckdn> ckdn_;
   std::unique_ptr<metrics::Musiq> musiq_, musiq_paq2piq_;
+  std::unique_ptr<metrics::ClipIqaPlus> clipiqa_;
   std::map<std::string, std::string> unavailable_;
   // Style image caches: the image itself, its LPIPS taps at a frame size, its Gram matrices.
   mutable std::filesystem::path style_path_;

@@ -54,6 +54,11 @@ ConvWeights upload_qkv(engine::Context& ctx, const std::string& name, uint32_t w
 
 // The block on tokens x [width, 1, n] with `heads` heads and LayerNorm eps; returns x updated.
 Tensor transformer_block(engine::Recorder& rec, const TransformerBlock& b, uint32_t heads, float eps, Tensor x);
+// Multi-head attention: the channels of q [d, 1, nq] and of k, v [d, 1, n] split into `heads` equal
+// groups, transformer_attention of each group (scale q beforehand), the heads' outputs stacked again
+// in order: [d, 1, nq] (DINO's ViT blocks, CLIP's attention pooling). Needs d / heads and n <=
+// S4D_NN_MAX_LOOP; throws std::invalid_argument when the heads do not divide d or the shapes differ.
+Tensor multi_head_attention(engine::Recorder& rec, const Tensor& q, const Tensor& k, const Tensor& v, uint32_t heads);
 
 // The whole attention over content positions in chunks whose scores take at most
 // `max_score_bytes` (and the device's storage-buffer range). Needs dk and n_s <= S4D_NN_MAX_LOOP.

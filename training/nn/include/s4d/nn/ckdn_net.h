@@ -13,8 +13,7 @@
 // "net.qse_2.<i>.bn1.{weight,bias,running_mean,running_var}", "net.qse_2.0.downsample.{0,1}.*",
 // "net.dte_*", "net.csp.*", "net.fc_.{0,3,6}.{weight,bias}"), as tools/convert_weights.py ckdn
 // writes them. BatchNorm runs in eval mode, so it is folded into the convolution before it when the
-// weights load: w' = w gamma / sqrt(var + 1e-5) per output channel, b' = beta - mean gamma /
-// sqrt(var + 1e-5) (in double, then float).
+// weights load (weights.h load_conv_bn); the Bottlenecks are resnet_bottleneck.h's, strided as torchvision's.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -23,6 +22,7 @@
 #include "s4d/engine/recorder.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/layers.h"
+#include "s4d/nn/resnet_bottleneck.h"
 #include "s4d/nn/tensor.h"
 
 namespace s4d::nn {
@@ -40,14 +40,6 @@ class CkdnNet {
   Tensor logit(engine::Recorder& rec, const Tensor& x, const Tensor& y) const;
 
  private:
-  struct Bottleneck {
-    ConvWeights conv1, conv2, conv3, downsample;  // BatchNorm folded in; downsample.cout == 0: none
-    uint32_t stride = 1;
-  };
-  static std::vector<Bottleneck> load_layer(engine::Context& ctx, const io::SafetensorsFile& file,
-                                            const std::string& prefix, uint32_t cin, uint32_t planes, uint32_t blocks,
-                                            uint32_t stride);
-  static Tensor run_block(engine::Recorder& rec, const Tensor& x, const Bottleneck& b);
   Tensor stem(engine::Recorder& rec, const Tensor& x, const ConvWeights& conv, const std::vector<Bottleneck>& layer1) const;
 
   ConvWeights qse_1_, dte_1_;

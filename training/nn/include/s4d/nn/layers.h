@@ -55,8 +55,12 @@ void conv1x1_accumulate(engine::Recorder& rec, const Tensor& x, const ConvWeight
 void relu_inplace(engine::Recorder& rec, Tensor& x);
 // MaxPool2d(2, 2, ceil_mode=True): [c, ceil(h/2), ceil(w/2)].
 Tensor maxpool2(engine::Recorder& rec, const Tensor& x);
+// AvgPool2d(3, 1) (no padding): [c, h - 2, w - 2]; needs H, W >= 3.
+Tensor avgpool3(engine::Recorder& rec, const Tensor& x);
 // MaxPool2d(2, 2) (floor mode, torchvision's VGG): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
 Tensor maxpool2_floor(engine::Recorder& rec, const Tensor& x);
+// AvgPool2d(2) (floor mode, CLIP's ModifiedResNet): [c, floor(h/2), floor(w/2)]; needs H, W >= 2.
+Tensor avgpool2(engine::Recorder& rec, const Tensor& x);
 // MaxPool2d(3, 2, pad) (floor mode; pad 0: torchvision's AlexNet, pad 1: ResNet's stem):
 // [c, (h + 2 pad - 3) / 2 + 1, (w + 2 pad - 3) / 2 + 1]; pad is 0 or 1, H, W >= 3 - 2 pad.
 Tensor maxpool3s2(engine::Recorder& rec, const Tensor& x, uint32_t pad = 0);
@@ -94,6 +98,8 @@ Tensor layernorm(engine::Recorder& rec, const Tensor& x, const NormWeights& w, f
 void gelu_inplace(engine::Recorder& rec, Tensor& x);
 // A vision transformer's tokens [c, 1, 1 + gh gw]: pos [c, 1, 1 + gh gw] (the class token folded into
 // its first column) plus, from the second column on, the patch embeddings [c, gh, gw] in row-major order.
+// pos [c, 1, 1]: the first token only, no position embedding (kernel nn_prepend_token; CLIP-IQA's
+// attention pooling, whose first token is the spatial mean).
 Tensor vit_embed(engine::Recorder& rec, const Tensor& patches, const Tensor& pos);
 // Nearest-neighbour resize to out_h x out_w: PyTorch's interpolate(size=...) default mode, source
 // index floor(dst * in / out) (exact integers here; see nn_resize_nearest.comp).

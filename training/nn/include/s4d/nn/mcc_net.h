@@ -1,13 +1,11 @@
 // MCCNet (Deng et al. 2021, diyiiyiii/MCCNet) and HGST, which keeps its architecture with its own
-// weights (ALGORITHMS.md 4.2): decode(MCC(relu4_1(content), relu4_1(style))). The MCC module:
-// with norm(F) = (F - mu) / sigma per channel (unbiased variance + 1e-5), C = f(norm(Fc)),
-// G = g(norm(Fs)), a_k = sum_p G_k(p)^2 / sum_p G_k(p), w = fc(a), and
-// Fcs = Fc + out_conv(C * w). Weights: mcc_module.safetensors with the names "MCCN.f.weight", ...
-// ("MCCN.h.*", defined but unused by HGST, is accepted and not read).
+// weights (ALGORITHMS.md 4.2): decode(MCC(relu4_1(content), relu4_1(style))), the MCC module in
+// mcc_module.h.
 #pragma once
 #include "s4d/engine/context.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/layers.h"
+#include "s4d/nn/mcc_module.h"
 #include "s4d/nn/style_network.h"
 #include "s4d/nn/vgg.h"
 
@@ -25,15 +23,14 @@ class MccNet final : public StyleNetwork {
   Tensor stylize(engine::Recorder& rec, const Tensor& content, const StyleCode& style, float alpha) const override;
   // The MCC module alone: Fcs of relu4_1 content features and the style's channel weights.
   Tensor transform(engine::Recorder& rec, const Tensor& content_features, const engine::Buffer& style,
-                   float alpha) const;
+                   float alpha) const {
+    return mcc_.transform(rec, content_features, style, alpha);
+  }
 
  private:
-  // fc(a) of relu4_1 features, [c4, 1, 1].
-  Tensor channel_weights(engine::Recorder& rec, const Tensor& features) const;
-
   VggEncoder encoder_;
   VggDecoder decoder_;
-  ConvWeights f_, g_, out_conv_, fc_;
+  MccModule mcc_;
 };
 
 }  // namespace s4d::nn

@@ -3,6 +3,9 @@
 // Weights keep the nn.Sequential state-dict names ("0.weight", "2.weight", ...).
 #pragma once
 #include <array>
+#include <span>
+#include <string>
+#include <utility>
 #include <cstdint>
 #include <vector>
 
@@ -10,6 +13,7 @@
 #include "s4d/engine/recorder.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/layers.h"
+#include "s4d/nn/layers_grad.h"
 #include "s4d/nn/tensor.h"
 
 namespace s4d::nn {
@@ -35,6 +39,15 @@ class VggEncoder {
   int levels() const { return levels_; }
   uint32_t channels(int level) const { return widths_.level[level - 1]; }
 
+  // Training (the encoder's weights stay fixed). Every step's output of one pass: the 1x1
+  // convolution's, then each 3x3 convolution's after its ReLU or each pool's; relu<l>_1 is
+  // tape[level_step(l)].
+  std::vector<Tensor> forward_tape(engine::Recorder& rec, const Tensor& rgb) const;
+  size_t level_step(int level) const;
+  // dL/d(rgb) of a forward_tape pass given dL/d(relu<l>_1) in level_grads[l - 1] (an empty tensor:
+  // none; at least one given). The gradients are consumed (ReLU masks apply in place).
+  Tensor backward(engine::Recorder& rec, const std::vector<Tensor>& tape, std::vector<Tensor> level_grads) const;
+
  private:
   struct Step {
     ConvWeights conv;    // empty name: a 2x2 max pool
@@ -52,11 +65,22 @@ class VggDecoder {
   // relu4_1-shaped features [c4, h, w] -> image [3, 8h, 8w], no output activation.
   Tensor decode(engine::Recorder& rec, const Tensor& features) const;
 
+  // Training. decode keeping each convolution's output (after its ReLU) and each upsampling's;
+  // tape.back() is the image.
+  std::vector<Tensor> forward_tape(engine::Recorder& rec, const Tensor& features) const;
+  // dL/d(features) of a forward_tape pass from `features` given dL/d(image); adds the weight
+  // gradients to grads (one per parameters() entry).
+  Tensor backward(engine::Recorder& rec, const Tensor& features, const std::vector<Tensor>& tape, const Tensor& dimage,
+                  std::span<ConvGrads> grads) const;
+  // The convolutions in order with their state-dict prefixes ("1", "5", ...).
+  std::vector<std::pair<std::string, const ConvWeights*>> parameters() const;
+
  private:
   struct Step {
     ConvWeights conv;
     bool relu = true;
     bool upsample_after = false;
+    std::string prefix;  // the state-dict prefix
   };
   std::vector<Step> steps_;
 };

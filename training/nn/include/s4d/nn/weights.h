@@ -19,6 +19,17 @@ ConvWeights load_conv(engine::Context& ctx, const io::SafetensorsFile& file, con
 ConvWeights load_linear(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t in,
                         uint32_t out);
 
+// Conv2d(cin, cout, k, bias=False) "<conv>.weight" followed by BatchNorm2d "<bn>.{weight, bias,
+// running_mean, running_var}" in eval mode (eps 1e-5, PyTorch's default), folded into one convolution
+// with bias: w' = w gamma / sqrt(var + eps) per output channel, b' = beta - mean gamma / sqrt(var + eps)
+// (in double, then float). Throws std::runtime_error also when a running variance is negative.
+ConvWeights load_conv_bn(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& conv,
+                         const std::string& bn, uint32_t cin, uint32_t cout, uint32_t k);
+
+// Conv2d(cin, cout, k, bias=False): "<prefix>.weight" [cout, cin, k, k], a zero bias.
+ConvWeights load_conv_no_bias(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix,
+                              uint32_t cin, uint32_t cout, uint32_t k);
+
 // LayerNorm(channels): "<prefix>.weight" and "<prefix>.bias", [channels] each.
 NormWeights load_norm(engine::Context& ctx, const io::SafetensorsFile& file, const std::string& prefix, uint32_t channels);
 

@@ -173,6 +173,19 @@ Chw<T> upsample2(const Chw<T>& x) {
   return y;
 }
 
+// AvgPool2d(2) (floor mode): the mean of each 2x2 window, a last odd row or column dropped.
+template <class T>
+Chw<T> avgpool2(const Chw<T>& x) {
+  Chw<T> y(x.c, x.h / 2, x.w / 2);
+  for (uint32_t ch = 0; ch < x.c; ++ch)
+    for (uint32_t py = 0; py < y.h; ++py)
+      for (uint32_t px = 0; px < y.w; ++px)
+        y.at(ch, py, px) = (x.at(ch, 2 * py, 2 * px) + x.at(ch, 2 * py, 2 * px + 1) + x.at(ch, 2 * py + 1, 2 * px) +
+                            x.at(ch, 2 * py + 1, 2 * px + 1)) /
+                           T(4);
+  return y;
+}
+
 // x[c, 2 y, 2 x]: [c, ceil(h / 2), ceil(w / 2)] (a 1x1 stride-2 convolution's sampling).
 template <class T>
 Chw<T> subsample2(const Chw<T>& x) {
@@ -348,12 +361,15 @@ Chw<T> gelu(Chw<T> x) {
 
 // A vision transformer's tokens [c, 1, 1 + gh gw]: column 0 pos[:, 0] (the class token and its
 // position embedding), column t the patch embedding t - 1 (row-major over [gh, gw]) plus pos[:, t].
+// pos [c, 1, 1]: only the first token, no position embedding (CLIP's attention pooling).
 template <class T>
 Chw<T> vit_embed(const Chw<T>& patches, const Chw<T>& pos) {
   const size_t n = size_t{patches.h} * patches.w + 1;
-  Chw<T> y = pos;
+  Chw<T> y(patches.c, 1, static_cast<uint32_t>(n));
   for (uint32_t ch = 0; ch < patches.c; ++ch)
-    for (size_t t = 1; t < n; ++t) y.v[ch * n + t] += patches.v[ch * (n - 1) + t - 1];
+    for (size_t t = 0; t < n; ++t)
+      y.v[ch * n + t] = (pos.w == 1 ? (t == 0 ? pos.v[ch] : T(0)) : pos.v[ch * n + t]) +
+                        (t == 0 ? T(0) : patches.v[ch * (n - 1) + t - 1]);
   return y;
 }
 

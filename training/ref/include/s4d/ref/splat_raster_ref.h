@@ -1,6 +1,8 @@
-// CPU twin of the 3DGS tile rasterizer (ALGORITHMS.md 1.4-1.6): depth-sorted per-tile lists,
-// front-to-back alpha blending per pixel, and its backward. render_fwd/render_bwd chain the
-// preprocess (splat_project_ref.h) and the raster.
+// CPU twin of the 3DGS tile rasterizer family (ALGORITHMS.md 1.4-1.6; kernels
+// shaders/splat/raster_{fwd,bwd}.comp): depth-sorted per-tile lists, front-to-back alpha blending per
+// pixel, and its backward. raster_fwd/raster_bwd take a per-pair policy, as the kernels' variants do
+// (raster_pair.glsl): PlainPairs here, the style MLP's StylePairs in style_raster_ref.h.
+// render_fwd/render_bwd chain the preprocess (splat_project_ref.h) and the plain raster.
 //
 // Two cutoff variants:
 //  * Cutoff::hard is the production rasterizer: skip power > 0, alpha = min(0.99, o*G), skip
@@ -104,9 +106,53 @@ size_t pixel_tile(const Camera<T>& cam, int x, int y) {
 
 }  // namespace detail
 
-// Raster forward (1.5): per pixel, blend its tile's list front to back.
-template <Cutoff kCutoff = Cutoff::hard, class T>
-Image<T> raster_fwd(const Projected<T>& proj, const Camera<T>& cam, const std::array<T, 3>& background) {
+// One pixel as a pair policy sees it: its centre and its camera-space ray (x, y) at z = 1.
+template <class T>
+struct PixelRay {
+  T px, py, rx, ry;
+};
+
+// One (pixel, Gaussian) pair as the blend uses it: the sample, the opacity it used and the colour
+// it blends.
+template <class T>
+struct Pair {
+  detail::Sample<T> s;
+  T opacity{};
+  std::array<T, 3> color{};
+};
+
+// The plain rasterizer's per-pair policy: the standard sample and the Gaussian's own colour; no
+// cotangents beyond the projected ones. A policy provides `Pair` (a Pair<T> or one derived from it),
+// sample<kCutoff>(i, pixel) and backward(i, pair, g_c, v_opacity), which gets each blended pair's
+// colour cotangent g_c = alpha T dL/dC and dL/dopacity (0 where alpha was capped).
+template <class T>
+struct PlainPairs {
+  using Pair = ref::Pair<T>;
+  const Projected<T>& proj;
+
+  template <Cutoff kCutoff>
+  Pair sample(size_t i, const PixelRay<T>& pix) const {
+    Pair p{detail::sample<kCutoff>(proj, i, pix.px, pix.py), proj.opacity[i], {}};
+    for (size_t ch = 0; ch < 3; ++ch) p.color[ch] = proj.rgb[3 * i + ch];
+    return p;
+  }
+  void backward(size_t, const Pair&, const std::array<T, 3>&, T) {}
+};
+
+namespace detail {
+
+template <class T>
+PixelRay<T> pixel_ray(const Camera<T>& cam, int x, int y) {
+  const T px = static_cast<T>(x) + lit<T>(0.5), py = static_cast<T>(y) + lit<T>(0.5);
+  return {px, py, (px - cam.cx) / cam.fx, (py - cam.cy) / cam.fy};
+}
+
+}  // namespace detail
+
+// Raster forward (1.5): per pixel, blend its tile's list front to back, each pair as `pairs` says.
+template <Cutoff kCutoff = Cutoff::hard, class T, class Pairs>
+Image<T> raster_fwd(const Projected<T>& proj, const Camera<T>& cam, const std::array<T, 3>& background,
+                    const Pairs& pairs) {
   const auto lists = tile_lists(proj, cam);
   Image<T> img;
   img.width = cam.width, img.height = cam.height;
@@ -117,15 +163,16 @@ Image<T> raster_fwd(const Projected<T>& proj, const Camera<T>& cam, const std::a
     for (int x = 0; x < cam.width; ++x) {
       const size_t pix = static_cast<size_t>(y * cam.width + x);
       const auto& list = lists[detail::pixel_tile(cam, x, y)];
-      const T px = static_cast<T>(x) + detail::lit<T>(0.5), py = static_cast<T>(y) + detail::lit<T>(0.5);
+      const PixelRay<T> ray = detail::pixel_ray(cam, x, y);
       T trans = 1, color[3] = {0, 0, 0}, depth = 0;
       for (size_t k = 0; k < list.size(); ++k) {
         const size_t i = static_cast<size_t>(list[k]);
-        const detail::Sample<T> s = detail::sample<kCutoff>(proj, i, px, py);
+        const auto pair = pairs.template sample<kCutoff>(i, ray);
+        const detail::Sample<T>& s = pair.s;
         if (s.skip) continue;
         const T next = trans * (1 - s.alpha);
         if (kCutoff == Cutoff::hard && next < detail::lit<T>(kMinTransmittance)) break;
-        for (size_t ch = 0; ch < 3; ++ch) color[ch] += proj.rgb[3 * i + ch] * s.alpha * trans;
+        for (size_t ch = 0; ch < 3; ++ch) color[ch] += pair.color[ch] * s.alpha * trans;
         depth += proj.depth[i] * s.alpha * trans;
         trans = next;
         ++img.count[pix];
@@ -137,20 +184,26 @@ Image<T> raster_fwd(const Projected<T>& proj, const Camera<T>& cam, const std::a
   return img;
 }
 
+template <Cutoff kCutoff = Cutoff::hard, class T>
+Image<T> raster_fwd(const Projected<T>& proj, const Camera<T>& cam, const std::array<T, 3>& background) {
+  return raster_fwd<kCutoff>(proj, cam, background, PlainPairs<T>{proj});
+}
+
 // Raster backward (1.6), computed the straightforward way: each pixel replays its forward list up
 // to `last`, storing T_i, then walks back to front. Storing T_i avoids graphdeco's T/(1 - alpha)
 // division, so the twin stays exact as alpha -> 1 (smooth variant). The pixel-alpha and background
 // terms use T_final/(1 - alpha_i) = T_i * prod_{j>i}(1 - alpha_j), also without dividing.
 // Where alpha was capped at 0.99 the conic, mean and opacity gradients are dropped (gsplat): the
-// capped alpha does not depend on them, so this is the true gradient of the hard forward.
-template <Cutoff kCutoff = Cutoff::hard, class T>
+// capped alpha does not depend on them, so this is the true gradient of the hard forward. The
+// policy adds its own cotangents in pairs.backward().
+template <Cutoff kCutoff = Cutoff::hard, class T, class Pairs>
 ProjectedGrads<T> raster_bwd(const Projected<T>& proj, const Camera<T>& cam, const std::array<T, 3>& background,
-                             const Image<T>& fwd, const ImageGrads<T>& v) {
+                             const Image<T>& fwd, const ImageGrads<T>& v, Pairs& pairs) {
   const auto lists = tile_lists(proj, cam);
   ProjectedGrads<T> out(proj.radius.size());
   struct Entry {
     size_t i;
-    detail::Sample<T> s;
+    typename Pairs::Pair pair;
     T trans;
   };
   std::vector<Entry> entries;
@@ -158,35 +211,39 @@ ProjectedGrads<T> raster_bwd(const Projected<T>& proj, const Camera<T>& cam, con
     for (int x = 0; x < cam.width; ++x) {
       const size_t pix = static_cast<size_t>(y * cam.width + x);
       const auto& list = lists[detail::pixel_tile(cam, x, y)];
-      const T px = static_cast<T>(x) + detail::lit<T>(0.5), py = static_cast<T>(y) + detail::lit<T>(0.5);
+      const PixelRay<T> ray = detail::pixel_ray(cam, x, y);
       entries.clear();
       T trans = 1;
       for (size_t k = 0; k < static_cast<size_t>(fwd.last[pix]); ++k) {
         const size_t i = static_cast<size_t>(list[k]);
-        const detail::Sample<T> s = detail::sample<kCutoff>(proj, i, px, py);
-        if (s.skip) continue;
-        entries.push_back({i, s, trans});
-        trans *= 1 - s.alpha;
+        const auto pair = pairs.template sample<kCutoff>(i, ray);
+        if (pair.s.skip) continue;
+        entries.push_back({i, pair, trans});
+        trans *= 1 - pair.s.alpha;
       }
 
       const T* vc = &v.v_rgb[3 * pix];
       const T v_pix_alpha = v.v_alpha.empty() ? T(0) : v.v_alpha[pix];
       const T v_pix_depth = v.v_depth.empty() ? T(0) : v.v_depth[pix];
       const T bg_dot = background[0] * vc[0] + background[1] * vc[1] + background[2] * vc[2];
-      T behind[3] = {0, 0, 0}, behind_depth = 0;  // what lies behind Gaussian k, per unit of T_{k+1}
-      T trans_behind = 1;                         // prod_{j>k}(1 - alpha_j)
+      T behind[3] = {0, 0, 0}, behind_depth = 0;  // what lies behind entry e, per unit of T_{e+1}
+      T trans_behind = 1;                         // prod_{j>e}(1 - alpha_j)
       for (size_t e = entries.size(); e-- > 0;) {
-        const auto& [i, s, t_i] = entries[e];
-        const T* c = &proj.rgb[3 * i];
+        const auto& [i, pair, t_i] = entries[e];
+        const detail::Sample<T>& s = pair.s;
         T v_alpha = t_i * (proj.depth[i] - behind_depth) * v_pix_depth + t_i * trans_behind * (v_pix_alpha - bg_dot);
+        std::array<T, 3> g_c{};
         for (size_t ch = 0; ch < 3; ++ch) {
-          v_alpha += t_i * (c[ch] - behind[ch]) * vc[ch];
-          out.v_rgb[3 * i + ch] += s.alpha * t_i * vc[ch];
+          v_alpha += t_i * (pair.color[ch] - behind[ch]) * vc[ch];
+          g_c[ch] = s.alpha * t_i * vc[ch];
+          out.v_rgb[3 * i + ch] += g_c[ch];
         }
         out.v_depth[i] += s.alpha * t_i * v_pix_depth;
+        T v_opacity = 0;
         if (!s.clamped) {
-          out.v_opacity[i] += s.G * v_alpha;
-          const T v_power = proj.opacity[i] * s.G * v_alpha;  // alpha = o * exp(power)
+          v_opacity = s.G * v_alpha;  // alpha = opacity * G
+          out.v_opacity[i] += v_opacity;
+          const T v_power = pair.opacity * s.G * v_alpha;
           const T A = proj.conic[3 * i], B = proj.conic[3 * i + 1], C = proj.conic[3 * i + 2];
           out.v_mean2d[2 * i] += -v_power * (A * s.dx + B * s.dy);
           out.v_mean2d[2 * i + 1] += -v_power * (B * s.dx + C * s.dy);
@@ -194,12 +251,20 @@ ProjectedGrads<T> raster_bwd(const Projected<T>& proj, const Camera<T>& cam, con
           out.v_conic[3 * i + 1] += -v_power * s.dx * s.dy;
           out.v_conic[3 * i + 2] += -v_power * s.dy * s.dy / 2;
         }
-        for (size_t ch = 0; ch < 3; ++ch) behind[ch] = s.alpha * c[ch] + (1 - s.alpha) * behind[ch];
+        pairs.backward(i, pair, g_c, v_opacity);
+        for (size_t ch = 0; ch < 3; ++ch) behind[ch] = s.alpha * pair.color[ch] + (1 - s.alpha) * behind[ch];
         behind_depth = s.alpha * proj.depth[i] + (1 - s.alpha) * behind_depth;
         trans_behind *= 1 - s.alpha;
       }
     }
   return out;
+}
+
+template <Cutoff kCutoff = Cutoff::hard, class T>
+ProjectedGrads<T> raster_bwd(const Projected<T>& proj, const Camera<T>& cam, const std::array<T, 3>& background,
+                             const Image<T>& fwd, const ImageGrads<T>& v) {
+  PlainPairs<T> pairs{proj};
+  return raster_bwd<kCutoff>(proj, cam, background, fwd, v, pairs);
 }
 
 // Full forward: preprocess then raster.

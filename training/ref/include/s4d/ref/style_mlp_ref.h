@@ -1,7 +1,7 @@
 // CPU twin of the style rasterizer's per-pair pieces (ALGORITHMS.md 4.3-4.4): GOF's view-space
 // quadric per Gaussian (shaders/splat/style_quadric.comp), the depth feature of t* per pixel ray, and
-// the per-Gaussian MLP 2 -> 4 -> 4 -> 4 with its backward (shaders/include/style_sample.glsl,
-// style_raster_bwd.comp). Operations in the kernels' order, so float results agree to rounding.
+// the per-Gaussian MLP 2 -> 4 -> 4 -> 4 with its backward (shaders/include/raster_pair.glsl,
+// raster_bwd.comp). Operations in the kernels' order, so float results agree to rounding.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -63,7 +63,7 @@ T sigmoid(T v) {
 }
 
 // The MLP's depth input on the ray (rx, ry, 1) for quadric q and centre depth z (see
-// style_depth_feature in style_sample.glsl): t* = -(b.r) / (r^T Q r), the centre depth where that
+// style_depth_feature in raster_pair.glsl): t* = -(b.r) / (r^T Q r), the centre depth where that
 // is degenerate, then the NDC mapping (t* clamped to [near, far]) or (t* - z) * depth_scale.
 template <class T>
 T style_depth_feature(const T* q, T z, T rx, T ry, const StyleMlp<T>& mlp) {

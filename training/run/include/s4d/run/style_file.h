@@ -37,6 +37,9 @@ struct StyleFile {
 
 std::filesystem::path style_dir(const std::filesystem::path& run_root, const std::string& name);
 std::filesystem::path style_file_path(const std::filesystem::path& run_root, const std::string& name);
+// The copy of the style image the style was trained with (8-bit PNG), kept so that the run folder
+// alone scores its styles; styles from before it existed name the image in request.json only.
+std::filesystem::path style_image_path(const std::filesystem::path& run_root, const std::string& name);
 
 // Atomic; throws std::invalid_argument on inconsistent sizes or non-finite values (nothing written).
 void write_style_file(const std::filesystem::path& path, const StyleFile& style);

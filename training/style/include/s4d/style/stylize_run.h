@@ -34,6 +34,9 @@ struct StylizeRequest {
   int style_size = 512;           // network stylizers: the style's shorter side
   bool restart = false;      // discard stage 4's state (and a scratch run); stage-3 frames stay cached
   int spiral_frames = 0;     // 0: the dataset's frame count per camera (at least 2)
+  // Method scratch: the retraining's iterations, its schedules scaled as `train --iters` does
+  // (run::set_iterations); 0 keeps the run's own schedule.
+  uint32_t scratch_iterations = 0;
 };
 
 // What stages 3 and 4 leave for the measurement; all but `complete` and `dir` are set only when

@@ -1,12 +1,13 @@
-// The fused style-MLP rasterizer (GaussianParams::style) against the plain rasterizer on the same
-// scene (splat_scene.h) and device: wall-clock forward() and backward() of each, measured
-// alternately so load changes on a shared machine hit both alike, with tile instances,
-// pixel-Gaussian pairs and the time of each stage (run::stage_ms_json). One JSON line per (scene,
-// variant) on stdout, with the 1-minute load average around the point; a table on stderr. The
-// smallest scene's style image is checked against the CPU twin. Timings are never pass/fail.
+// `s4d_bench_splat --style`: the style variant of the rasterizer family (GaussianParams::style)
+// against the plain one on the same scene (splat_scene.h) and device: wall-clock forward() and
+// backward() of each, measured alternately so load changes on a shared machine hit both alike, with
+// tile instances, pixel-Gaussian pairs and the time of each stage (run::stage_ms_json). One JSON
+// line per (scene, variant) on stdout, with the 1-minute load average around the point; a table on
+// stderr. The smallest scene's style image is checked against the CPU twin. Timings are never
+// pass/fail.
 //
-//   s4d_bench_style_splat [--sizes 128x128:1000,... | --ply F --cameras transforms.json [--camera K]
-//                          | --suite peer] [--repeats 5] [--depth ndc|relative] [--cas]
+//   s4d_bench_splat --style [--sizes 128x128:1000,... | --ply F --cameras transforms.json [--camera K]
+//                           | --suite peer] [--repeats 5] [--depth ndc|relative] [--cas]
 //
 // The scenes are s4d_bench_splat's: --sizes seeded random ones, --ply a 3DGS PLY seen by camera K
 // (default 0) of a transforms.json, --suite peer the PyTorch peer's kind of scene (peer_scene.h) at
@@ -37,6 +38,7 @@
 #include "s4d/run/stage_times.h"
 #include "splat_bench.h"
 #include "splat_scene.h"
+#include "style_splat_bench.h"
 
 namespace {
 
@@ -55,6 +57,7 @@ struct Options : bench::SceneOptions {
 std::optional<Options> parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--style") continue;  // how the caller chose this bench
     const std::string a = argv[i], value = i + 1 < argc ? argv[i + 1] : "";
     if (bench::parse_scene_option(argc, argv, i, o)) {
       continue;
@@ -251,15 +254,17 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatScene
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace s4d::bench {
+
+int style_bench_main(int argc, char** argv) {
   const char* usage =
-      "usage: s4d_bench_style_splat [--sizes WxH:N,... | --ply F --cameras transforms.json [--camera K] | --suite peer]\n"
-      "                             [--repeats R] [--depth ndc|relative] [--cas]\n";
+      "usage: s4d_bench_splat --style [--sizes WxH:N,... | --ply F --cameras transforms.json [--camera K]\n"
+      "                               | --suite peer] [--repeats R] [--depth ndc|relative] [--cas]\n";
   std::optional<Options> parsed;
   try {
     parsed = parse(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "s4d_bench_style_splat: " << e.what() << "\n" << usage;
+    std::cerr << "s4d_bench_splat --style: " << e.what() << "\n" << usage;
     return 2;
   }
   if (!parsed) {
@@ -282,8 +287,10 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < o.points.size(); ++i)
       all_ok = run_point(ctx, device, make_scene(o.points[i], o), o, i == twin_at) && all_ok;
   } catch (const std::exception& e) {
-    std::cerr << "s4d_bench_style_splat: error: " << e.what() << "\n";
+    std::cerr << "s4d_bench_splat --style: error: " << e.what() << "\n";
     return 1;
   }
   return all_ok ? 0 : 1;
 }
+
+}  // namespace s4d::bench

@@ -1,14 +1,20 @@
-// One (pixel, Gaussian) evaluation of the style rasterizer (ALGORITHMS.md 4.3-4.4), shared by
-// style_raster_fwd and style_raster_bwd so their skip decisions agree bit for bit: GOF's depth of
-// maximum response t* along the pixel ray, its depth feature, the Gaussian's MLP on (time, feature)
-// and the standard sample with opacity o' = o + dO. Every value that feeds a skip decision is
-// `precise`, so the compiler cannot contract the two kernels' copies differently. Needs
-// style_batch.glsl and the push-constant block `p` (StyleRasterParams).
-#ifndef STYLE_SAMPLE_GLSL
-#define STYLE_SAMPLE_GLSL
+// One (pixel, list entry) pair of the rasterizer family: the sampling and colour policy in which the
+// plain and style variants (raster_variant.glsl) differ, shared by raster_fwd and raster_bwd so their
+// skip decisions agree bit for bit. Plain: the standard sample (splat_sample.glsl) and the
+// Gaussian's colour. Style (ALGORITHMS.md 4.3-4.4): GOF's depth of maximum response t* along the
+// pixel ray, its depth feature, the Gaussian's MLP on (time, feature), the standard sample with
+// opacity o' = o + dO and colour c + dRGB. Every value that feeds a skip decision is `precise`, so
+// the compiler cannot contract the two kernels' copies differently. The includer declares the batch
+// arrays first (raster_batch.glsl, or the blend_ceiling benchmark's own) and, for style, the
+// push-constant block `p` (RasterParams).
+#ifndef RASTER_PAIR_GLSL
+#define RASTER_PAIR_GLSL
+#include "raster_variant.glsl"
 #include "splat_sample.glsl"
 
 vec2 centre;  // this pixel's centre, (i + 0.5, j + 0.5)
+
+#if S4D_STYLE
 vec2 ray;     // its camera-space ray (x, y) at z = 1
 
 // The MLP's activations on one pair: inputs (after the optional sigmoid), both hidden layers and
@@ -50,23 +56,37 @@ float style_depth_feature(uint j) {
   precise float rel = (t - z) * p.depth_scale;
   return rel;
 }
+#endif
 
-struct StyleSample {
-  SplatSample b;  // the standard sample with opacity o' (skip, clamped, alpha, G, d)
-  float opacity;  // o' = o + dO
+struct PairSample {
+  SplatSample b;  // the standard sample with the pair's opacity (skip, clamped, alpha, G, d)
+  float opacity;  // the pair's opacity: o, or o' = o + dO
+#if S4D_STYLE
   vec3 drgb;      // colour offset in (-1, 1)
   StyleMlpEval m;
+#endif
 };
 
-StyleSample style_sample(uint j) {
-  StyleSample s;
+// A cheap bound on the pair's sample: it skips no pair that pair_sample() keeps. Plain: the sample
+// itself. Style: the sample with opacity o + 0.5, without the MLP; dO < 0.5 and float rounding is
+// monotone, so (o + 0.5) G < 1/255 implies o' G < 1/255 (and power > 0 is the same test).
+PairSample pair_bound(uint j) {
+  PairSample s;
   vec4 co = s_conic_opacity[j];
-  // dO < 0.5 and float rounding is monotone, so (o + 0.5) G < 1/255 already implies o' G < 1/255:
-  // the same skip decision without running the MLP on pairs outside the footprint. (A saving on
-  // GPUs, where a subgroup whose lanes all skip branches over it; llvmpipe's ifs are masks, so it
-  // runs the MLP for every listed pair.)
+#if S4D_STYLE
   s.b = splat_sample(s_xy[j], vec4(co.xyz, co.w + 0.5), centre);
-  if (s.b.skip) return s;
+#else
+  s.b = splat_sample(s_xy[j], co, centre);
+  s.opacity = co.w;
+#endif
+  return s;
+}
+
+// The pair's sample. Style: the MLP on (time, depth feature), then the sample with o' = o + dO.
+PairSample pair_sample(uint j) {
+#if S4D_STYLE
+  PairSample s;
+  vec4 co = s_conic_opacity[j];
   precise vec2 x = vec2(p.time, style_depth_feature(j));
   if ((p.flags & S4D_STYLE_INPUT_SIGMOID) != 0u) x = 1.0 / (1.0 + exp(-x));
   s.m = style_mlp_fwd(j, x);
@@ -75,6 +95,18 @@ StyleSample style_sample(uint j) {
   s.opacity = opacity;
   s.b = splat_sample(s_xy[j], vec4(co.xyz, opacity), centre);
   return s;
+#else
+  return pair_bound(j);
+#endif
 }
 
-#endif  // STYLE_SAMPLE_GLSL
+// The colour the pair blends: c, or c + dRGB.
+vec3 pair_color(uint j, PairSample s) {
+#if S4D_STYLE
+  return s_color_depth[j].rgb + s.drgb;
+#else
+  return s_color_depth[j].rgb;
+#endif
+}
+
+#endif  // RASTER_PAIR_GLSL

@@ -1,0 +1,64 @@
+// The rasterizer family's inputs and shared-memory batch, common to raster_fwd and raster_bwd in
+// both variants: S4D_RASTER_BATCH tile-list entries at a time, loaded cooperatively by the tile's
+// 256 invocations. The style variant also stages each entry's quadric and MLP weights (13 vec4s).
+// Straight-line code only (llvmpipe's loop cap, see s4d_splat.h). Needs the push-constant block `p`.
+#ifndef RASTER_BATCH_GLSL
+#define RASTER_BATCH_GLSL
+#include "raster_variant.glsl"
+#if S4D_RASTER_BATCH > S4D_TILE_PIXELS || S4D_STYLE_BATCH * S4D_STYLE_MLP_VEC4S > 4 * S4D_TILE_PIXELS
+#error "raster_load_batch() loads one entry's scalars per invocation and the MLP weights in 4 rounds"
+#endif
+
+layout(std430, binding = S4D_B_RASTER_RANGES) readonly buffer Ranges { uvec2 ranges[]; };
+layout(std430, binding = S4D_B_RASTER_GAUSSIAN_IDS) readonly buffer GaussianIds { uint gaussian_ids[]; };
+layout(std430, binding = S4D_B_RASTER_XY) readonly buffer Xy { vec2 xy[]; };
+layout(std430, binding = S4D_B_RASTER_CONIC_OPACITY) readonly buffer ConicOpacity { vec4 conic_opacity[]; };
+layout(std430, binding = S4D_B_RASTER_COLOR_DEPTH) readonly buffer ColorDepth { vec4 color_depth[]; };
+
+shared uint s_id[S4D_RASTER_BATCH];
+shared vec2 s_xy[S4D_RASTER_BATCH];
+shared vec4 s_conic_opacity[S4D_RASTER_BATCH];
+shared vec4 s_color_depth[S4D_RASTER_BATCH];
+
+// Instance index of batch slot j: first + j walking forward, first - j walking backward.
+uint raster_slot_instance(uint first, bool backward, uint j) { return backward ? first - j : first + j; }
+
+#if S4D_STYLE
+layout(std430, binding = S4D_B_RASTER_QUADRIC) readonly buffer Quadric { vec4 quadric[]; };  // [N*3] vec4
+layout(std430, binding = S4D_B_RASTER_STYLE_MLP) readonly buffer StyleMlp { vec4 mlp[]; };  // [N*13] vec4
+
+shared vec4 s_quadric[3 * S4D_STYLE_BATCH];
+shared vec4 s_mlp[S4D_STYLE_MLP_VEC4S * S4D_STYLE_BATCH];  // slot j's weights at 13 j ..
+
+// One MLP vec4 (k = 13 slot + part) of the batch.
+void style_load_mlp(uint k, uint first, bool backward, uint count) {
+  if (k >= S4D_STYLE_MLP_VEC4S * count) return;
+  uint j = k / uint(S4D_STYLE_MLP_VEC4S);
+  uint g = gaussian_ids[raster_slot_instance(first, backward, j)];
+  s_mlp[k] = mlp[S4D_STYLE_MLP_VEC4S * g + (k - S4D_STYLE_MLP_VEC4S * j)];
+}
+#endif
+
+// Loads `count` entries into slots 0..count-1; the caller brackets it with barriers.
+void raster_load_batch(uint lid, uint first, bool backward, uint count) {
+  if (lid < count) {
+    uint g = gaussian_ids[raster_slot_instance(first, backward, lid)];
+    s_id[lid] = g;
+    s_xy[lid] = xy[g];
+    s_conic_opacity[lid] = conic_opacity[g];
+    s_color_depth[lid] = color_depth[g];
+#if S4D_STYLE
+    s_quadric[3u * lid] = quadric[3u * g];
+    s_quadric[3u * lid + 1u] = quadric[3u * g + 1u];
+    s_quadric[3u * lid + 2u] = quadric[3u * g + 2u];
+#endif
+  }
+#if S4D_STYLE
+  style_load_mlp(lid, first, backward, count);
+  style_load_mlp(lid + uint(S4D_TILE_PIXELS), first, backward, count);
+  style_load_mlp(lid + 2u * uint(S4D_TILE_PIXELS), first, backward, count);
+  style_load_mlp(lid + 3u * uint(S4D_TILE_PIXELS), first, backward, count);
+#endif
+}
+
+#endif  // RASTER_BATCH_GLSL

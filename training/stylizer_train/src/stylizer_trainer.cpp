@@ -1,0 +1,211 @@
+#include "s4d/stylizer_train/stylizer_trainer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "s4d/io/image_file.h"
+#include "s4d/io/safetensors.h"
+#include "s4d/nn/vgg.h"
+#include "s4d/optim/adam.h"
+
+namespace s4d::stylizer_train {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> list_images(const fs::path& dir, const char* option) {
+  if (!fs::is_directory(dir)) throw std::invalid_argument(std::string(option) + " " + dir.string() + " is not a folder");
+  std::vector<fs::path> images;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (e.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg")) images.push_back(e.path());
+  }
+  if (images.empty()) throw std::invalid_argument(std::string(option) + " " + dir.string() + " holds no PNG or JPEG image");
+  std::sort(images.begin(), images.end());
+  return images;
+}
+
+// The widths of relu1_1 .. relu5_1 from vgg_normalised's convolutions that end each level.
+nn::VggWidths widths_of(const io::SafetensorsFile& vgg) {
+  nn::VggWidths w;
+  const char* ends[5] = {"2.weight", "9.weight", "16.weight", "29.weight", "42.weight"};
+  for (int l = 0; l < 5; ++l) w.level[l] = static_cast<uint32_t>(vgg.shape(ends[l]).at(0));
+  return w;
+}
+
+// PyTorch's default Conv2d / Linear initialisation: weights and biases uniform in +-1/sqrt(fan_in).
+void add_random(std::vector<io::NamedTensor>& out, const std::string& prefix, uint32_t cin, uint32_t cout, uint32_t k,
+                bool linear, std::mt19937_64& rng) {
+  const float bound = 1.0f / std::sqrt(static_cast<float>(cin * k * k));
+  std::uniform_real_distribution<float> u(-bound, bound);
+  io::NamedTensor w{prefix + ".weight", {}, std::vector<float>(size_t{cout} * cin * k * k)};
+  w.shape = linear ? std::vector<int64_t>{cout, cin} : std::vector<int64_t>{cout, cin, k, k};
+  for (float& v : w.values) v = u(rng);
+  io::NamedTensor b{prefix + ".bias", {cout}, std::vector<float>(cout)};
+  for (float& v : b.values) v = u(rng);
+  out.push_back(std::move(w));
+  out.push_back(std::move(b));
+}
+
+void write_random_init(const fs::path& dir, const nn::VggWidths& widths, uint64_t seed) {
+  std::mt19937_64 rng(seed ^ 0x5eedULL);
+  const auto& w = widths.level;
+  std::vector<io::NamedTensor> dec;
+  const struct {
+    int index;
+    uint32_t cin, cout;
+  } convs[] = {{1, w[3], w[2]}, {5, w[2], w[2]}, {8, w[2], w[2]}, {11, w[2], w[2]}, {14, w[2], w[1]},
+               {18, w[1], w[1]}, {21, w[1], w[0]}, {25, w[0], w[0]}, {28, w[0], 3}};
+  for (const auto& c : convs) add_random(dec, std::to_string(c.index), c.cin, c.cout, 3, false, rng);
+  io::write_safetensors(dir / "decoder.safetensors", dec);
+  std::vector<io::NamedTensor> mcc;
+  for (const char* p : {"MCCN.f", "MCCN.g", "MCCN.out_conv"}) add_random(mcc, p, w[3], w[3], 1, false, rng);
+  add_random(mcc, "MCCN.fc", w[3], w[3], 1, true, rng);
+  io::write_safetensors(dir / "mcc_module.safetensors", mcc);
+}
+
+void save(engine::Context& ctx, const fs::path& path,
+          const std::vector<std::pair<std::string, const nn::ConvWeights*>>& params, const std::vector<bool>& linear) {
+  std::vector<io::NamedTensor> out;
+  for (size_t i = 0; i < params.size(); ++i) {
+    const nn::ConvWeights& w = *params[i].second;
+    io::NamedTensor t{params[i].first + ".weight", {}, ctx.download<float>(w.weight, w.weight.size() / sizeof(float))};
+    t.shape = linear[i] ? std::vector<int64_t>{w.cout, w.cin} : std::vector<int64_t>{w.cout, w.cin, w.k, w.k};
+    out.push_back(std::move(t));
+    out.push_back({params[i].first + ".bias", {w.cout}, ctx.download<float>(w.bias, w.cout)});
+  }
+  const fs::path tmp = path.string() + ".tmp";
+  io::write_safetensors(tmp, out);
+  fs::rename(tmp, path);
+}
+
+// A random crop x crop window of one image resized to resize x resize, as [3, crop, crop].
+std::vector<float> sample(const io::ImageF& image, int crop, std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> ux(0, image.width - crop), uy(0, image.height - crop);
+  const int x0 = ux(rng), y0 = uy(rng);
+  std::vector<float> chw(size_t{3} * crop * crop);
+  for (int c = 0; c < 3; ++c)
+    for (int y = 0; y < crop; ++y)
+      for (int x = 0; x < crop; ++x)
+        chw[(size_t(c) * crop + y) * crop + x] = image.data[(size_t(y0 + y) * image.width + x0 + x) * 3 + c];
+  return chw;
+}
+
+std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
+  std::vector<io::ImageF> images;
+  for (const fs::path& p : paths) images.push_back(io::resize_image(io::read_image_rgb(p), size, size));
+  return images;
+}
+
+}  // namespace
+
+double hgst_learning_rate(double lr, int step) { return lr / (1.0 + 5e-5 * static_cast<double>(step / 2000)); }
+
+std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& s, const StepFn& on_step) {
+  if (s.steps < 1) throw std::invalid_argument("--steps: expected 1 or more, got " + std::to_string(s.steps));
+  if (s.batch < 1) throw std::invalid_argument("--batch: expected 1 or more, got " + std::to_string(s.batch));
+  if (s.save_every < 1) throw std::invalid_argument("--save-every: expected 1 or more, got " + std::to_string(s.save_every));
+  if (s.crop < 40 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 40, got " + std::to_string(s.crop));
+  if (s.resize < s.crop) throw std::invalid_argument("--resize " + std::to_string(s.resize) + " is smaller than --crop " + std::to_string(s.crop));
+  if (!(s.lr > 0)) throw std::invalid_argument("--lr: expected a positive learning rate");
+  const std::vector<io::ImageF> contents = load_all(list_images(s.content_dir, "--content"), s.resize);
+  const std::vector<io::ImageF> styles = load_all(list_images(s.styles_dir, "--styles"), s.resize);
+  fs::create_directories(s.out);
+  const io::SafetensorsFile vgg_file(s.vgg);
+  const nn::VggWidths widths = widths_of(vgg_file);
+  fs::path init = s.init;
+  if (init.empty()) {
+    write_random_init(s.out, widths, s.seed);
+    init = s.out;
+  }
+  const nn::VggEncoder encoder(ctx, vgg_file, 5, widths);
+  const nn::VggDecoder decoder(ctx, io::SafetensorsFile(init / "decoder.safetensors"), widths);
+  const nn::MccModule mcc(ctx, io::SafetensorsFile(init / "mcc_module.safetensors"), widths.level[3]);
+  if (fs::absolute(s.vgg) != fs::absolute(s.out / "vgg_normalised.safetensors"))
+    fs::copy_file(s.vgg, s.out / "vgg_normalised.safetensors", fs::copy_options::overwrite_existing);
+  const nn::MccTrainee net{encoder, decoder, mcc};
+
+  // Every parameter tensor (weights, then biases) with its Adam moments.
+  std::vector<const engine::Buffer*> params;
+  for (const auto& [name, w] : decoder.parameters()) params.insert(params.end(), {&w->weight, &w->bias});
+  for (const auto& [name, w] : mcc.parameters()) params.insert(params.end(), {&w->weight, &w->bias});
+  std::vector<engine::Buffer> moments;
+  moments.reserve(2 * params.size());
+  {
+    engine::Recorder rec(ctx, "adam moments");
+    for (const engine::Buffer* p : params)
+      for (const char* m : {" m", " v"}) {
+        moments.emplace_back(ctx, p->name() + m, p->size());
+        rec.fill(moments.back(), 0);
+      }
+    ctx.run(std::move(rec));
+  }
+  std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
+  for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
+  auto save_weights = [&] {
+    save(ctx, s.out / "decoder.safetensors", decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
+    save(ctx, s.out / "mcc_module.safetensors", mcc_params, {false, false, false, true});
+  };
+  optim::Adam adam(ctx, 1, "stylizer adam");
+  std::mt19937_64 rng(s.seed);
+  std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
+  std::vector<nn::MccLossValues> losses;
+  // A batch's loss is the mean over its pairs of every term but TV, which HGST sums.
+  nn::MccLossWeights per_pair = s.weights;
+  for (float* w : {&per_pair.content, &per_pair.style, &per_pair.identity1, &per_pair.identity2, &per_pair.noise,
+                   &per_pair.selfsim})
+    *w /= static_cast<float>(s.batch);
+  const auto crop = static_cast<uint32_t>(s.crop);
+  for (int step = 1; step <= s.steps; ++step) {
+    nn::MccGrads grads;
+    {
+      engine::Recorder rec(ctx, "stylizer gradients");
+      grads = nn::zero_mcc_grads(rec, net);
+      ctx.run(std::move(rec));
+    }
+    // MCCNet's and HGST's noise: sigma ~ U(0.01, 0.02) per batch, then N(0, sigma^2) per value, not clamped.
+    std::normal_distribution<float> noise(0.0f, std::uniform_real_distribution<float>(0.01f, 0.02f)(rng));
+    nn::MccLossValues step_loss;
+    for (int b = 0; b < s.batch; ++b) {  // one submission per pair: the tapes of one pair at a time
+      const std::vector<float> c = sample(contents[pick_content(rng)], s.crop, rng);
+      const std::vector<float> st = sample(styles[pick_style(rng)], s.crop, rng);
+      std::vector<float> noisy = c;
+      for (float& v : noisy) v += noise(rng);
+      const nn::Tensor content = nn::upload_tensor(ctx, "content", 3, crop, crop, c);
+      const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, crop, crop, noisy);
+      const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, crop, crop, st);
+      engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
+      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.levels, per_pair, grads);
+      ctx.run(std::move(rec));
+      const nn::MccLossValues v = record.values(ctx, per_pair);
+      const double share = 1.0 / s.batch;  // the terms' means over the batch, the batch's total
+      step_loss.content += share * v.content, step_loss.style += share * v.style;
+      step_loss.identity1 += share * v.identity1, step_loss.identity2 += share * v.identity2;
+      step_loss.noise += share * v.noise, step_loss.tv += share * v.tv, step_loss.selfsim += share * v.selfsim;
+      step_loss.total += v.total;
+    }
+    std::vector<const engine::Buffer*> g;
+    for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
+    for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});
+    adam.set_group(0, {.lr = hgst_learning_rate(s.lr, step), .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
+    adam.upload();
+    engine::Recorder rec(ctx, "stylizer adam " + std::to_string(step));
+    for (size_t i = 0; i < params.size(); ++i)
+      adam.record(rec, 0, *params[i], *g[i], moments[2 * i], moments[2 * i + 1],
+                  static_cast<uint32_t>(params[i]->size() / sizeof(float)));
+    ctx.run(std::move(rec));
+    losses.push_back(step_loss);
+    if (!std::isfinite(losses.back().total))
+      throw std::runtime_error("train-stylizer: the loss is not finite at step " + std::to_string(step));
+    if (on_step) on_step(step, losses.back());
+    if (step % s.save_every == 0 || step == s.steps) save_weights();
+  }
+  return losses;
+}
+
+}  // namespace s4d::stylizer_train
