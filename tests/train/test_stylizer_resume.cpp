@@ -133,6 +133,12 @@ TEST_CASE("train-stylizer continues its checkpoint step for step and never start
   f.s.init = f.dir / "whole";
   CHECK(refusal(f).find("--init: --out " + f.s.out.string() + " continues from its checkpoint") == 0);
   f.s.init.clear();
+  std::mt19937 rng(38);
+  test::write_params(f.dir / "vgg2.safetensors", test::random_vgg(nn::VggWidths{{4, 6, 8, 12, 10}}, 5, rng));
+  f.s.vgg = f.dir / "vgg2.safetensors";
+  CHECK(refusal(f) == "--vgg " + f.s.vgg.string() + " is not the encoder " + (f.s.out / "vgg_normalised.safetensors").string() +
+                          " was trained with; pass --restart to start over");
+  f.s.vgg = f.dir / "vgg.safetensors";
 
   // --restart trains the folder again from the start: the uninterrupted run's first steps.
   f.s.restart = true;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -104,6 +106,13 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
   return images;
 }
 
+bool same_bytes(const fs::path& a, const fs::path& b) {
+  if (!fs::exists(b) || fs::file_size(a) != fs::file_size(b)) return false;
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
+                    std::istreambuf_iterator<char>(fb));
+}
+
 // The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start
 // (whose stale checkpoint, with restart, is removed).
 int steps_done(const StylizerTrainSettings& s) {
@@ -130,6 +139,10 @@ int steps_done(const StylizerTrainSettings& s) {
       throw std::runtime_error((s.out / file).string() + " is at step " + std::to_string(step) + ", " + checkpoint.string() +
                                " at step " + std::to_string(state.step) + "; pass --restart to start over");
   }
+  const fs::path vgg_copy = s.out / "vgg_normalised.safetensors";
+  if (fs::absolute(s.vgg) != fs::absolute(vgg_copy) && !same_bytes(s.vgg, vgg_copy))
+    throw std::invalid_argument("--vgg " + s.vgg.string() + " is not the encoder " + vgg_copy.string() +
+                                " was trained with; pass --restart to start over");
   return state.step;
 }
 
