@@ -113,15 +113,11 @@ bool same_bytes(const fs::path& a, const fs::path& b) {
                     std::istreambuf_iterator<char>(fb));
 }
 
-// The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start
-// (whose stale checkpoint, with restart, is removed).
+// The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start.
 int steps_done(const StylizerTrainSettings& s) {
   const fs::path checkpoint = s.out / "checkpoint.safetensors";
   if (fs::exists(s.out) && !fs::is_directory(s.out)) throw std::invalid_argument("--out " + s.out.string() + " is not a folder");
-  if (s.restart || !fs::exists(s.out) || fs::is_empty(s.out)) {
-    fs::remove(checkpoint);
-    return 0;
-  }
+  if (s.restart || !fs::exists(s.out) || fs::is_empty(s.out)) return 0;
   if (!fs::exists(checkpoint))
     throw std::invalid_argument("--out " + s.out.string() + " holds files but no checkpoint.safetensors to continue; pass --restart to train it from the start");
   const CheckpointState state = read_checkpoint_state(checkpoint);
@@ -161,8 +157,10 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   const int done = steps_done(s);
   const std::vector<io::ImageF> contents = load_all(list_images(s.content_dir, "--content"), s.resize);
   const std::vector<io::ImageF> styles = load_all(list_images(s.styles_dir, "--styles"), s.resize);
-  fs::create_directories(s.out);
   const io::SafetensorsFile vgg_file(s.vgg);
+  const fs::path checkpoint = s.out / "checkpoint.safetensors";
+  fs::create_directories(s.out);
+  if (done == 0) fs::remove(checkpoint);  // a fresh start (--restart): the stale one goes only once the inputs read
   const nn::VggWidths widths = widths_of(vgg_file);
   fs::path init = done > 0 ? s.out : s.init;
   if (init.empty()) {
@@ -198,7 +196,6 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   }
   std::vector<MomentBuffers> moment_buffers;
   for (size_t i = 0; i < params.size(); ++i) moment_buffers.push_back({names[i], &moments[2 * i], &moments[2 * i + 1]});
-  const fs::path checkpoint = s.out / "checkpoint.safetensors";
   if (done > 0) read_checkpoint_moments(ctx, checkpoint, moment_buffers);
   std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
   for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
