@@ -21,11 +21,11 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"content", "a folder of content images (PNG, JPEG)", true, "DIR"},
       {"styles", "a folder of style images (PNG, JPEG)", true, "DIR"},
       {"vgg", "vgg_normalised.safetensors, the fixed encoder (docs/stylization.md, \"Network stylizers\")", true, "FILE"},
-      {"out", "the weights folder written: decoder, mcc_module and vgg_normalised .safetensors", true, "DIR"},
+      {"out", "the weights folder written: decoder, mcc_module, vgg_normalised and checkpoint .safetensors", true, "DIR"},
       {"init", "a folder with decoder.safetensors and mcc_module.safetensors to start from (default: random)", true, "DIR"},
-      {"steps", "Adam steps, one content/style pair each (default 160000, HGST's)", true, "N"},
+      {"steps", "Adam steps in all, a continued checkpoint's included (default 160000, HGST's)", true, "N"},
       {"batch", "content/style pairs per Adam step (default 4, HGST's)", true, "N"},
-      {"save-every", "write the weights every N steps and at the end (default 10000, HGST's)", true, "N"},
+      {"save-every", "write the weights and checkpoint every N steps and at the end (default 10000, HGST's)", true, "N"},
       {"resize", "images are resized to N x N first (default 512)", true, "N"},
       {"crop", "then randomly cropped to N x N, a multiple of 8, at least 40 (default 256)", true, "N"},
       {"lr", "Adam's learning rate (default 1e-4)", true, "X"},
@@ -41,8 +41,8 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
                        "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|content|full]\n"
                        "    [--restart]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
-                       "HGST's loss without its CCPL term (content, style, identity 1 and 2, noise, TV,\n"
-                       "self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
+                       "HGST's loss (--losses full) without its CCPL term (content, style, identity 1 and 2,\n"
+                       "noise, TV, self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
                        "--weights folder for the hgst and mccnet stylizers. An --out holding checkpoint.safetensors\n"
                        "continues to --steps (the same --losses only); any other non-empty --out needs --restart.",
                        specs);
