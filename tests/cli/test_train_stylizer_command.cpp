@@ -1,5 +1,6 @@
 // style4d train-stylizer: a short run on procedural images writes a weights folder with the three
-// files the hgst stylizer reads and logs the losses; wrong settings are refused with the option named.
+// files the hgst stylizer reads and logs the losses, continues it, or restarts it with --restart;
+// wrong settings are refused with the option named.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -46,6 +47,15 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
   CHECK(text.find("trained 3 steps") != std::string::npos);
   for (const char* f : {"decoder.safetensors", "mcc_module.safetensors", "vgg_normalised.safetensors"})
     CHECK(std::filesystem::exists(dir / "w" / f));
+  const std::string again = common + " --out " + (dir / "w").string() + " --batch 2 --save-every 2 --resize 48 --crop 40";
+  REQUIRE(test::run_style4d("train-stylizer", again + " --steps 4", log) == 0);
+  CHECK(test::read_text(log).find("trained 1 steps") != std::string::npos);
+  CHECK(test::run_style4d("train-stylizer", again + " --steps 5 --losses mccnet", log) != 0);
+  CHECK(test::read_text(log).find("was trained with --losses full; pass --restart") != std::string::npos);
+  REQUIRE(test::run_style4d("train-stylizer", again + " --steps 1 --losses mccnet --restart", log) == 0);
+  CHECK(test::read_text(log).find("trained 1 steps") != std::string::npos);
+  CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --losses lcl", log) != 0);
+  CHECK(test::read_text(log).find("--losses: expected one of mccnet, content, full, got 'lcl'") != std::string::npos);
 
   CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --crop 36", log) != 0);
   CHECK(test::read_text(log).find("--crop: expected a multiple of 8") != std::string::npos);

@@ -1,7 +1,8 @@
 // style4d train-stylizer --content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]
-// [--batch N] [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]:
-// trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed (s4d_stylizer_train)
-// and writes a weights folder for --stylizer hgst.
+// [--batch N] [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|content|full]
+// [--restart]: trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed
+// (s4d_stylizer_train) and writes a weights folder for --stylizer hgst; an --out with a checkpoint
+// continues.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +11,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "s4d/stylizer_train/loss_sets.h"
 #include "s4d/stylizer_train/stylizer_trainer.h"
 
 namespace s4d::cli {
@@ -19,27 +21,30 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"content", "a folder of content images (PNG, JPEG)", true, "DIR"},
       {"styles", "a folder of style images (PNG, JPEG)", true, "DIR"},
       {"vgg", "vgg_normalised.safetensors, the fixed encoder (docs/stylization.md, \"Network stylizers\")", true, "FILE"},
-      {"out", "the weights folder written: decoder, mcc_module and vgg_normalised .safetensors", true, "DIR"},
+      {"out", "the weights folder written: decoder, mcc_module, vgg_normalised and checkpoint .safetensors", true, "DIR"},
       {"init", "a folder with decoder.safetensors and mcc_module.safetensors to start from (default: random)", true, "DIR"},
-      {"steps", "Adam steps, one content/style pair each (default 160000, HGST's)", true, "N"},
+      {"steps", "Adam steps in all, a continued checkpoint's included (default 160000, HGST's)", true, "N"},
       {"batch", "content/style pairs per Adam step (default 4, HGST's)", true, "N"},
-      {"save-every", "write the weights every N steps and at the end (default 10000, HGST's)", true, "N"},
+      {"save-every", "write the weights and checkpoint every N steps and at the end (default 10000, HGST's)", true, "N"},
       {"resize", "images are resized to N x N first (default 512)", true, "N"},
       {"crop", "then randomly cropped to N x N, a multiple of 8, at least 40 (default 256)", true, "N"},
       {"lr", "Adam's learning rate (default 1e-4)", true, "X"},
       {"seed", "seed of the initialisation, the pairs and the crops (default 0)", true, "N"},
-      {"loss-levels", "VGG levels of the content and style terms: hgst (default) or mccnet (docs/stylization.md)", true,
-       "hgst|mccnet"},
+      {"losses", "the loss terms and levels: full (default, HGST's), content or mccnet (docs/stylization.md)", true,
+       "mccnet|content|full"},
+      {"restart", "start over where --out already holds files or a checkpoint (default: continue a checkpoint)", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("train-stylizer",
                        "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N] [--batch N]\n"
-                       "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--loss-levels hgst|mccnet]",
+                       "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|content|full]\n"
+                       "    [--restart]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
-                       "HGST's loss without its CCPL term (content, style, identity 1 and 2, noise, TV,\n"
-                       "self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
-                       "--weights folder for the hgst and mccnet stylizers.",
+                       "HGST's loss (--losses full) without its CCPL term (content, style, identity 1 and 2,\n"
+                       "noise, TV, self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
+                       "--weights folder for the hgst and mccnet stylizers. An --out holding checkpoint.safetensors\n"
+                       "continues to --steps (the same --losses only); any other non-empty --out needs --restart.",
                        specs);
     return 0;
   }
@@ -64,9 +69,9 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
     throw std::invalid_argument("--lr: expected a number, got '" + lr + "'");
   }
   s.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
-  const std::string levels = args.get_or("loss-levels", "hgst");
-  if (levels != "hgst" && levels != "mccnet") throw std::invalid_argument("--loss-levels: expected hgst or mccnet, got '" + levels + "'");
-  s.levels = levels == "hgst" ? nn::MccLossLevels::hgst() : nn::MccLossLevels::mccnet();
+  s.losses = args.get_or("losses", "full");
+  stylizer_train::loss_set(s.losses);  // refuses an unknown name before the GPU starts
+  s.restart = args.flag("restart");
   engine::Context ctx;
   const auto start = std::chrono::steady_clock::now();
   const auto losses = stylizer_train::train_stylizer(ctx, s, [&](int step, const nn::MccLossValues& l) {

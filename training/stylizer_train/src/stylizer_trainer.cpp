@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -10,6 +12,8 @@
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/vgg.h"
 #include "s4d/optim/adam.h"
+#include "s4d/stylizer_train/checkpoint.h"
+#include "s4d/stylizer_train/loss_sets.h"
 
 namespace s4d::stylizer_train {
 
@@ -69,7 +73,7 @@ void write_random_init(const fs::path& dir, const nn::VggWidths& widths, uint64_
   io::write_safetensors(dir / "mcc_module.safetensors", mcc);
 }
 
-void save(engine::Context& ctx, const fs::path& path,
+void save(engine::Context& ctx, const fs::path& path, int step,
           const std::vector<std::pair<std::string, const nn::ConvWeights*>>& params, const std::vector<bool>& linear) {
   std::vector<io::NamedTensor> out;
   for (size_t i = 0; i < params.size(); ++i) {
@@ -80,7 +84,7 @@ void save(engine::Context& ctx, const fs::path& path,
     out.push_back({params[i].first + ".bias", {w.cout}, ctx.download<float>(w.bias, w.cout)});
   }
   const fs::path tmp = path.string() + ".tmp";
-  io::write_safetensors(tmp, out);
+  io::write_safetensors(tmp, out, io::TensorDtype::f32, {{"step", std::to_string(step)}});
   fs::rename(tmp, path);
 }
 
@@ -102,6 +106,42 @@ std::vector<io::ImageF> load_all(const std::vector<fs::path>& paths, int size) {
   return images;
 }
 
+bool same_bytes(const fs::path& a, const fs::path& b) {
+  if (!fs::exists(b) || fs::file_size(a) != fs::file_size(b)) return false;
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
+                    std::istreambuf_iterator<char>(fb));
+}
+
+// The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start.
+int steps_done(const StylizerTrainSettings& s) {
+  const fs::path checkpoint = s.out / "checkpoint.safetensors";
+  if (fs::exists(s.out) && !fs::is_directory(s.out)) throw std::invalid_argument("--out " + s.out.string() + " is not a folder");
+  if (s.restart || !fs::exists(s.out) || fs::is_empty(s.out)) return 0;
+  if (!fs::exists(checkpoint))
+    throw std::invalid_argument("--out " + s.out.string() + " holds files but no checkpoint.safetensors to continue; pass --restart to train it from the start");
+  const CheckpointState state = read_checkpoint_state(checkpoint);
+  if (state.losses != s.losses)
+    throw std::invalid_argument("--losses " + s.losses + ": " + checkpoint.string() + " was trained with --losses " + state.losses +
+                                "; pass --restart to start over");
+  if (!s.init.empty())
+    throw std::invalid_argument("--init: --out " + s.out.string() + " continues from its checkpoint; pass --restart to start over from --init");
+  if (state.step >= s.steps)
+    throw std::invalid_argument("--steps " + std::to_string(s.steps) + ": " + checkpoint.string() + " is already at step " +
+                                std::to_string(state.step));
+  for (const char* file : {"decoder.safetensors", "mcc_module.safetensors"}) {
+    const int step = weights_step(s.out / file);
+    if (step != state.step)
+      throw std::runtime_error((s.out / file).string() + " is at step " + std::to_string(step) + ", " + checkpoint.string() +
+                               " at step " + std::to_string(state.step) + "; pass --restart to start over");
+  }
+  const fs::path vgg_copy = s.out / "vgg_normalised.safetensors";
+  if (fs::absolute(s.vgg) != fs::absolute(vgg_copy) && !same_bytes(s.vgg, vgg_copy))
+    throw std::invalid_argument("--vgg " + s.vgg.string() + " is not the encoder " + vgg_copy.string() +
+                                " was trained with; pass --restart to start over");
+  return state.step;
+}
+
 }  // namespace
 
 double hgst_learning_rate(double lr, int step) { return lr / (1.0 + 5e-5 * static_cast<double>(step / 2000)); }
@@ -113,12 +153,16 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   if (s.crop < 40 || s.crop % 8 != 0) throw std::invalid_argument("--crop: expected a multiple of 8, at least 40, got " + std::to_string(s.crop));
   if (s.resize < s.crop) throw std::invalid_argument("--resize " + std::to_string(s.resize) + " is smaller than --crop " + std::to_string(s.crop));
   if (!(s.lr > 0)) throw std::invalid_argument("--lr: expected a positive learning rate");
+  const LossSet loss = loss_set(s.losses);
+  const int done = steps_done(s);
   const std::vector<io::ImageF> contents = load_all(list_images(s.content_dir, "--content"), s.resize);
   const std::vector<io::ImageF> styles = load_all(list_images(s.styles_dir, "--styles"), s.resize);
-  fs::create_directories(s.out);
   const io::SafetensorsFile vgg_file(s.vgg);
+  const fs::path checkpoint = s.out / "checkpoint.safetensors";
+  fs::create_directories(s.out);
+  if (done == 0) fs::remove(checkpoint);  // a fresh start (--restart): the stale one goes only once the inputs read
   const nn::VggWidths widths = widths_of(vgg_file);
-  fs::path init = s.init;
+  fs::path init = done > 0 ? s.out : s.init;
   if (init.empty()) {
     write_random_init(s.out, widths, s.seed);
     init = s.out;
@@ -130,10 +174,15 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     fs::copy_file(s.vgg, s.out / "vgg_normalised.safetensors", fs::copy_options::overwrite_existing);
   const nn::MccTrainee net{encoder, decoder, mcc};
 
-  // Every parameter tensor (weights, then biases) with its Adam moments.
+  // Every parameter tensor (weights, then biases) with its Adam moments, named as in the weights files.
   std::vector<const engine::Buffer*> params;
-  for (const auto& [name, w] : decoder.parameters()) params.insert(params.end(), {&w->weight, &w->bias});
-  for (const auto& [name, w] : mcc.parameters()) params.insert(params.end(), {&w->weight, &w->bias});
+  std::vector<std::string> names;
+  auto add_params = [&](const std::string& file, const std::string& name, const nn::ConvWeights& w) {
+    params.insert(params.end(), {&w.weight, &w.bias});
+    names.insert(names.end(), {file + "." + name + ".weight", file + "." + name + ".bias"});
+  };
+  for (const auto& [name, w] : decoder.parameters()) add_params("decoder", name, *w);
+  for (const auto& [name, w] : mcc.parameters()) add_params("mcc_module", name, *w);
   std::vector<engine::Buffer> moments;
   moments.reserve(2 * params.size());
   {
@@ -145,23 +194,30 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
       }
     ctx.run(std::move(rec));
   }
+  std::vector<MomentBuffers> moment_buffers;
+  for (size_t i = 0; i < params.size(); ++i) moment_buffers.push_back({names[i], &moments[2 * i], &moments[2 * i + 1]});
+  if (done > 0) read_checkpoint_moments(ctx, checkpoint, moment_buffers);
   std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
   for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
-  auto save_weights = [&] {
-    save(ctx, s.out / "decoder.safetensors", decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
-    save(ctx, s.out / "mcc_module.safetensors", mcc_params, {false, false, false, true});
+  // The weights first, then the checkpoint: an interruption between them leaves steps that disagree.
+  auto save_all = [&](int step) {
+    save(ctx, s.out / "decoder.safetensors", step, decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
+    save(ctx, s.out / "mcc_module.safetensors", step, mcc_params, {false, false, false, true});
+    write_checkpoint(ctx, checkpoint, {step, s.losses}, moment_buffers);
   };
   optim::Adam adam(ctx, 1, "stylizer adam");
-  std::mt19937_64 rng(s.seed);
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
   std::vector<nn::MccLossValues> losses;
   // A batch's loss is the mean over its pairs of every term but TV, which HGST sums.
-  nn::MccLossWeights per_pair = s.weights;
+  nn::MccLossWeights per_pair = loss.weights;
   for (float* w : {&per_pair.content, &per_pair.style, &per_pair.identity1, &per_pair.identity2, &per_pair.noise,
                    &per_pair.selfsim})
     *w /= static_cast<float>(s.batch);
   const auto crop = static_cast<uint32_t>(s.crop);
-  for (int step = 1; step <= s.steps; ++step) {
+  for (int step = done + 1; step <= s.steps; ++step) {
+    // The step's own random stream, so a continued run draws what an uninterrupted one would.
+    std::seed_seq seeds{static_cast<uint32_t>(s.seed), static_cast<uint32_t>(s.seed >> 32), static_cast<uint32_t>(step)};
+    std::mt19937_64 rng(seeds);
     nn::MccGrads grads;
     {
       engine::Recorder rec(ctx, "stylizer gradients");
@@ -180,7 +236,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
       const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, crop, crop, noisy);
       const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, crop, crop, st);
       engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
-      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, s.levels, per_pair, grads);
+      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, loss.levels, per_pair, grads);
       ctx.run(std::move(rec));
       const nn::MccLossValues v = record.values(ctx, per_pair);
       const double share = 1.0 / s.batch;  // the terms' means over the batch, the batch's total
@@ -203,7 +259,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     if (!std::isfinite(losses.back().total))
       throw std::runtime_error("train-stylizer: the loss is not finite at step " + std::to_string(step));
     if (on_step) on_step(step, losses.back());
-    if (step % s.save_every == 0 || step == s.steps) save_weights();
+    if (step % s.save_every == 0 || step == s.steps) save_all(step);
   }
   return losses;
 }

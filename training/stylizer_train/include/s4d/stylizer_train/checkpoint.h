@@ -1,0 +1,43 @@
+// train-stylizer's checkpoint, OUT/checkpoint.safetensors beside the weights it continues: Adam's
+// moments of every trained tensor ("<file>.<tensor>.exp_avg" and ".exp_avg_sq", PyTorch's names,
+// flat), and in its metadata the steps done and the --losses set. The weights files carry the same
+// step in their metadata, so a folder whose weights and checkpoint disagree is refused, not mixed.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
+
+namespace s4d::stylizer_train {
+
+struct CheckpointState {
+  int step = 0;        // Adam steps done
+  std::string losses;  // the --losses set trained
+};
+
+// One trained tensor's moments on the GPU.
+struct MomentBuffers {
+  std::string name;  // "decoder.1.weight", "mcc_module.MCCN.fc.bias", ...
+  engine::Buffer* m;
+  engine::Buffer* v;
+};
+
+// Writes path atomically (a temporary file renamed).
+void write_checkpoint(engine::Context& ctx, const std::filesystem::path& path, const CheckpointState& state,
+                      const std::vector<MomentBuffers>& moments);
+
+// The metadata. Throws std::runtime_error naming the file and the missing or bad field.
+CheckpointState read_checkpoint_state(const std::filesystem::path& path);
+
+// Uploads the moments; throws std::runtime_error naming the file and tensor that is missing or of
+// another size.
+void read_checkpoint_moments(engine::Context& ctx, const std::filesystem::path& path,
+                             const std::vector<MomentBuffers>& moments);
+
+// The "step" in a weights file's metadata; -1 where it has none (a folder not written by
+// train-stylizer, or --init's).
+int weights_step(const std::filesystem::path& path);
+
+}  // namespace s4d::stylizer_train

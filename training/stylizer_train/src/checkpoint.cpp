@@ -1,0 +1,67 @@
+#include "s4d/stylizer_train/checkpoint.h"
+
+#include <map>
+#include <span>
+#include <stdexcept>
+
+#include "s4d/io/safetensors.h"
+
+namespace s4d::stylizer_train {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int parse_step(const fs::path& path, const std::string& text) {
+  size_t used = 0;
+  int step = -1;
+  try {
+    step = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || step < 0)
+    throw std::runtime_error(path.string() + ": metadata step '" + text + "' is not a step count");
+  return step;
+}
+
+}  // namespace
+
+void write_checkpoint(engine::Context& ctx, const fs::path& path, const CheckpointState& state,
+                      const std::vector<MomentBuffers>& moments) {
+  std::vector<io::NamedTensor> tensors;
+  for (const MomentBuffers& b : moments)
+    for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
+      const size_t n = buffer->size() / sizeof(float);
+      tensors.push_back({b.name + suffix, {static_cast<int64_t>(n)}, ctx.download<float>(*buffer, n)});
+    }
+  const fs::path tmp = path.string() + ".tmp";
+  io::write_safetensors(tmp, tensors, io::TensorDtype::f32, {{"step", std::to_string(state.step)}, {"losses", state.losses}});
+  fs::rename(tmp, path);
+}
+
+CheckpointState read_checkpoint_state(const fs::path& path) {
+  const io::SafetensorsFile file(path);
+  const std::map<std::string, std::string>& meta = file.metadata();
+  for (const char* key : {"step", "losses"})
+    if (!meta.count(key)) throw std::runtime_error(path.string() + ": metadata has no " + key);
+  return {parse_step(path, meta.at("step")), meta.at("losses")};
+}
+
+void read_checkpoint_moments(engine::Context& ctx, const fs::path& path, const std::vector<MomentBuffers>& moments) {
+  const io::SafetensorsFile file(path);
+  for (const MomentBuffers& b : moments)
+    for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
+      const auto n = static_cast<int64_t>(buffer->size() / sizeof(float));
+      const std::vector<float> values = file.read(b.name + suffix, {n});
+      ctx.upload(*buffer, std::span<const float>(values));
+    }
+}
+
+int weights_step(const fs::path& path) {
+  const io::SafetensorsFile file(path);
+  const auto it = file.metadata().find("step");
+  return it == file.metadata().end() ? -1 : parse_step(path, it->second);
+}
+
+}  // namespace s4d::stylizer_train

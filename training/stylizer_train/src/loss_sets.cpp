@@ -1,0 +1,27 @@
+#include "s4d/stylizer_train/loss_sets.h"
+
+#include <stdexcept>
+
+namespace s4d::stylizer_train {
+
+const std::vector<std::string>& loss_set_names() {
+  static const std::vector<std::string> names = {"mccnet", "content", "full"};
+  return names;
+}
+
+LossSet loss_set(const std::string& name) {
+  if (name == "full") return {nn::MccLossLevels::hgst(), {}};
+  LossSet set{nn::MccLossLevels::mccnet(), {}};
+  set.weights.tv = 0.0f;
+  set.weights.selfsim = 0.0f;
+  if (name == "mccnet") return set;
+  if (name == "content") {
+    set.levels.content = nn::MccLossLevels::hgst().content;
+    return set;
+  }
+  std::string expected;
+  for (const std::string& n : loss_set_names()) expected += (expected.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("--losses: expected one of " + expected + ", got '" + name + "'");
+}
+
+}  // namespace s4d::stylizer_train
