@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/deformed_cloud.h"
 #include "s4d/deform/static_split.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
@@ -292,6 +293,44 @@ TEST_CASE("deform_fwd with the D-NeRF heads writes only means, log_scales and qu
   CHECK(max_rel(ctx.download<float>(means, 3 * kN), r.means) < 2e-6);  // measured 2.2e-7 (quats 3.5e-7)
   CHECK(max_rel(ctx.download<float>(quats, 4 * kN), r.quats) < 2e-6);
   CHECK(ctx.download<float>(s.opacity, kN) == s.host.opacity_logits);  // the canonical input is untouched
+}
+
+TEST_CASE("deform-to-time (DeformedCloud): the heads that are on come from the field, the others stay canonical") {
+  deform::FieldConfig c = test_config();
+  c.heads = S4D_DEFORM_HEADS_DNERF;
+  Field f = make_field(c, 7);
+  Scene s = make_scene(c, 8, 4);  // every fourth Gaussian static: the field's copied tail
+  const splat::GaussianParams canonical{.means = &s.means, .log_scales = &s.log_scales, .quats = &s.quats,
+                                        .opacity_logits = &s.opacity, .sh = &s.sh, .count = kN, .sh_degree = 3,
+                                        .sh_coeffs = S4D_DEFORM_SH_COEFFS};
+  engine::Context& ctx = test::context();
+  deform::DeformedCloud cloud(ctx, c.heads, kN, S4D_DEFORM_SH_COEFFS);
+  CHECK(cloud.outputs().opacity_logits == nullptr);  // allocated for the heads that are on only
+  CHECK(cloud.outputs().sh == nullptr);
+  engine::Recorder rec(ctx, "deform to time");
+  const splat::GaussianParams p = cloud.record(rec, f.gpu, canonical, s.static_count, kTime);
+  ctx.run(std::move(rec));
+  CHECK(p.opacity_logits == &s.opacity);
+  CHECK(p.sh == &s.sh);
+  CHECK(p.sh_degree == 3);
+  REQUIRE(p.quats == cloud.outputs().quats);
+  engine::Buffer means(ctx, "out means", kN * 12), scales(ctx, "out log_scales", kN * 12), quats(ctx, "out quats", kN * 16);
+  engine::Recorder direct(ctx, "deform forward");
+  f.gpu.record_forward(direct, s.canonical(), kTime, {&means, &scales, &quats, nullptr, nullptr});
+  ctx.run(std::move(direct));
+  CHECK(ctx.download<float>(*p.means, 3 * kN) == ctx.download<float>(means, 3 * kN));  // the same kernels: bit for bit
+  CHECK(ctx.download<float>(*p.log_scales, 3 * kN) == ctx.download<float>(scales, 3 * kN));
+  CHECK(ctx.download<float>(*p.quats, 4 * kN) == ctx.download<float>(quats, 4 * kN));
+
+  deform::DeformedCloud fewer(ctx, c.heads, kN - 1, S4D_DEFORM_SH_COEFFS);
+  deform::DeformedCloud all_heads(ctx, S4D_DEFORM_HEADS_DYNERF, kN, S4D_DEFORM_SH_COEFFS);
+  engine::Recorder refused(ctx, "refused");  // after the clouds: destroyed before them, never submitted
+  CHECK_THROWS_WITH_AS(fewer.record(refused, f.gpu, canonical, 0, kTime),
+                       "deformed cloud: sized for 299 Gaussians with 16 SH coefficients, given 300 with 16",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(all_heads.record(refused, f.gpu, canonical, 0, kTime),
+                       "deformed cloud: the field's heads 7 differ from the cloud's 31", std::invalid_argument);
+  CHECK_THROWS_AS(deform::DeformedCloud().record(refused, f.gpu, canonical, 0, kTime), std::invalid_argument);
 }
 
 TEST_CASE("the backward kernels match the twin: canonical means, planes, MLP weights and biases") {

@@ -15,6 +15,7 @@
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/stage_timer.h"
 #include "s4d/densify/densifier.h"
 #include "s4d/model/trainable_gaussians.h"
@@ -60,7 +61,8 @@ struct Trainer::Impl {
   std::unique_ptr<deform::DeformationField> field;
   std::array<float, 3> aabb_min{}, aabb_max{};
   engine::Buffer planes_m, planes_v, mlp_m, mlp_v;
-  std::array<engine::Buffer, model::kAttrCount> deformed, scratch_grad;
+  deform::DeformedCloud deformed;  // the Gaussians at the time of the view in hand (deform_to)
+  std::array<engine::Buffer, model::kAttrCount> scratch_grad;
   engine::Buffer batch_stats;
   uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
   // The last static_count Gaussians do not move and skip the field (config.static_motion); 0 until

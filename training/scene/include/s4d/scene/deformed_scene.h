@@ -1,7 +1,5 @@
-// The 4DGS stage's scene: canonical Gaussians moved by the trained deformation field (training/
-// deform) to each asked time, exactly as the trainer renders its evaluation (Trainer::Impl::
-// deform_to): the heads that are on replace the canonical means, scales, rotations, opacities or SH
-// with their deformed values; the others stay canonical.
+// The 4DGS stage's scene: canonical Gaussians moved by the trained deformation field to each asked
+// time by deform::DeformedCloud, the deform-to-time the trainer's evaluation runs too.
 #pragma once
 #include <optional>
 #include <span>
@@ -10,6 +8,7 @@
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
@@ -41,8 +40,7 @@ class DeformedScene final : public SceneSource {
   splat::DeviceGaussians canonical_;
   deform::DeformationField field_;
   int sh_degree_;
-  // The deformed attributes; allocated only for the heads that are on.
-  engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
+  deform::DeformedCloud deformed_;  // the deformed attributes of the heads that are on
   // The static Gaussians: the last static_count_, or (a checkpoint from before the trainer put them
   // last) the ranges [first, end) in static_runs_, deformed with the rest and then copied back.
   uint32_t static_count_ = 0;
