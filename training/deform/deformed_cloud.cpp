@@ -20,14 +20,14 @@ const engine::Buffer*& slot(splat::GaussianParams& p, uint32_t h) {
 
 }  // namespace
 
-CanonicalGaussians canonical_of(const splat::GaussianParams& canonical, uint32_t static_count) {
+CanonicalGaussians canonical_of(const splat::GaussianParams& canonical, uint32_t still_count) {
   return {.means = canonical.means,
           .log_scales = canonical.log_scales,
           .quats = canonical.quats,
           .opacity_logits = canonical.opacity_logits,
           .sh = canonical.sh,
           .count = canonical.count,
-          .static_count = static_count,
+          .still_count = still_count,
           .sh_coeffs = canonical.sh_coeffs};
 }
 
@@ -44,7 +44,7 @@ DeformedGaussians DeformedCloud::outputs() {
 }
 
 splat::GaussianParams DeformedCloud::record(engine::Recorder& rec, const DeformationField& field,
-                                            const splat::GaussianParams& canonical, uint32_t static_count, float time) {
+                                            const splat::GaussianParams& canonical, uint32_t still_count, float time) {
   if (field.config().heads != heads_)
     throw std::invalid_argument("deformed cloud: the field's heads " + std::to_string(field.config().heads) +
                                 " differ from the cloud's " + std::to_string(heads_));
@@ -52,7 +52,7 @@ splat::GaussianParams DeformedCloud::record(engine::Recorder& rec, const Deforma
     throw std::invalid_argument("deformed cloud: sized for " + std::to_string(count_) + " Gaussians with " +
                                 std::to_string(sh_coeffs_) + " SH coefficients, given " + std::to_string(canonical.count) +
                                 " with " + std::to_string(canonical.sh_coeffs));
-  field.record_forward(rec, canonical_of(canonical, static_count), time, outputs());
+  field.record_forward(rec, canonical_of(canonical, still_count), time, outputs());
   splat::GaussianParams p = canonical;
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (on(heads_, h)) slot(p, h) = &buffers_[h];

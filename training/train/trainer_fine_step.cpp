@@ -22,18 +22,18 @@ void Trainer::Impl::size_stage2_buffers() {
 }
 
 deform::CanonicalGaussians Trainer::Impl::canonical() const {
-  return deform::canonical_of(gaussians->params(-1), static_count);
+  return deform::canonical_of(gaussians->params(-1), still_count);
 }
 
 splat::GaussianParams Trainer::Impl::deform_to(double time) {
   size_stage2_buffers();
   const uint32_t n = gaussians->size();
-  deform_evaluations += n - static_count;
+  deform_evaluations += n - still_count;
   deform_evaluations_unmasked += n;
   const engine::StageScope timed(ctx, "field");
   engine::Recorder rec(ctx, "deform");
   const splat::GaussianParams p =
-      deformed.record(rec, *field, gaussians->params(active_degree()), static_count, static_cast<float>(time));
+      deformed.record(rec, *field, gaussians->params(active_degree()), still_count, static_cast<float>(time));
   ctx.run(std::move(rec));
   return p;
 }

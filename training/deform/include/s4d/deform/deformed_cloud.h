@@ -16,8 +16,8 @@
 namespace s4d::deform {
 
 // The field's view of canonical Gaussians held as the rasterizer's parameters; the last
-// `static_count` skip the field.
-CanonicalGaussians canonical_of(const splat::GaussianParams& canonical, uint32_t static_count);
+// `still_count` skip the field.
+CanonicalGaussians canonical_of(const splat::GaussianParams& canonical, uint32_t still_count);
 
 class DeformedCloud {
  public:
@@ -31,12 +31,12 @@ class DeformedCloud {
   DeformedGaussians outputs();
 
   // Records `field`'s forward pass from `canonical` (count and sh_coeffs as this cloud's; the last
-  // `static_count` Gaussians are copied, not deformed) at raw time `time` into this cloud's buffers,
+  // `still_count` Gaussians are copied, not deformed) at raw time `time` into this cloud's buffers,
   // and returns `canonical` with the deformed attributes in place of the heads that are on. Only
   // records: the result is valid once the recording has run. Throws std::invalid_argument when the
   // field's heads or the canonical Gaussians' count or sh_coeffs differ from this cloud's.
   splat::GaussianParams record(engine::Recorder& rec, const DeformationField& field,
-                               const splat::GaussianParams& canonical, uint32_t static_count, float time);
+                               const splat::GaussianParams& canonical, uint32_t still_count, float time);
 
  private:
   uint32_t heads_ = 0, count_ = 0, sh_coeffs_ = 0;

@@ -20,11 +20,11 @@ namespace s4d::scene {
 class DeformedScene final : public SceneSource {
  public:
   // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
-  // field.planes and field.mlp) and the static mask when training made one (empty: none);
+  // field.planes and field.mlp) and the still mask (field.static_mask) when training made one (empty: none);
   // renders at SH degree `sh_degree` (clamped to what the cloud stores). Throws
   // std::invalid_argument naming the field setting or array that does not fit.
   DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
-                std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> static_mask,
+                std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> still_mask,
                 int sh_degree);
 
   // Runs the field's forward pass at `time` (the camera is not read) and waits for it; the same time
@@ -41,10 +41,10 @@ class DeformedScene final : public SceneSource {
   deform::DeformationField field_;
   int sh_degree_;
   deform::DeformedCloud deformed_;  // the deformed attributes of the heads that are on
-  // The static Gaussians: the last static_count_, or (a checkpoint from before the trainer put them
-  // last) the ranges [first, end) in static_runs_, deformed with the rest and then copied back.
-  uint32_t static_count_ = 0;
-  std::vector<std::pair<uint32_t, uint32_t>> static_runs_;
+  // The still Gaussians: the last still_count_, or (a checkpoint from before the trainer put them
+  // last) the ranges [first, end) in still_runs_, deformed with the rest and then copied back.
+  uint32_t still_count_ = 0;
+  std::vector<std::pair<uint32_t, uint32_t>> still_runs_;
   std::optional<std::pair<double, splat::GaussianParams>> last_;  // the last at()'s time and result
 };
 
