@@ -29,7 +29,6 @@ class FrameReader {
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
 
-  const std::filesystem::path& path() const { return path_; }
   // The folder's PNG files in reading order; empty for a video.
   const std::vector<std::filesystem::path>& files() const { return pngs_; }
   // Frames: the folder's PNG count, or the count the video's container declares.

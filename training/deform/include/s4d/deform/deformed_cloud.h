@@ -26,7 +26,6 @@ class DeformedCloud {
   // per channel, allocated only for the heads on in `heads` (S4D_DEFORM_HEAD_* bits).
   DeformedCloud(engine::Context& ctx, uint32_t heads, uint32_t count, uint32_t sh_coeffs);
 
-  uint32_t size() const { return count_; }
   // The deformed buffers, null for the heads that are off.
   DeformedGaussians outputs();
 
