@@ -2,7 +2,7 @@
 // (row "deform_fwd": deform_feat + deform_fwd's layer sets), the backward (row "deform_bwd", or
 // "deform_bwd_cas" with --cas: the recomputed activations, deform_cot, deform_bwd's layer sets,
 // deform_feat_bwd + deform_wgrad) and deform_reg for a preset's field on N random Gaussians
-// inside the field's AABB, the last --static fraction of them static (skipped by the field, as the
+// inside the field's AABB, the last --static fraction of them still (skipped by the field, as the
 // trainer's --static-motion puts them last). One JSON line per kernel on stdout, a human table on stderr.
 // Timings come from GPU timestamps around each kernel's recorded work, median of --repeats after a
 // warm-up run. The backward's gradients (v_means, v_planes, v_mlp) are checked against the double CPU
@@ -39,7 +39,7 @@ using namespace s4d;
 struct Options {
   std::string preset = "fast";
   uint32_t gaussians = 15000;
-  double static_fraction = 0;
+  double still_fraction = 0;
   int repeats = 5;
   bool cas = false;
   uint32_t check = 2000;
@@ -66,10 +66,10 @@ struct Scene {
   engine::Buffer means, log_scales, quats, opacity, sh;
   engine::Buffer v_means, v_log_scales, v_quats, v_opacity, v_sh;
   engine::Buffer out_means, out_log_scales, out_quats, out_opacity, out_sh;
-  uint32_t n = 0, static_count = 0, sh_coeffs = 1;
+  uint32_t n = 0, still_count = 0, sh_coeffs = 1;
 
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, n, static_count, sh_coeffs};
+    return {&means, &log_scales, &quats, &opacity, &sh, n, still_count, sh_coeffs};
   }
   deform::DeformedGaussians deformed() { return {&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}; }
   deform::DeformedGrads grads() { return {&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}; }
@@ -135,14 +135,14 @@ Options parse(int argc, char** argv) {
     };
     if (a == "--preset") o.preset = value();
     else if (a == "--gaussians") o.gaussians = static_cast<uint32_t>(std::stoul(value()));
-    else if (a == "--static") o.static_fraction = std::stod(value());
+    else if (a == "--static") o.still_fraction = std::stod(value());
     else if (a == "--repeats") o.repeats = std::stoi(value());
     else if (a == "--check") o.check = static_cast<uint32_t>(std::stoul(value()));
     else if (a == "--cas") o.cas = true;
     else throw std::invalid_argument("unknown argument '" + a + "'");
   }
   if (o.gaussians == 0 || o.repeats < 1) throw std::invalid_argument("--gaussians and --repeats must be at least 1");
-  if (!(o.static_fraction >= 0 && o.static_fraction <= 1)) throw std::invalid_argument("--static must be in [0, 1]");
+  if (!(o.still_fraction >= 0 && o.still_fraction <= 1)) throw std::invalid_argument("--static must be in [0, 1]");
   return o;
 }
 
@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
     // Planes around 1, as trained ones start, so the 6-fold products stay O(1).
     field.upload_planes(uniform(field.plane_floats(), rng, 0.6f, 1.4f));
     Scene s = make_scene(ctx, fc, o.gaussians, 9);
-    s.static_count = static_cast<uint32_t>(std::lround(o.static_fraction * o.gaussians));
+    s.still_count = static_cast<uint32_t>(std::lround(o.still_fraction * o.gaussians));
     const float time = 0.37f;
     const deform::RegulariserWeights w{.plane_tv = 2e-4f, .time_smoothness = 1e-3f, .l1_time_planes = 1e-4f};
 
@@ -208,14 +208,14 @@ int main(int argc, char** argv) {
                        {"driver", info.driver_name + " " + info.driver_info},
                        {"preset", o.preset},
                        {"gaussians", o.gaussians},
-                       {"static_gaussians", s.static_count},
+                       {"static_gaussians", s.still_count},  // the JSON key predates "still"
                        {"mlp_floats", field.mlp_floats()},
                        {"plane_floats", field.plane_floats()},
                        {"timing", "gpu timestamps around the kernel's recorded work"},
                        {"repeats", o.repeats}};
-    std::fprintf(stderr, "device: %s (%s), preset %s, %u Gaussians (%u static), MLP %u floats, planes %u floats\n"
+    std::fprintf(stderr, "device: %s (%s), preset %s, %u Gaussians (%u still), MLP %u floats, planes %u floats\n"
                  "%-16s %9s %9s %9s\n",
-                 info.name.c_str(), info.driver_info.c_str(), o.preset.c_str(), o.gaussians, s.static_count, field.mlp_floats(),
+                 info.name.c_str(), info.driver_info.c_str(), o.preset.c_str(), o.gaussians, s.still_count, field.mlp_floats(),
                  field.plane_floats(), "kernel", "ms p50", "ms min", "ms max");
     const std::pair<const char*, const bench::Timing*> rows[] = {
         {"deform_fwd", &fwd}, {o.cas ? "deform_bwd_cas" : "deform_bwd", &bwd}, {"deform_reg", &reg}};

@@ -22,7 +22,7 @@ point() {
   "$exe" synth --out "$dir/data" --size "$size" --cams "$cams" --frames "$frames" > "$dir/synth.log" 2>&1
   # Densify every 10 iterations with no gradient threshold: the budget is reached by iteration 50,
   # and the iterations after densification (150-200, fine 40-80) are timed at that count. No
-  # static/dynamic split: the fine steps are timed with the field over every Gaussian, since the
+  # motion split: the fine steps are timed with the field over every Gaussian, since the
   # moving share depends on the scene.
   "$exe" train --data "$dir/data" --out "$dir/run" --preset fast --iters 200 --fine-iters 80 --static-max-time 0 \
     --set densify_from=20 --set densify_every=10 --set grad_threshold=0 --set budget="$budget" \

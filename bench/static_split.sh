@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # What "deform only what moves" saves and costs: trains the built-in scene twice with the same
-# settings, once with the static/dynamic split (the preset's --static-motion, or MOTION=X) and once
-# without (--static-motion 0), and prints one JSON line per run (test PSNR, seconds, Gaussians that
-# still use the field, field evaluations). The built-in scene's wall and floor are a large static
+# settings, once with the motion split (still Gaussians off the field; the preset's --static-motion,
+# or MOTION=X) and once without (--static-motion 0), and prints one JSON line per run (test PSNR,
+# seconds, Gaussians that still use the field, field evaluations). The built-in scene's wall and floor are a large static
 # background. Wall-clock seconds: run it on a quiet machine.
 #
 # Usage: bench/static_split.sh [OUT_DIR] [extra style4d train options...]

@@ -19,7 +19,7 @@ UiqmParts uiqm_parts(const io::ImageF& image, UiqmVariant variant) {
     p.c[c].resize(n);
     for (size_t i = 0; i < n; ++i) p.c[c][i] = std::round(std::clamp(double(image.data[i * 3 + c]), 0.0, 1.0) * 255.0);
   }
-  return variant == UiqmVariant::a_funie ? detail::uiqm_a(p) : detail::uiqm_b(p);
+  return variant == UiqmVariant::a_funie ? detail::uiqm_funie_gan(p) : detail::uiqm_xueleichen(p);
 }
 
 }  // namespace s4d::metrics

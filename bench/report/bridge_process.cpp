@@ -3,7 +3,6 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,8 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "s4d/bench/frame_sequence.h"
 #include "s4d/bench/pyiqa_bridge.h"
+#include "s4d/data/frame_reader.h"
 #include "s4d/util/atomic_file.h"
 
 extern char** environ;
@@ -60,21 +59,18 @@ std::optional<std::string> run_logged(const std::vector<std::string>& argv, cons
 
 std::vector<fs::path> frame_files(const fs::path& frames, const fs::path& decode_dir) {
   if (fs::is_directory(frames)) {
-    std::vector<fs::path> pngs;
-    for (const auto& e : fs::directory_iterator(frames))
-      if (e.is_regular_file() && e.path().extension() == ".png") pngs.push_back(fs::absolute(e.path()));
-    std::sort(pngs.begin(), pngs.end());
-    if (pngs.empty()) throw std::runtime_error(frames.string() + ": folder holds no .png frames");
+    std::vector<fs::path> pngs = data::png_frames(frames);
+    for (fs::path& p : pngs) p = fs::absolute(p);
     return pngs;
   }
-  FrameSequence video(frames);
+  data::FrameReader video(frames);
   fs::create_directories(decode_dir);
   std::vector<fs::path> pngs;
   for (int i = 0; i < video.size(); ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "%06d.png", i);
     pngs.push_back(fs::absolute(decode_dir / name));
-    io::write_png(pngs.back(), video.next());
+    io::write_png(pngs.back(), video.next_counted());
   }
   return pngs;
 }

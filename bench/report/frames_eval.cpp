@@ -6,8 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include "s4d/bench/frame_sequence.h"
 #include "s4d/bench/native_learned.h"
+#include "s4d/data/frame_reader.h"
 #include "s4d/metrics/flow.h"
 #include "s4d/io/psnr.h"
 #include "s4d/metrics/ssim.h"
@@ -74,13 +74,13 @@ std::vector<int> sample_indices(int frames, int count) {
 }
 
 MethodResult evaluate_frames(const std::string& name, const std::filesystem::path& frames, const FramesOptions& o) {
-  FrameSequence styl(frames), orig(o.original);
+  data::FrameReader styl(frames), orig(o.original);
   if (styl.size() != orig.size())
     throw std::runtime_error(frames.string() + ": has " + std::to_string(styl.size()) + " frames but the original " +
                              o.original.string() + " has " + std::to_string(orig.size()));
-  std::unique_ptr<FrameSequence> truth;
+  std::unique_ptr<data::FrameReader> truth;
   if (o.ground_truth) {
-    truth = std::make_unique<FrameSequence>(*o.ground_truth);
+    truth = std::make_unique<data::FrameReader>(*o.ground_truth);
     if (truth->size() != orig.size())
       throw std::runtime_error(o.ground_truth->string() + ": has " + std::to_string(truth->size()) +
                                " frames but the original has " + std::to_string(orig.size()));
@@ -91,7 +91,7 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
   PairFlow flow(o);
   io::ImageF prev_s, prev_o;
   for (int i = 0; i < styl.size(); ++i) {
-    io::ImageF s = styl.next(), g = orig.next();
+    io::ImageF s = styl.next_counted(), g = orig.next_counted();
     if (s.width != g.width || s.height != g.height)
       throw std::runtime_error(frames.string() + ": frame " + std::to_string(i) + " is " + std::to_string(s.width) + "x" +
                                std::to_string(s.height) + " but the original's is " + std::to_string(g.width) + "x" +
@@ -99,7 +99,7 @@ MethodResult evaluate_frames(const std::string& name, const std::filesystem::pat
     r.per_frame["content_ssim"].push_back(metrics::ssim(s, g));
     r.per_frame["uiqm"].push_back(metrics::uiqm(s, o.uiqm));
     if (truth) {
-      const io::ImageF captured = truth->next();
+      const io::ImageF captured = truth->next_counted();
       if (scores_psnr) r.per_frame["psnr"].push_back(io::psnr(g, captured));
     }
     if (o.learned) o.learned->score_frame(s, g, o.style_image, i > 0, o.learned_keys, r.per_frame);

@@ -4,7 +4,7 @@
 // scattered to its 4 texels with atomic adds, and the field's term of dL/d canonical mean (through
 // the grid coordinates; time carries none) is added in place to v_means, which holds dL/d deformed
 // mean on entry. The other raw parameters' gradients pass through unchanged (deformed = canonical +
-// delta); static Gaussians follow the prefix and are never visited. There are no barriers: every
+// delta); still Gaussians follow the prefix and are never visited. There are no barriers: every
 // invocation may return early.
 // S4D_FLOAT_ATOMICS=1 adds with float atomics; 0 with compare-and-swap loops.
 // Specialization constant S4D_DEFORM_SPEC_CHANNELS sizes the private samples (capacity only, never results).

@@ -166,7 +166,7 @@ struct DeformParams {
   DeformShape shape;
   vec4 aabb_max;    // xyz: the AABB's max corner (4DGaussians' aabb[0]); w unused
   vec4 aabb_scale;  // xyz: 2 / (aabb_min - aabb_max), computed in float on the host; w unused
-  uint n;           // end of the Gaussians deformed: the moving prefix (static ones follow; the host copies them)
+  uint n;           // end of the Gaussians deformed: the moving prefix (still ones follow; the host copies them)
   uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
   float time;       // raw time, used unnormalised as the fourth grid coordinate
   uint first;       // first Gaussian of this pass (scratch row 0); the pass covers Gaussians first..n-1

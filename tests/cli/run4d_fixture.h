@@ -4,7 +4,7 @@
 // fine iterations barely start the motion (renders at t = 0 and 1 differ by at most 3 levels, about
 // as much where the scene moves as where it stays); 120 make the motion visible where it happens.
 // --static-motion 0.002 leaves some Gaussians out of the field (measured 1261 of 4000), so renders
-// of the run must apply the checkpoint's static mask to match the trainer's own evaluation.
+// of the run must apply the checkpoint's still mask to match the trainer's own evaluation.
 // Plus the helpers those tests share.
 #pragma once
 #include <doctest/doctest.h>

@@ -158,7 +158,7 @@ TEST_CASE("both stages; SIGINT or kill -9, then --resume, ends exactly where an 
   REQUIRE(j["static"]["test_views"].size() == 3);
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);  // measured +0.29 dB (19.18 vs 18.89)
   const run::Checkpoint cp = run::read_checkpoint(whole / "checkpoint" / "state.s4dckpt");
-  CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the static mask
+  CHECK(cp.extra.size() == 7);  // the field's planes and MLP, both Adam moments of each, the still mask
   // Deform only what moves: from the end of densification on, Gaussians under the threshold skip the field
   // and are moved behind the moving ones in memory, every per-Gaussian array with them, so the resumes
   // below also check that reorder (measured 474 of 4000 moving, 275k of 388k evaluations).

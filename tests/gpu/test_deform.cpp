@@ -2,7 +2,7 @@
 // and their _cas variants, deform_reg) against the double CPU twin on lavapipe: a small random field
 // (8^3 x 6 base planes, 2 levels, C = 4, W = 16, one extra trunk layer, all five heads), and
 // 4DGaussians' DyNeRF MLP (C = 16, W = 128, five heads), with 300 Gaussians, some outside the AABB
-// (border clamp) and some static. Static Gaussians are drawn anywhere and then put last (deform::split_static, as the
+// (border clamp) and some still. Still Gaussians are drawn anywhere and then put last (deform::split_by_motion, as the
 // trainer does), so the field's moving prefix + copied tail is checked against the twin's
 // per-Gaussian masked rule. Each twin is fed the exact float values (and order) the GPU holds.
 #include <doctest/doctest.h>
@@ -16,7 +16,8 @@
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
-#include "s4d/deform/static_split.h"
+#include "s4d/deform/deformed_cloud.h"
+#include "s4d/deform/motion_split.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
@@ -48,34 +49,34 @@ deform::FieldConfig test_config() {
   return c;
 }
 
-// Host copies of the Gaussians (static ones last, host.static_mask marks them) and their device buffers.
+// Host copies of the Gaussians (still ones last, host.still_mask marks them) and their device buffers.
 struct Scene {
   ref::DeformGaussians<float> host;
-  uint32_t static_count = 0;
+  uint32_t still_count = 0;
   std::vector<uint32_t> order;  // Gaussian order[j] as drawn is at j
   engine::Buffer means, log_scales, quats, opacity, sh;
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, kN, static_count, S4D_DEFORM_SH_COEFFS};
+    return {&means, &log_scales, &quats, &opacity, &sh, kN, still_count, S4D_DEFORM_SH_COEFFS};
   }
 };
 
 // The Gaussians in the split's order: every array's rows and the mask move together.
-ref::DeformGaussians<float> reorder(const ref::DeformGaussians<float>& g, const deform::StaticSplit& split) {
+ref::DeformGaussians<float> reorder(const ref::DeformGaussians<float>& g, const deform::MotionSplit& split) {
   auto rows = [&](const std::vector<float>& v) { return deform::gather_rows<float>(v, split.order, v.size() / kN); };
   return {rows(g.means), rows(g.log_scales), rows(g.quats), rows(g.opacity_logits), rows(g.sh),
-          deform::gather_rows<uint32_t>(g.static_mask, split.order, 1)};
+          deform::gather_rows<uint32_t>(g.still_mask, split.order, 1)};
 }
 
-Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t static_every) {
+Scene make_scene(const deform::FieldConfig& c, unsigned seed, uint32_t still_every) {
   std::mt19937 rng(seed);
   Scene s;
   // every tenth Gaussian outside the AABB
   s.host = ref::random_gaussians<float>(c.aabb_min, c.aabb_max, kN, rng,
                                         {.outside_every = 10, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
-  for (uint32_t i = 0; i < kN; ++i) s.host.static_mask.push_back(static_every != 0 && i % static_every == 0 ? 1u : 0u);
-  const deform::StaticSplit split = deform::split_static(s.host.static_mask);
+  for (uint32_t i = 0; i < kN; ++i) s.host.still_mask.push_back(still_every != 0 && i % still_every == 0 ? 1u : 0u);
+  const deform::MotionSplit split = deform::split_by_motion(s.host.still_mask);
   s.host = reorder(s.host, split);
-  s.static_count = split.static_count;
+  s.still_count = split.still_count;
   s.order = split.order;
   engine::Context& ctx = test::context();
   s.means = engine::buffer_from(ctx, "means", s.host.means);
@@ -106,7 +107,7 @@ Field make_field(const deform::FieldConfig& c, unsigned seed, deform::DeformOpti
 
 ref::DeformGaussians<double> to_double(const ref::DeformGaussians<float>& g) {
   return {to_double(g.means), to_double(g.log_scales), to_double(g.quats), to_double(g.opacity_logits),
-          to_double(g.sh), g.static_mask};
+          to_double(g.sh), g.still_mask};
 }
 
 // Largest |gpu - ref| relative to the largest |ref| (NaN or Inf fail it).
@@ -193,8 +194,8 @@ BackwardErrors backward_errors(const deform::FieldConfig& c, deform::DeformOptio
   const ref::DeformGrads<double> r = ref::deform_backward(f.twin, to_double(s.host), double(kTime), to_double(v.host));
   engine::Context& ctx = test::context();
   const std::vector<float> v_means = ctx.download<float>(v.v_means, 3 * kN);
-  REQUIRE(s.static_count == 43);  // i % 7 == 0 of 300, now the last 43
-  for (uint32_t k = 3 * (kN - s.static_count); k < 3 * kN; ++k)  // static: cotangents pass through, bit for bit
+  REQUIRE(s.still_count == 43);  // i % 7 == 0 of 300, now the last 43
+  for (uint32_t k = 3 * (kN - s.still_count); k < 3 * kN; ++k)  // still: cotangents pass through, bit for bit
     REQUIRE(v_means[k] == v.host.means[k]);
   return {max_rel(v_means, r.v.means), max_rel(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), r.v_planes),
           max_rel(ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats()), r.v_mlp)};
@@ -202,7 +203,7 @@ BackwardErrors backward_errors(const deform::FieldConfig& c, deform::DeformOptio
 
 // test_config()'s backward: float accumulation over 300 Gaussians in atomic order against double
 // (deform_wgrad: row order within its 256-row spans, so the default single pass also covers a span
-// boundary). Measured worst on lavapipe (Mesa 22.3.6), relative to the largest entry, static
+// boundary). Measured worst on lavapipe (Mesa 22.3.6), relative to the largest entry, still
 // Gaussians last: v_means 4.1e-7, v_planes 7.5e-7, v_mlp 5.0e-7 (float atomics, CAS and 100-row
 // passes alike, the same with the per-layer kernels); 1e-5 leaves room for other summation orders.
 void check_backward(deform::DeformOptions options) {
@@ -214,7 +215,7 @@ void check_backward(deform::DeformOptions options) {
 
 }  // namespace
 
-TEST_CASE("deform_fwd matches the twin: every head's output, static Gaussians copied unchanged") {
+TEST_CASE("deform_fwd matches the twin: every head's output, still Gaussians copied unchanged") {
   const deform::FieldConfig c = test_config();
   Field f = make_field(c, 1);
   Scene s = make_scene(c, 2, 5);
@@ -229,20 +230,20 @@ TEST_CASE("deform_fwd matches the twin: every head's output, static Gaussians co
   CHECK(max_rel(ctx.download<float>(d.quats, 4 * kN), r.quats) < 2e-6);
   CHECK(max_rel(ctx.download<float>(d.opacity, kN), r.opacity_logits) < 2e-6);
   CHECK(max_rel(sh, r.sh) < 2e-6);
-  REQUIRE(s.static_count == 60);  // i % 5 == 0 of 300, now the last 60; 240 moving (a partial workgroup)
-  for (uint32_t i = kN - s.static_count; i < kN; ++i) {  // static: bit-for-bit copies
+  REQUIRE(s.still_count == 60);  // i % 5 == 0 of 300, now the last 60; 240 moving (a partial workgroup)
+  for (uint32_t i = kN - s.still_count; i < kN; ++i) {  // still: bit-for-bit copies
     for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == s.host.means[3 * i + k]);
     for (int k = 0; k < 48; ++k) REQUIRE(sh[48 * i + k] == s.host.sh[48 * i + k]);
   }
-  // Non-static Gaussians do move, up to the last one of the prefix.
+  // Moving Gaussians do move, up to the last one of the prefix.
   CHECK(std::abs(means[0] - s.host.means[0]) > 1e-4);
   CHECK(std::abs(means[3 * 239] - s.host.means[3 * 239]) > 1e-4);
 }
 
-TEST_CASE("the moving prefix gives every moving Gaussian the bits of a run with nothing static (fwd, v_means)") {
+TEST_CASE("the moving prefix gives every moving Gaussian the bits of a run with nothing still (fwd, v_means)") {
   const deform::FieldConfig c = test_config();
   Field f = make_field(c, 7);
-  Scene all = make_scene(c, 8, 0), split = make_scene(c, 8, 4);  // the same Gaussians; every fourth static
+  Scene all = make_scene(c, 8, 0), split = make_scene(c, 8, 4);  // the same Gaussians; every fourth still
   const std::vector<uint32_t>& order = split.order;
   Deformed a = run_forward(f, all), b = run_forward(f, split);
   Cotangents va = make_cotangents(9), vb = make_cotangents(9);
@@ -258,7 +259,7 @@ TEST_CASE("the moving prefix gives every moving Gaussian the bits of a run with 
   const std::vector<float> means_a = ctx.download<float>(a.means, 3 * kN), means_b = ctx.download<float>(b.means, 3 * kN);
   const std::vector<float> sh_a = ctx.download<float>(a.sh, 48 * kN), sh_b = ctx.download<float>(b.sh, 48 * kN);
   const std::vector<float> v_a = ctx.download<float>(va.v_means, 3 * kN), v_b = ctx.download<float>(vb.v_means, 3 * kN);
-  for (uint32_t j = 0; j < kN - split.static_count; ++j) {  // per-Gaussian work: no reordering of sums
+  for (uint32_t j = 0; j < kN - split.still_count; ++j) {  // per-Gaussian work: no reordering of sums
     const uint32_t i = order[j];
     for (int k = 0; k < 3; ++k) REQUIRE(means_b[3 * j + k] == means_a[3 * i + k]);
     for (int k = 0; k < 48; ++k) REQUIRE(sh_b[48 * j + k] == sh_a[48 * i + k]);
@@ -294,6 +295,44 @@ TEST_CASE("deform_fwd with the D-NeRF heads writes only means, log_scales and qu
   CHECK(ctx.download<float>(s.opacity, kN) == s.host.opacity_logits);  // the canonical input is untouched
 }
 
+TEST_CASE("deform-to-time (DeformedCloud): the heads that are on come from the field, the others stay canonical") {
+  deform::FieldConfig c = test_config();
+  c.heads = S4D_DEFORM_HEADS_DNERF;
+  Field f = make_field(c, 7);
+  Scene s = make_scene(c, 8, 4);  // every fourth Gaussian still: the field's copied tail
+  const splat::GaussianParams canonical{.means = &s.means, .log_scales = &s.log_scales, .quats = &s.quats,
+                                        .opacity_logits = &s.opacity, .sh = &s.sh, .count = kN, .sh_degree = 3,
+                                        .sh_coeffs = S4D_DEFORM_SH_COEFFS};
+  engine::Context& ctx = test::context();
+  deform::DeformedCloud cloud(ctx, c.heads, kN, S4D_DEFORM_SH_COEFFS);
+  CHECK(cloud.outputs().opacity_logits == nullptr);  // allocated for the heads that are on only
+  CHECK(cloud.outputs().sh == nullptr);
+  engine::Recorder rec(ctx, "deform to time");
+  const splat::GaussianParams p = cloud.record(rec, f.gpu, canonical, s.still_count, kTime);
+  ctx.run(std::move(rec));
+  CHECK(p.opacity_logits == &s.opacity);
+  CHECK(p.sh == &s.sh);
+  CHECK(p.sh_degree == 3);
+  REQUIRE(p.quats == cloud.outputs().quats);
+  engine::Buffer means(ctx, "out means", kN * 12), scales(ctx, "out log_scales", kN * 12), quats(ctx, "out quats", kN * 16);
+  engine::Recorder direct(ctx, "deform forward");
+  f.gpu.record_forward(direct, s.canonical(), kTime, {&means, &scales, &quats, nullptr, nullptr});
+  ctx.run(std::move(direct));
+  CHECK(ctx.download<float>(*p.means, 3 * kN) == ctx.download<float>(means, 3 * kN));  // the same kernels: bit for bit
+  CHECK(ctx.download<float>(*p.log_scales, 3 * kN) == ctx.download<float>(scales, 3 * kN));
+  CHECK(ctx.download<float>(*p.quats, 4 * kN) == ctx.download<float>(quats, 4 * kN));
+
+  deform::DeformedCloud fewer(ctx, c.heads, kN - 1, S4D_DEFORM_SH_COEFFS);
+  deform::DeformedCloud all_heads(ctx, S4D_DEFORM_HEADS_DYNERF, kN, S4D_DEFORM_SH_COEFFS);
+  engine::Recorder refused(ctx, "refused");  // after the clouds: destroyed before them, never submitted
+  CHECK_THROWS_WITH_AS(fewer.record(refused, f.gpu, canonical, 0, kTime),
+                       "deformed cloud: sized for 299 Gaussians with 16 SH coefficients, given 300 with 16",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(all_heads.record(refused, f.gpu, canonical, 0, kTime),
+                       "deformed cloud: the field's heads 7 differ from the cloud's 31", std::invalid_argument);
+  CHECK_THROWS_AS(deform::DeformedCloud().record(refused, f.gpu, canonical, 0, kTime), std::invalid_argument);
+}
+
 TEST_CASE("the backward kernels match the twin: canonical means, planes, MLP weights and biases") {
   check_backward({});
 }
@@ -306,10 +345,10 @@ TEST_CASE("the backward in several scratch passes (100, 100, 100 Gaussians) matc
   check_backward({.scratch_rows = 100});
 }
 
-TEST_CASE("static Gaussians give the field no gradient and keep their cotangents (deform_bwd, deform_wgrad)") {
+TEST_CASE("still Gaussians give the field no gradient and keep their cotangents (deform_bwd, deform_wgrad)") {
   const deform::FieldConfig c = test_config();
   Field f = make_field(c, 31);
-  Scene s = make_scene(c, 32, 1);  // every Gaussian static
+  Scene s = make_scene(c, 32, 1);  // every Gaussian still
   Cotangents v = make_cotangents(33);
   run_backward(f, s, v);
   engine::Context& ctx = test::context();
@@ -320,7 +359,7 @@ TEST_CASE("static Gaussians give the field no gradient and keep their cotangents
   CHECK(ctx.download<float>(v.v_means, 3 * kN) == v.host.means);
 }
 
-TEST_CASE("rendering a run whose checkpoint marks static Gaussians anywhere (before the split) keeps them canonical") {
+TEST_CASE("rendering a run whose checkpoint marks still Gaussians anywhere (before the split) keeps them canonical") {
   const deform::FieldConfig c = test_config();
   Field f = make_field(c, 35);
   const Scene s = make_scene(c, 36, 0);
@@ -328,7 +367,7 @@ TEST_CASE("rendering a run whose checkpoint marks static Gaussians anywhere (bef
   cloud.means = s.host.means, cloud.log_scales = s.host.log_scales, cloud.quats = s.host.quats;
   cloud.opacity_logits = s.host.opacity_logits, cloud.sh = s.host.sh, cloud.sh_degree = 3;
   std::vector<uint32_t> mask(kN, 0);
-  for (uint32_t i = 0; i < kN; i += 3) mask[i] = mask[i + 1] = 1;  // runs of two static Gaussians
+  for (uint32_t i = 0; i < kN; i += 3) mask[i] = mask[i + 1] = 1;  // runs of two still Gaussians
   const std::vector<float> planes = f.gpu.download_planes(), mlp = f.gpu.download_mlp();
   engine::Context& ctx = test::context();
   scene::DeformedScene all(ctx, cloud, c, planes, mlp, {}, 3), old(ctx, cloud, c, planes, mlp, mask, 3);

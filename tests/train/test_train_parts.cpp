@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host_state_fixture.h"
-#include "s4d/deform/static_split.h"
+#include "s4d/deform/motion_split.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/run/train_config.h"
 #include "s4d/train/evaluate.h"
@@ -137,13 +137,13 @@ TEST_CASE("the view sampler visits every view once per epoch and resumes identic
   CHECK_THROWS_AS(other.load(saved), std::runtime_error);
 }
 
-TEST_CASE("the static split puts static Gaussians last, stably, and moves every per-Gaussian array with them") {
+TEST_CASE("the motion split puts still Gaussians last, stably, and moves every per-Gaussian array with them") {
   const std::vector<uint32_t> mask = {1, 0, 0, 1, 0, 1, 0};
-  const deform::StaticSplit split = deform::split_static(mask);
+  const deform::MotionSplit split = deform::split_by_motion(mask);
   CHECK(split.order == std::vector<uint32_t>{1, 2, 4, 6, 0, 3, 5});
-  CHECK(split.static_count == 3);
+  CHECK(split.still_count == 3);
   CHECK_FALSE(split.identity());
-  CHECK(deform::split_static(deform::tail_mask(7, 3)).identity());  // what checkpoints hold: already in order
+  CHECK(deform::split_by_motion(deform::tail_mask(7, 3)).identity());  // what checkpoints hold: already in order
   CHECK(deform::tail_mask(4, 1) == std::vector<uint32_t>{0, 0, 0, 1});
   const model::HostState s = test::small_state(mask.size(), 1, 3);
   const model::HostState g = train::gather_state(s, split.order);

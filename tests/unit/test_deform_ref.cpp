@@ -52,8 +52,8 @@ ref::DeformGaussians<double> random_gaussians(const deform::FieldConfig& c, size
   std::mt19937 rng(seed);
   ref::DeformGaussians<double> g =
       ref::random_gaussians<double>(c.aabb_min, c.aabb_max, n, rng, {.margin = 0.05, .sh_coeffs = S4D_DEFORM_SH_COEFFS});
-  g.static_mask.assign(n, 0);
-  g.static_mask[1] = 1;  // one static Gaussian: no field term, pure pass-through
+  g.still_mask.assign(n, 0);
+  g.still_mask[1] = 1;  // one still Gaussian: no field term, pure pass-through
   return g;
 }
 
@@ -218,11 +218,11 @@ TEST_CASE("deform twin backward matches central finite differences in double") {
   CHECK(r.v.sh == v.sh);
 }
 
-TEST_CASE("static Gaussians are not deformed and give the field no gradient") {
+TEST_CASE("still Gaussians are not deformed and give the field no gradient") {
   const deform::FieldConfig c = small_config();
   const ref::DeformField<double> f = random_field(c, 5);
   ref::DeformGaussians<double> g = random_gaussians(c, 4, 6);
-  g.static_mask.assign(4, 1);
+  g.still_mask.assign(4, 1);
   const ref::DeformGaussians<double> out = ref::deform_forward(f, g, 0.5);
   CHECK(out.means == g.means);
   CHECK(out.sh == g.sh);

@@ -1,5 +1,6 @@
-// Frame sequences on disk for `style4d stylize-frames`: a folder of PNG frames (sorted by name) or
-// a video file (.mp4, .avi, .mov, .mkv, read by s4d/data/video_reader.h).
+// Whole frame sequences for `style4d stylize-frames` and the demo's videos: read by
+// s4d/data/frame_reader.h (a folder of PNG frames sorted by name, or a video file), written as a
+// folder of PNG files or a video.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -14,8 +15,7 @@ struct FrameSequence {
   std::vector<std::string> names;  // file names (NNNN.png for a video's frames)
 };
 
-bool is_video_path(const std::filesystem::path& path);
-
+// Every frame of data::FrameReader(path) with its name: the file's, or NNNN.png for a video's frame.
 // Throws std::runtime_error naming the path when it is missing, holds no frames, or a frame cannot
 // be read or differs in size from the first.
 FrameSequence read_frame_sequence(const std::filesystem::path& path);

@@ -57,8 +57,8 @@ void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
   const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h)) require(inputs[h], kHeadNames[h], n * head_floats(h, g.sh_coeffs) * 4, name_);
-  if (g.static_count > g.count)
-    throw std::invalid_argument(name_ + ": " + std::to_string(g.static_count) + " static Gaussians of " +
+  if (g.still_count > g.count)
+    throw std::invalid_argument(name_ + ": " + std::to_string(g.still_count) + " still Gaussians of " +
                                 std::to_string(g.count));
 }
 
@@ -68,7 +68,7 @@ gpu::DeformParams DeformationField::params(const CanonicalGaussians& g, float ti
   p.shape = shape_;
   p.aabb_max = {config_.aabb_max[0], config_.aabb_max[1], config_.aabb_max[2], 0.0f};
   p.aabb_scale = {scale[0], scale[1], scale[2], 0.0f};
-  p.n = g.count - g.static_count;
+  p.n = g.count - g.still_count;
   p.sh_coeffs = g.sh_coeffs;
   p.time = time;
   return p;
@@ -116,7 +116,7 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
       require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
-  const uint32_t moving = g.count - g.static_count, rows = scratch_rows();
+  const uint32_t moving = g.count - g.still_count, rows = scratch_rows();
   rec.begin_label(name_ + " deform forward");
   for (uint32_t first = 0; first < moving; first += rows) {
     gpu::DeformParams p = params(g, time);
@@ -130,9 +130,9 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   }
   const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
-    if (gpu::deform_head_on(shape_, h) && g.static_count > 0) {  // static: deformed = canonical
+    if (gpu::deform_head_on(shape_, h) && g.still_count > 0) {  // still: deformed = canonical
       const size_t row = head_floats(h, g.sh_coeffs) * 4;
-      rec.copy(*inputs[h], *outputs[h], g.static_count * row, moving * row, moving * row);
+      rec.copy(*inputs[h], *outputs[h], g.still_count * row, moving * row, moving * row);
     }
   rec.end_label();
 }
@@ -147,7 +147,7 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
       require(grads[h], (std::string("v_") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
-  const uint32_t moving = g.count - g.static_count;
+  const uint32_t moving = g.count - g.still_count;
   if (moving == 0) return;
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
   const uint32_t rows = scratch_rows(), te = shape_.trunk_extra;

@@ -69,7 +69,7 @@ TrainedField read_trained_field(const fs::path& file, const run::TrainConfig& co
     if (values.size() != cp.state.cloud.size())
       throw std::runtime_error(file.string() + ": array 'field.static_mask' holds " + std::to_string(values.size()) +
                                " entries for " + std::to_string(cp.state.cloud.size()) + " Gaussians");
-    out.static_mask.assign(values.begin(), values.end());
+    out.still_mask.assign(values.begin(), values.end());
   }
   out.canonical = std::move(cp.state.cloud);
   return out;

@@ -83,7 +83,7 @@ std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& 
   const run::TrainConfig& c = run.config;
   if (run.stage == run::Stage::fine) {
     const TrainedField f = read_trained_field(dir.checkpoint(), c, run.root);
-    return std::make_unique<DeformedScene>(ctx, f.canonical, f.field, f.planes, f.mlp, f.static_mask,
+    return std::make_unique<DeformedScene>(ctx, f.canonical, f.field, f.planes, f.mlp, f.still_mask,
                                            run::active_sh_degree(c, c.iterations + f.fine_iteration));
   }
   const io::GaussianCloud cloud = io::read_ply_gaussians(dir.gaussians_ply());

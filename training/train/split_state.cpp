@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "s4d/deform/static_split.h"
+#include "s4d/deform/motion_split.h"
 
 namespace s4d::train {
 

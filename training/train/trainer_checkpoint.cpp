@@ -4,7 +4,7 @@
 #include <span>
 #include <stdexcept>
 
-#include "s4d/deform/static_split.h"
+#include "s4d/deform/motion_split.h"
 #include "s4d/io/ply_gaussians.h"
 #include "trainer_impl.h"
 
@@ -52,8 +52,8 @@ run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
                 {"field.planes.adam_v", ctx.download<float>(planes_v, field->plane_floats())},
                 {"field.mlp.adam_m", ctx.download<float>(mlp_m, field->mlp_floats())},
                 {"field.mlp.adam_v", ctx.download<float>(mlp_v, field->mlp_floats())}};
-    if (static_count > 0) {
-      const std::vector<uint32_t> mask = deform::tail_mask(gaussians->size(), static_count);
+    if (still_count > 0) {
+      const std::vector<uint32_t> mask = deform::tail_mask(gaussians->size(), still_count);
       cp.extra.emplace_back("field.static_mask", std::vector<float>(mask.begin(), mask.end()));
     }
   }
@@ -76,7 +76,7 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   static_scores = cp.meta.at("static_test");
   deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
   deform_evaluations_unmasked = cp.meta.at("deform_evaluations_unmasked").get<double>();
-  static_count = 0;
+  still_count = 0;
   if (!field) {
     aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
     aabb_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();

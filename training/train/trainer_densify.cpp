@@ -3,22 +3,22 @@
 #include <algorithm>
 #include <cmath>
 
-#include "s4d/deform/static_split.h"
+#include "s4d/deform/motion_split.h"
 #include "s4d/train/split_state.h"
 #include "trainer_impl.h"
 
 namespace s4d::train {
 
 void Trainer::Impl::apply_mask(const std::vector<uint32_t>& mask) {
-  const deform::StaticSplit split = deform::split_static(mask);
+  const deform::MotionSplit split = deform::split_by_motion(mask);
   if (!split.identity())
     gaussians = std::make_unique<model::TrainableGaussians>(ctx, gather_state(gaussians->download(), split.order), "gaussians");
-  static_count = split.static_count;
+  still_count = split.still_count;
 }
 
 void Trainer::Impl::update_mask() {
   const uint32_t n = gaussians->size();
-  static_count = 0;  // measure with every Gaussian deformed
+  still_count = 0;  // measure with every Gaussian deformed
   std::vector<float> lo(size_t{n} * 3, INFINITY), hi(size_t{n} * 3, -INFINITY);
   const uint32_t samples = std::max<uint32_t>(2, config.motion_samples);
   for (uint32_t k = 0; k < samples; ++k) {
@@ -58,7 +58,7 @@ void Trainer::Impl::densify_if_due() {
     rules.budget = config.budget;
     rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
     densifier.densify(*gaussians, rules);
-    static_count = 0;  // the Gaussians moved in memory: the split is measured again when due
+    still_count = 0;  // the Gaussians moved in memory: the split is measured again when due
   }
   // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000).
   if (!fine() && it % config.opacity_reset_every == 0) densifier.reset_opacity(*gaussians);

@@ -13,47 +13,28 @@ namespace s4d::train {
 void Trainer::Impl::size_stage2_buffers() {
   const uint32_t n = gaussians->size();
   if (sized_for == n) return;
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-    const size_t bytes = size_t{n} * gaussians->width(model::Attr(a)) * 4;
-    deformed[a] = engine::Buffer(ctx, std::string("deformed ") + model::attr_name(model::Attr(a)), bytes);
-    scratch_grad[a] = engine::Buffer(ctx, std::string("batch gradient ") + model::attr_name(model::Attr(a)), bytes);
-  }
+  deformed = deform::DeformedCloud(ctx, config.field_heads, n, gaussians->sh_coeffs());
+  for (uint32_t a = 0; a < model::kAttrCount; ++a)
+    scratch_grad[a] = engine::Buffer(ctx, std::string("batch gradient ") + model::attr_name(model::Attr(a)),
+                                     size_t{n} * gaussians->width(model::Attr(a)) * 4);
   batch_stats = densifier.make_batch_scratch(n);
   sized_for = n;
 }
 
 deform::CanonicalGaussians Trainer::Impl::canonical() const {
-  const model::TrainableGaussians& g = *gaussians;
-  return {.means = &g.param(model::kMeans),
-          .log_scales = &g.param(model::kLogScales),
-          .quats = &g.param(model::kQuats),
-          .opacity_logits = &g.param(model::kOpacity),
-          .sh = &g.param(model::kSh),
-          .count = g.size(),
-          .static_count = static_count,
-          .sh_coeffs = g.sh_coeffs()};
+  return deform::canonical_of(gaussians->params(-1), still_count);
 }
 
 splat::GaussianParams Trainer::Impl::deform_to(double time) {
   size_stage2_buffers();
   const uint32_t n = gaussians->size();
-  deform_evaluations += n - static_count;
+  deform_evaluations += n - still_count;
   deform_evaluations_unmasked += n;
-  const uint32_t bits[model::kAttrCount] = {S4D_DEFORM_HEAD_POS, S4D_DEFORM_HEAD_SCALES, S4D_DEFORM_HEAD_ROTATIONS,
-                                            S4D_DEFORM_HEAD_OPACITY, S4D_DEFORM_HEAD_SH};
-  auto out = [&](model::Attr a) { return head(bits[a]) ? &deformed[a] : nullptr; };
   const engine::StageScope timed(ctx, "field");
   engine::Recorder rec(ctx, "deform");
-  field->record_forward(rec, canonical(), static_cast<float>(time),
-                        {out(model::kMeans), out(model::kLogScales), out(model::kQuats), out(model::kOpacity), out(model::kSh)});
+  const splat::GaussianParams p =
+      deformed.record(rec, *field, gaussians->params(active_degree()), still_count, static_cast<float>(time));
   ctx.run(std::move(rec));
-  splat::GaussianParams p = gaussians->params(active_degree());
-  auto use = [&](model::Attr a, const engine::Buffer*& slot) { if (head(bits[a])) slot = &deformed[a]; };
-  use(model::kMeans, p.means);
-  use(model::kLogScales, p.log_scales);
-  use(model::kQuats, p.quats);
-  use(model::kOpacity, p.opacity_logits);
-  use(model::kSh, p.sh);
   return p;
 }
 

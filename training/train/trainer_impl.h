@@ -15,6 +15,7 @@
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/stage_timer.h"
 #include "s4d/densify/densifier.h"
 #include "s4d/model/trainable_gaussians.h"
@@ -60,12 +61,13 @@ struct Trainer::Impl {
   std::unique_ptr<deform::DeformationField> field;
   std::array<float, 3> aabb_min{}, aabb_max{};
   engine::Buffer planes_m, planes_v, mlp_m, mlp_v;
-  std::array<engine::Buffer, model::kAttrCount> deformed, scratch_grad;
+  deform::DeformedCloud deformed;  // the Gaussians at the time of the view in hand (deform_to)
+  std::array<engine::Buffer, model::kAttrCount> scratch_grad;
   engine::Buffer batch_stats;
   uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
-  // The last static_count Gaussians do not move and skip the field (config.static_motion); 0 until
+  // The last still_count Gaussians do not move and skip the field (config.static_motion); 0 until
   // measured and again after densification.
-  uint32_t static_count = 0;
+  uint32_t still_count = 0;
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
   // Times the stages of this session's steps (train.json "stage_ms"); set while run() runs.
   engine::StageTimer* stage_timer = nullptr;
@@ -140,12 +142,12 @@ struct Trainer::Impl {
   // Stage 2: a batch of views, each deformed to its time; gradients summed over the batch.
   optim::LossValue fine_step();
 
-  // ---- Changes to the cloud's layout: densification and the static split (trainer_densify.cpp).
-  // Moves the Gaussians `mask` marks static to the end of memory, every per-Gaussian array with
+  // ---- Changes to the cloud's layout: densification and the motion split (trainer_densify.cpp).
+  // Moves the Gaussians `mask` marks still to the end of memory, every per-Gaussian array with
   // them, so that the field runs over the moving prefix only.
   void apply_mask(const std::vector<uint32_t>& mask);
   // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
-  // motion_samples times as static (ALGORITHMS.md has no such step: it is this project's "deform
+  // motion_samples times as still (ALGORITHMS.md has no such step: it is this project's "deform
   // only what moves").
   void update_mask();
   bool mask_due() const;

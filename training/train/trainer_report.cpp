@@ -59,7 +59,7 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"static", static_scores},
                       {"deform_evaluations", deform_evaluations},
                       {"deform_evaluations_unmasked", deform_evaluations_unmasked},
-                      {"moving_gaussians", gaussians->size() - static_count},
+                      {"moving_gaussians", gaussians->size() - still_count},
                       {"device", ctx.info().name},
                       {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                       {"data", fs::absolute(dataset.root).string()},

@@ -52,8 +52,8 @@ struct LevelPlanes {
   int width = 0, height = 0;
   std::vector<double> c[3];
 };
-UiqmParts uiqm_a(const LevelPlanes& p);
-UiqmParts uiqm_b(const LevelPlanes& p);
+UiqmParts uiqm_funie_gan(const LevelPlanes& p);
+UiqmParts uiqm_xueleichen(const LevelPlanes& p);
 }  // namespace detail
 
 }  // namespace s4d::metrics

@@ -22,8 +22,8 @@
 namespace s4d::deform {
 
 // Canonical (undeformed) Gaussians, flat float layouts as in s4d_splat.h. `means` is always read;
-// the others only when their head is on (they may be null otherwise). The last `static_count`
-// Gaussians are static ("deform only what moves", static_split.h puts them last): the field skips
+// the others only when their head is on (they may be null otherwise). The last `still_count`
+// Gaussians are still ("deform only what moves", motion_split.h puts them last): the field skips
 // them, so their deformed values are copies of the canonical ones and they feed the field no gradient.
 struct CanonicalGaussians {
   const engine::Buffer* means = nullptr;           // [N*3]
@@ -32,7 +32,7 @@ struct CanonicalGaussians {
   const engine::Buffer* opacity_logits = nullptr;  // [N]
   const engine::Buffer* sh = nullptr;              // [N*K*3], K = sh_coeffs
   uint32_t count = 0;
-  uint32_t static_count = 0;  // <= count
+  uint32_t still_count = 0;  // <= count
   uint32_t sh_coeffs = 0;  // K; must be S4D_DEFORM_SH_COEFFS when the sh head is on
 };
 
@@ -101,12 +101,12 @@ class DeformationField {
   void record_zero_grads(engine::Recorder& rec) const;
   // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): per
   // scratch_rows() moving Gaussians deform_feat and deform_fwd's layer sets, with barriers before
-  // and between them (they share the scratch buffer); buffer copies of the static ones.
+  // and between them (they share the scratch buffer); buffer copies of the still ones.
   void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
   // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
   // Records, per scratch_rows() moving Gaussians, the forward's activations again (deform_feat,
   // deform_fwd), deform_bwd's layer sets back to the features, then deform_feat_bwd and
-  // deform_wgrad, with barriers before, between and after them; static Gaussians' cotangents are
+  // deform_wgrad, with barriers before, between and after them; still Gaussians' cotangents are
   // left as they are (dL/d canonical = dL/d deformed).
   void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.

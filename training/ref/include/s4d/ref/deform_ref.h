@@ -1,6 +1,6 @@
 // CPU twin of the whole field's kernels (deform_feat + deform_fwd, and deform_bwd + deform_feat_bwd +
 // deform_wgrad, the MLP weight gradients): the deformation field applied to canonical Gaussians at time t (ALGORITHMS.md 3.1 "Updates"). Each head's output is
-// added to the raw parameter; Gaussians with a non-zero static mask are not deformed and give the
+// added to the raw parameter; Gaussians with a non-zero still mask are not deformed and give the
 // field no gradient. Templated on the scalar type.
 #pragma once
 #include <cstddef>
@@ -13,7 +13,7 @@
 
 namespace s4d::ref {
 
-// Raw Gaussian parameters (flat, as on the GPU) and the static mask.
+// Raw Gaussian parameters (flat, as on the GPU) and the still mask (the motion split's).
 template <class T>
 struct DeformGaussians {
   std::vector<T> means;           // [N, 3]
@@ -21,16 +21,16 @@ struct DeformGaussians {
   std::vector<T> quats;           // [N, 4] (w, x, y, z)
   std::vector<T> opacity_logits;  // [N]
   std::vector<T> sh;              // [N, K, 3]; K = S4D_DEFORM_SH_COEFFS when the sh head is on
-  std::vector<uint32_t> static_mask;  // [N] or empty (nothing static)
+  std::vector<uint32_t> still_mask;  // [N] or empty (nothing still)
 
   size_t size() const { return opacity_logits.size(); }
   size_t sh_coeffs() const { return size() == 0 ? 0 : sh.size() / (3 * size()); }
-  bool is_static(size_t i) const { return !static_mask.empty() && static_mask[i] != 0; }
+  bool is_still(size_t i) const { return !still_mask.empty() && still_mask[i] != 0; }
 };
 
 template <class T>
 struct DeformGrads {
-  DeformGaussians<T> v;   // dL/d canonical parameters (static_mask unused)
+  DeformGaussians<T> v;   // dL/d canonical parameters (still_mask unused)
   std::vector<T> v_planes;
   std::vector<T> v_mlp;
 };
@@ -70,7 +70,7 @@ DeformGaussians<T> deform_forward(const DeformField<T>& f, const DeformGaussians
   detail::check_deform_inputs(f, g);
   DeformGaussians<T> out = g;
   for (size_t i = 0; i < g.size(); ++i) {
-    if (g.is_static(i)) continue;
+    if (g.is_still(i)) continue;
     const HeadValues<T> d = deform_mlp_forward(f.shape, f.mlp, hexplane_features(f, &g.means[3 * i], time));
     for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
       for (size_t k = 0; k < d[h].size(); ++k) detail::head_target(out, h)[i * detail::head_stride(g, h) + k] += d[h][k];
@@ -78,15 +78,15 @@ DeformGaussians<T> deform_forward(const DeformField<T>& f, const DeformGaussians
   return out;
 }
 
-// Backward for cotangents `v_out` of the deformed parameters (same layouts; static_mask unused).
+// Backward for cotangents `v_out` of the deformed parameters (same layouts; still_mask unused).
 // The raw-parameter gradients pass through (x' = x + delta); the means also get the field's term.
 template <class T>
 DeformGrads<T> deform_backward(const DeformField<T>& f, const DeformGaussians<T>& g, T time, const DeformGaussians<T>& v_out) {
   detail::check_deform_inputs(f, g);
   DeformGrads<T> r{v_out, std::vector<T>(f.planes.size(), T(0)), std::vector<T>(f.mlp.size(), T(0))};
-  r.v.static_mask.clear();
+  r.v.still_mask.clear();
   for (size_t i = 0; i < g.size(); ++i) {
-    if (g.is_static(i)) continue;
+    if (g.is_still(i)) continue;
     HeadValues<T> v_heads;
     for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h) {
       if (!gpu::deform_head_on(f.shape, h)) continue;

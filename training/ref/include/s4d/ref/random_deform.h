@@ -27,7 +27,7 @@ struct RandomGaussiansSpec {
 };
 
 // Means uniform in [aabb_min + margin, aabb_max - margin], log-scales in the spec's range,
-// unnormalised quaternions in [-1, 1]^4, opacity logits in [-2, 2], SH in [-0.5, 0.5]; no static mask.
+// unnormalised quaternions in [-1, 1]^4, opacity logits in [-2, 2], SH in [-0.5, 0.5]; no still mask.
 template <class T>
 DeformGaussians<T> random_gaussians(const std::array<float, 3>& aabb_min, const std::array<float, 3>& aabb_max, size_t n,
                                     std::mt19937& rng, const RandomGaussiansSpec& spec = {}) {

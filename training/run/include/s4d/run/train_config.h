@@ -71,7 +71,8 @@ struct TrainConfig {
   float plane_tv_weight = 2e-4f, time_smoothness_weight = 1e-3f, l1_time_planes_weight = 1e-4f;
   // Deform only what moves: once densification has ended (and every motion_every iterations after),
   // Gaussians whose mean moves less than static_motion x extent over motion_samples times in [0, 1]
-  // skip the field (offsets 0, no field gradient). 0: off.
+  // skip the field (offsets 0, no field gradient): the motion split's still Gaussians. 0: off. (The
+  // name static_motion is run.json's key and --static-motion's.)
   float static_motion = 0.0f;
   uint32_t motion_samples = 8, motion_every = 500;
   // Runs.

@@ -1,7 +1,5 @@
-// The 4DGS stage's scene: canonical Gaussians moved by the trained deformation field (training/
-// deform) to each asked time, exactly as the trainer renders its evaluation (Trainer::Impl::
-// deform_to): the heads that are on replace the canonical means, scales, rotations, opacities or SH
-// with their deformed values; the others stay canonical.
+// The 4DGS stage's scene: canonical Gaussians moved by the trained deformation field to each asked
+// time by deform::DeformedCloud, the deform-to-time the trainer's evaluation runs too.
 #pragma once
 #include <optional>
 #include <span>
@@ -10,6 +8,7 @@
 #include <vector>
 
 #include "s4d/deform/deformation_field.h"
+#include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
@@ -21,11 +20,11 @@ namespace s4d::scene {
 class DeformedScene final : public SceneSource {
  public:
   // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
-  // field.planes and field.mlp) and the static mask when training made one (empty: none);
+  // field.planes and field.mlp) and the still mask (field.static_mask) when training made one (empty: none);
   // renders at SH degree `sh_degree` (clamped to what the cloud stores). Throws
   // std::invalid_argument naming the field setting or array that does not fit.
   DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
-                std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> static_mask,
+                std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> still_mask,
                 int sh_degree);
 
   // Runs the field's forward pass at `time` (the camera is not read) and waits for it; the same time
@@ -41,12 +40,11 @@ class DeformedScene final : public SceneSource {
   splat::DeviceGaussians canonical_;
   deform::DeformationField field_;
   int sh_degree_;
-  // The deformed attributes; allocated only for the heads that are on.
-  engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
-  // The static Gaussians: the last static_count_, or (a checkpoint from before the trainer put them
-  // last) the ranges [first, end) in static_runs_, deformed with the rest and then copied back.
-  uint32_t static_count_ = 0;
-  std::vector<std::pair<uint32_t, uint32_t>> static_runs_;
+  deform::DeformedCloud deformed_;  // the deformed attributes of the heads that are on
+  // The still Gaussians: the last still_count_, or (a checkpoint from before the trainer put them
+  // last) the ranges [first, end) in still_runs_, deformed with the rest and then copied back.
+  uint32_t still_count_ = 0;
+  std::vector<std::pair<uint32_t, uint32_t>> still_runs_;
   std::optional<std::pair<double, splat::GaussianParams>> last_;  // the last at()'s time and result
 };
 

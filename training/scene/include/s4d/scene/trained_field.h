@@ -16,7 +16,7 @@ struct TrainedField {
   io::GaussianCloud canonical;
   deform::FieldConfig field;
   std::vector<float> planes, mlp;
-  std::vector<uint32_t> static_mask;  // empty, or per Gaussian non-zero = skips the field (--static-motion)
+  std::vector<uint32_t> still_mask;  // empty, or per Gaussian non-zero = skips the field (--static-motion)
   uint32_t fine_iteration = 0;  // fine-stage iterations the checkpoint has done
 };
 

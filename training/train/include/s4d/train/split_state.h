@@ -1,4 +1,4 @@
-// Reordering a trainable cloud's host state (deform::StaticSplit's order): every per-Gaussian array
+// Reordering a trainable cloud's host state (deform::MotionSplit's order): every per-Gaussian array
 // (parameters, both Adam moments, densification statistics) moves together, so row j of each
 // holds Gaussian order[j].
 #pragma once

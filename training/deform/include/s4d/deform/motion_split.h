@@ -1,5 +1,5 @@
 // "Deform only what moves" (docs/training.md, stage 2): the field runs over a prefix of the Gaussians
-// (CanonicalGaussians::static_count), so the Gaussians a static mask marks are put last in memory. On
+// (CanonicalGaussians::still_count), so the Gaussians a still mask marks are put last in memory. On
 // devices that run a SIMD group's lanes together (llvmpipe, GPUs) a per-Gaussian early-out saves no
 // time unless the whole group takes it, which Gaussians in arbitrary order never do.
 #pragma once
@@ -10,16 +10,17 @@
 namespace s4d::deform {
 
 // A stable partition: Gaussian order[j] goes to position j, the moving ones (mask 0) first, the
-// static ones (mask non-zero) after them, each in their old order.
-struct StaticSplit {
+// still ones (mask non-zero) after them, each in their old order.
+struct MotionSplit {
   std::vector<uint32_t> order;
-  uint32_t static_count = 0;
+  uint32_t still_count = 0;
   bool identity() const;  // the mask was already split: nothing moves
 };
-StaticSplit split_static(std::span<const uint32_t> static_mask);
+MotionSplit split_by_motion(std::span<const uint32_t> still_mask);
 
-// The mask of `count` Gaussians whose last `static_count` are static (what checkpoints store).
-std::vector<uint32_t> tail_mask(uint32_t count, uint32_t static_count);
+// The mask of `count` Gaussians whose last `still_count` are still (what checkpoints store as
+// field.static_mask).
+std::vector<uint32_t> tail_mask(uint32_t count, uint32_t still_count);
 
 // Rows of `width` values in the split's order: out[j] = values[order[j]] (row by row).
 template <class T>

@@ -1,5 +1,5 @@
-// UIQM variant B (xueleichen nevaluate.py with scikit-image < 0.18); the conventions are listed in
-// uiqm.h.
+// UIQM variant B: xueleichen PSNR-SSIM-UCIQE-UIQM-Python nevaluate.py with scikit-image < 0.18
+// (uiqm.h lists the conventions).
 #include <algorithm>
 #include <cmath>
 
@@ -110,6 +110,6 @@ double uiconm(const LevelPlanes& p) {
 
 }  // namespace
 
-UiqmParts uiqm_b(const LevelPlanes& p) { return {uicm(p), uism(p), uiconm(p)}; }
+UiqmParts uiqm_xueleichen(const LevelPlanes& p) { return {uicm(p), uism(p), uiconm(p)}; }
 
 }  // namespace s4d::metrics::detail

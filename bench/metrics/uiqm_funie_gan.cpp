@@ -1,4 +1,4 @@
-// UIQM variant A (FUnIE-GAN uqim_utils.py, Python-3 port); the conventions are listed in uiqm.h.
+// UIQM variant A: FUnIE-GAN Evaluation/uqim_utils.py, Python-3 port (uiqm.h lists the conventions).
 #include <algorithm>
 #include <cmath>
 
@@ -102,6 +102,6 @@ double uiconm(const LevelPlanes& p) {
 
 }  // namespace
 
-UiqmParts uiqm_a(const LevelPlanes& p) { return {uicm(p), uism(p), uiconm(p)}; }
+UiqmParts uiqm_funie_gan(const LevelPlanes& p) { return {uicm(p), uism(p), uiconm(p)}; }
 
 }  // namespace s4d::metrics::detail
