@@ -19,7 +19,7 @@
 #include "s4d/protocols/protocol_render.h"
 #include "s4d/run/names.h"
 #include "s4d/scene/scene_source.h"
-#include "s4d/stylize/warp_error.h"
+#include "s4d/frame_stylizers/warp_error.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::bench {
@@ -67,8 +67,8 @@ double exact_flow_warp_error(const std::vector<io::ImageF>& frames, const fs::pa
 // one stage 3's temporal warm start also follows, and the renderer's exact flow (Style4D-Bench's
 // warp loss), which no 2D stylizer sees; the style keeps the geometry, so one flow serves all three.
 nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun& run, const std::string& name,
-                                  const fs::path& dir, int frames, const stylize::Stylizer& stylizer,
-                                  const io::ImageF& style_image, const stylize::StylizeSettings& settings) {
+                                  const fs::path& dir, int frames, const frame_stylizers::Stylizer& stylizer,
+                                  const io::ImageF& style_image, const frame_stylizers::StylizeSettings& settings) {
   const std::vector<protocols::Sequence> seqs =
       protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), frames);
   std::vector<std::vector<io::ImageF>> rendered;
@@ -95,9 +95,9 @@ nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun&
   }
   const fs::path flow = dir / "spiral" / "original" / "flow";
   return {{"frames", frames},
-          {"original_render", stylize::warp_error(rendered[0], rendered[0])},
-          {"styled_render", stylize::warp_error(rendered[0], rendered[1])},
-          {"stylized_2d", stylize::warp_error(rendered[0], stylized_2d)},
+          {"original_render", frame_stylizers::warp_error(rendered[0], rendered[0])},
+          {"styled_render", frame_stylizers::warp_error(rendered[0], rendered[1])},
+          {"stylized_2d", frame_stylizers::warp_error(rendered[0], stylized_2d)},
           {"exact_flow",
            {{"original_render", exact_flow_warp_error(rendered[0], flow)},
             {"styled_render", exact_flow_warp_error(rendered[1], flow)},
@@ -133,9 +133,9 @@ nlohmann::json test_camera_consistency(const scene::TrainedRun& run, const data:
     rendered.push_back(io::read_png(eval_dir / (flat + ".png")));
   }
   return {{"frames", seq.size()},
-          {"content", stylize::warp_error(content, content)},
-          {"stylized_frames_2d", stylize::warp_error(content, frames_2d)},
-          {"styled_render", stylize::warp_error(content, rendered)}};
+          {"content", frame_stylizers::warp_error(content, content)},
+          {"stylized_frames_2d", frame_stylizers::warp_error(content, frames_2d)},
+          {"styled_render", frame_stylizers::warp_error(content, rendered)}};
 }
 
 // Rows: content frames, stage-3 frames, renders in the style; columns: test-camera frames over time.
@@ -165,11 +165,11 @@ void write_contact_sheet(const scene::TrainedRun& run, const data::Dataset& styl
 
 }  // namespace
 
-nlohmann::json measure_style(engine::Context& ctx, const style::StylizeRequest& req, const style::StylizeOutcome& out) {
+nlohmann::json measure_style(engine::Context& ctx, const style_gaussians::StylizeRequest& req, const style_gaussians::StylizeOutcome& out) {
   if (!out.complete) throw std::invalid_argument("measure_style: style " + out.name + " has not finished stage 4");
   const auto start = std::chrono::steady_clock::now();
   const scene::TrainedRun& run = out.run;
-  const style::StylizedFrames& frames = out.frames;
+  const style_gaussians::StylizedFrames& frames = out.frames;
   const scene::TrainedRun with_style = scene::read_trained_run(req.run);  // now lists the new style
   const int spiral = req.spiral_frames > 0 ? req.spiral_frames : static_cast<int>(std::max<size_t>(2, frames_per_camera(run.dataset)));
   const nlohmann::json consistency =
@@ -199,7 +199,7 @@ nlohmann::json measure_style(engine::Context& ctx, const style::StylizeRequest& 
       {"seconds", out.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
       {"device", ctx.info().name},
       {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},
-      {"settings", style::to_json(req.config)}};
+      {"settings", style_gaussians::to_json(req.config)}};
   util::write_file_atomic(out.dir / "stylize.json", summary.dump(2) + "\n");
   return summary;
 }

@@ -13,7 +13,7 @@
 #include "s4d/metrics/warp_loss.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/run/style_file.h"
-#include "s4d/stylize/warp_error.h"
+#include "s4d/frame_stylizers/warp_error.h"
 #include "style_fixture.h"
 
 namespace {
@@ -117,9 +117,9 @@ TEST_CASE("stylize trains a style: stylize.json, the style file, the stylized fr
   const std::vector<io::ImageF> original = png_frames(dir / "spiral" / "original"), styled_spiral = png_frames(dir / "spiral" / "styled"),
                                 flat = png_frames(dir / "spiral" / "stylized_2d");
   REQUIRE(original.size() == 4);
-  CHECK(w.at("spiral_original_render").get<double>() == doctest::Approx(stylize::warp_error(original, original)).epsilon(1e-9));
-  CHECK(w.at("spiral_styled_render").get<double>() == doctest::Approx(stylize::warp_error(original, styled_spiral)).epsilon(1e-9));
-  CHECK(std::abs(w.at("spiral_stylized_2d").get<double>() - stylize::warp_error(original, flat)) <= 2.0 / 510.0);
+  CHECK(w.at("spiral_original_render").get<double>() == doctest::Approx(frame_stylizers::warp_error(original, original)).epsilon(1e-9));
+  CHECK(w.at("spiral_styled_render").get<double>() == doctest::Approx(frame_stylizers::warp_error(original, styled_spiral)).epsilon(1e-9));
+  CHECK(std::abs(w.at("spiral_stylized_2d").get<double>() - frame_stylizers::warp_error(original, flat)) <= 2.0 / 510.0);
   const fs::path flow = dir / "spiral" / "original" / "flow";
   CHECK(exact.at("original_render").get<double>() == doctest::Approx(exact_flow_loss(original, flow)).epsilon(1e-9));
   CHECK(exact.at("styled_render").get<double>() == doctest::Approx(exact_flow_loss(styled_spiral, flow)).epsilon(1e-9));

@@ -16,7 +16,7 @@
 #include "s4d/nn/adaattn_net.h"
 #include "s4d/nn/attention.h"
 #include "s4d/io/image_file.h"
-#include "s4d/stylize/network_stylizer.h"
+#include "s4d/frame_stylizers/network_stylizer.h"
 #include "s4d_nn.h"
 
 namespace {
@@ -215,7 +215,7 @@ TEST_CASE("the adaattn stylizer's frames are the network's, resized back and cla
   Weights p = random_weights(rng);
   for (float& b : p.decoder["decoder_layer_2.24"].bias) b += 0.5f;  // so clamping to [0, 1] keeps many values
   write(dir, p);
-  const auto stylizer = stylize::make_network_stylizer(
+  const auto stylizer = frame_stylizers::make_network_stylizer(
       "adaattn", {.weights = dir.path(), .style_size = 32, .context = &context()}, kTiny);
   const auto frame = test::random_chw(3, 30, 34, rng, 0.0f, 1.0f);
   const auto style = test::random_chw(3, 32, 32, rng, 0.0f, 1.0f);  // already square at --style-size
@@ -254,6 +254,6 @@ TEST_CASE("AdaAttN weights that are missing fail naming the file and the tensor"
                        doctest::Contains((path.string() + ": no tensor 'attn_adain_5_1.g.weight'").c_str()),
                        std::runtime_error);
   std::filesystem::remove(dir / "net_decoder.safetensors");
-  CHECK_THROWS_WITH_AS(stylize::make_network_stylizer("adaattn", {.weights = dir.path(), .context = &context()}, kTiny),
+  CHECK_THROWS_WITH_AS(frame_stylizers::make_network_stylizer("adaattn", {.weights = dir.path(), .context = &context()}, kTiny),
                        doctest::Contains("net_decoder.safetensors"), std::runtime_error);
 }

@@ -1,4 +1,4 @@
-// The network frame stylizers (s4d_stylize on s4d_nn): frames through the GPU networks against the
+// The network frame stylizers (s4d_frame_stylizers on s4d_nn): frames through the GPU networks against the
 // double twins, resized back to the frames' size and clamped; hgst's square style; strength 0; the
 // size refusal.
 #include <doctest/doctest.h>
@@ -11,7 +11,7 @@
 
 #include "nn_fixture.h"
 #include "s4d/io/image_file.h"
-#include "s4d/stylize/network_stylizer.h"
+#include "s4d/frame_stylizers/network_stylizer.h"
 
 namespace {
 
@@ -72,7 +72,7 @@ TEST_CASE("the adain stylizer's frames are the network's, resized back and clamp
   std::mt19937 rng(21);
   const TinyNets net(dir, rng);
   const auto stylizer =
-      stylize::make_network_stylizer("adain", {.weights = dir.path(), .style_size = 12, .context = &context()}, kTiny);
+      frame_stylizers::make_network_stylizer("adain", {.weights = dir.path(), .style_size = 12, .context = &context()}, kTiny);
   const std::vector<io::ImageF> frames = {random_image(20, 17, rng), random_image(20, 17, rng)};
   const io::ImageF style = random_image(18, 24, rng);  // shorter side 18 -> 12: 12x16
   int reported = 0;
@@ -96,7 +96,7 @@ TEST_CASE("the hgst stylizer runs MCCNet on the style's centre square") {
   std::mt19937 rng(23);
   const TinyNets net(dir, rng);
   const auto stylizer =
-      stylize::make_network_stylizer("hgst", {.weights = dir.path(), .style_size = 12, .context = &context()}, kTiny);
+      frame_stylizers::make_network_stylizer("hgst", {.weights = dir.path(), .style_size = 12, .context = &context()}, kTiny);
   CHECK(stylizer->name() == "hgst");
   const std::vector<io::ImageF> frames = {random_image(16, 19, rng)};
   const io::ImageF style = random_image(18, 24, rng);
@@ -119,7 +119,7 @@ TEST_CASE("the adain stylizer returns the frames at strength 0 and refuses frame
   // relu1_1 as wide as VGG's (64), so the full-size feature maps of a 1024x520 frame need 136 MB.
   const nn::VggWidths wide_first{{64, 6, 8, 10, 12}};
   const TinyNets net(dir, rng, wide_first);
-  const auto stylizer = stylize::make_network_stylizer(
+  const auto stylizer = frame_stylizers::make_network_stylizer(
       "adain", {.weights = dir.path(), .style_size = 0, .context = &context()}, wide_first);
   const std::vector<io::ImageF> frames = {random_image(9, 8, rng)};
   CHECK(stylizer->stylize(frames, random_image(8, 8, rng), {.strength = 0.0f})[0].data == frames[0].data);

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "s4d/run/style_file.h"
-#include "s4d/style/style_config.h"
+#include "s4d/style_gaussians/style_config.h"
 #include "s4d_style_splat.h"
 
 namespace {
@@ -95,13 +95,13 @@ TEST_CASE("bad style files are refused with the file and the problem named; noth
 }
 
 TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
-  style::StyleConfig c;
+  style_gaussians::StyleConfig c;
   c.method = run::StyleMethod::colors, c.iterations = 123, c.mlp_iterations = 50, c.depth_input = run::DepthInput::ndc, c.input_sigmoid = true, c.mlp_init = "identity";
-  const style::StyleConfig r = style::style_config_from_json(style::to_json(c));
-  CHECK(style::to_json(r) == style::to_json(c));
+  const style_gaussians::StyleConfig r = style_gaussians::style_config_from_json(style_gaussians::to_json(c));
+  CHECK(style_gaussians::to_json(r) == style_gaussians::to_json(c));
   auto message = [](const nlohmann::json& j) {
     try {
-      style::style_config_from_json(j);
+      style_gaussians::style_config_from_json(j);
     } catch (const std::invalid_argument& e) {
       return std::string(e.what());
     }
@@ -115,8 +115,8 @@ TEST_CASE("stage 4 settings round-trip through JSON and name bad fields") {
 }
 
 TEST_CASE("the paper setting trains the MLPs from the start, 1e-4 -> 1e-5, two views a step; tuned is the default") {
-  const style::StyleConfig tuned = style::style_setting("tuned"), paper = style::style_setting("paper");
-  CHECK(style::to_json(tuned) == style::to_json(style::StyleConfig{}));
+  const style_gaussians::StyleConfig tuned = style_gaussians::style_setting("tuned"), paper = style_gaussians::style_setting("paper");
+  CHECK(style_gaussians::to_json(tuned) == style_gaussians::to_json(style_gaussians::StyleConfig{}));
   CHECK(tuned.batch == 1);
   CHECK(tuned.mlp_lr_final == 0);
   CHECK(paper.setting == "paper");
@@ -126,24 +126,24 @@ TEST_CASE("the paper setting trains the MLPs from the start, 1e-4 -> 1e-5, two v
   CHECK(paper.mlp_lr_final == 1e-5);
   CHECK(paper.batch == 2);
   CHECK(paper.tv_weight == tuned.tv_weight);
-  CHECK_THROWS_WITH_AS(style::style_setting("fast"), "style settings: setting 'fast' is not tuned or paper", std::invalid_argument);
+  CHECK_THROWS_WITH_AS(style_gaussians::style_setting("fast"), "style settings: setting 'fast' is not tuned or paper", std::invalid_argument);
 
   // A shorter stage 4 keeps the paper's MLPs on for all of it, and tuned's for its last steps.
-  style::StyleConfig p = paper, t = tuned;
-  style::set_iterations(p, 200);
-  style::set_iterations(t, 400);
+  style_gaussians::StyleConfig p = paper, t = tuned;
+  style_gaussians::set_iterations(p, 200);
+  style_gaussians::set_iterations(t, 400);
   CHECK(p.mlp_iterations == 200);
   CHECK(t.mlp_iterations == 300);
 
   // Absent fields take the named setting's defaults; the setting is recorded, so a resumed style
   // with the other one differs.
-  const style::StyleConfig r = style::style_config_from_json({{"setting", "paper"}, {"iterations", 200}});
-  CHECK(style::to_json(r) == style::to_json(p));
-  CHECK(style::to_json(r) != style::to_json(style::style_config_from_json({{"iterations", 200}, {"mlp_iterations", 200}})));
-  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"setting", "paper"}, {"batch", 0}}), "style settings: batch must be positive",
+  const style_gaussians::StyleConfig r = style_gaussians::style_config_from_json({{"setting", "paper"}, {"iterations", 200}});
+  CHECK(style_gaussians::to_json(r) == style_gaussians::to_json(p));
+  CHECK(style_gaussians::to_json(r) != style_gaussians::to_json(style_gaussians::style_config_from_json({{"iterations", 200}, {"mlp_iterations", 200}})));
+  CHECK_THROWS_WITH_AS(style_gaussians::style_config_from_json({{"setting", "paper"}, {"batch", 0}}), "style settings: batch must be positive",
                        std::invalid_argument);
-  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"setting", 2}}), "style settings: field 'setting' has the wrong type",
+  CHECK_THROWS_WITH_AS(style_gaussians::style_config_from_json({{"setting", 2}}), "style settings: field 'setting' has the wrong type",
                        std::invalid_argument);
-  CHECK_THROWS_WITH_AS(style::style_config_from_json({{"mlp_lr_final", -1e-5}}), "style settings: learning rates must be >= 0",
+  CHECK_THROWS_WITH_AS(style_gaussians::style_config_from_json({{"mlp_lr_final", -1e-5}}), "style settings: learning rates must be >= 0",
                        std::invalid_argument);
 }

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "s4d/stylize/builtin_style.h"
-#include "s4d/stylize/patch_stylizer.h"
+#include "s4d/frame_stylizers/builtin_style.h"
+#include "s4d/frame_stylizers/patch_stylizer.h"
 #include "stylize_fixtures.h"
 
 using namespace s4d;
@@ -30,14 +30,14 @@ const std::vector<io::ImageF>& frame() {
   return f;
 }
 const io::ImageF& style() {
-  static const io::ImageF s = stylize::builtin_style(256);
+  static const io::ImageF s = frame_stylizers::builtin_style(256);
   return s;
 }
 
 }  // namespace
 
 TEST_CASE("patch stylizer is deterministic for a seed and keeps the frame size") {
-  const stylize::PatchStylizer stylizer;
+  const frame_stylizers::PatchStylizer stylizer;
   const auto a = stylizer.stylize(frame(), style(), {1.0f, 7});
   const auto b = stylizer.stylize(frame(), style(), {1.0f, 7});
   const auto c = stylizer.stylize(frame(), style(), {1.0f, 8});
@@ -51,7 +51,7 @@ TEST_CASE("patch stylizer is deterministic for a seed and keeps the frame size")
 }
 
 TEST_CASE("strength 0 returns the content and strength blends towards the stylization") {
-  const stylize::PatchStylizer stylizer;
+  const frame_stylizers::PatchStylizer stylizer;
   const auto none = stylizer.stylize(frame(), style(), {0.0f, 0});
   CHECK(max_abs_diff(none[0], frame()[0]) == 0.0);
   const auto full = stylizer.stylize(frame(), style(), {1.0f, 0});
@@ -63,7 +63,7 @@ TEST_CASE("strength 0 returns the content and strength blends towards the styliz
 }
 
 TEST_CASE("the result's colour statistics move to the style's") {
-  const auto out = stylize::PatchStylizer().stylize(frame(), style(), {});
+  const auto out = frame_stylizers::PatchStylizer().stylize(frame(), style(), {});
   const auto target = test::colour_stats(style());
   const double before = stats_distance(test::colour_stats(frame()[0]), target);
   const double after = stats_distance(test::colour_stats(out[0]), target);
@@ -72,14 +72,14 @@ TEST_CASE("the result's colour statistics move to the style's") {
 }
 
 TEST_CASE("the result keeps the content's structure") {
-  const auto out = stylize::PatchStylizer().stylize(frame(), style(), {});
+  const auto out = frame_stylizers::PatchStylizer().stylize(frame(), style(), {});
   const double r = test::gradient_correlation(frame()[0], out[0]);
   MESSAGE("gradient magnitude correlation with the content " << r);
   CHECK(r > 0.5);  // measured 0.748 (the content against itself: 1)
 }
 
 TEST_CASE("patch stylizer refuses bad inputs") {
-  const stylize::PatchStylizer stylizer;
+  const frame_stylizers::PatchStylizer stylizer;
   CHECK_THROWS_AS(stylizer.stylize({}, style(), {}), std::invalid_argument);
   CHECK_THROWS_AS(stylizer.stylize(frame(), style(), {1.5f, 0}), std::invalid_argument);
   std::vector<io::ImageF> mixed = {frame()[0], io::ImageF{8, 8, 3, std::vector<float>(192, 0.5f)}};

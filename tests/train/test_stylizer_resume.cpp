@@ -12,7 +12,7 @@
 
 #include "nn_fixture.h"
 #include "s4d/io/image_io.h"
-#include "s4d/stylize/builtin_style.h"
+#include "s4d/frame_stylizers/builtin_style.h"
 #include "s4d/stylizer_train/loss_sets.h"
 #include "s4d/stylizer_train/stylizer_trainer.h"
 
@@ -31,8 +31,8 @@ struct Fixture {
     test::write_params(dir / "vgg.safetensors", test::random_vgg(nn::VggWidths{{4, 6, 8, 12, 10}}, 5, rng));
     fs::create_directories(dir / "content");
     fs::create_directories(dir / "styles");
-    io::write_png(dir / "content" / "a.png", stylize::builtin_style(64, 1));
-    io::write_png(dir / "styles" / "b.png", stylize::builtin_style(64, 2));
+    io::write_png(dir / "content" / "a.png", frame_stylizers::builtin_style(64, 1));
+    io::write_png(dir / "styles" / "b.png", frame_stylizers::builtin_style(64, 2));
     s.content_dir = dir / "content";
     s.styles_dir = dir / "styles";
     s.vgg = dir / "vgg.safetensors";

@@ -11,8 +11,8 @@
 
 #include "nn_fixture.h"
 #include "s4d/io/image_io.h"
-#include "s4d/stylize/builtin_style.h"
-#include "s4d/stylize/network_stylizer.h"
+#include "s4d/frame_stylizers/builtin_style.h"
+#include "s4d/frame_stylizers/network_stylizer.h"
 #include "s4d/stylizer_train/stylizer_trainer.h"
 
 namespace {
@@ -40,8 +40,8 @@ TEST_CASE("a few dozen train-stylizer steps lower the MCCNet loss and write weig
   } else {
     std::filesystem::create_directories(dir / "content");
     std::filesystem::create_directories(dir / "styles");
-    io::write_png(dir / "content" / "a.png", stylize::builtin_style(96, 1));
-    io::write_png(dir / "styles" / "b.png", stylize::builtin_style(96, 2));
+    io::write_png(dir / "content" / "a.png", frame_stylizers::builtin_style(96, 1));
+    io::write_png(dir / "styles" / "b.png", frame_stylizers::builtin_style(96, 2));
     s.content_dir = dir / "content";
     s.styles_dir = dir / "styles";
   }
@@ -63,12 +63,12 @@ TEST_CASE("a few dozen train-stylizer steps lower the MCCNet loss and write weig
   // 0.50 of it on /work/shared/data, 0.11 on the procedural images.
   CHECK(last < 0.75 * first);
 
-  stylize::NetworkOptions options;
+  frame_stylizers::NetworkOptions options;
   options.weights = s.out;
   options.style_size = 0;
   options.context = &test::context();
-  const auto hgst = stylize::make_network_stylizer("hgst", options, tiny);
-  const io::ImageF frame = stylize::builtin_style(40, 3), style = stylize::builtin_style(32, 4);
+  const auto hgst = frame_stylizers::make_network_stylizer("hgst", options, tiny);
+  const io::ImageF frame = frame_stylizers::builtin_style(40, 3), style = frame_stylizers::builtin_style(32, 4);
   const auto out = hgst->stylize({frame}, style, {}, {});
   REQUIRE(out.size() == 1);
   CHECK(out[0].width == 40);

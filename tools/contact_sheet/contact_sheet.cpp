@@ -12,7 +12,7 @@
 
 #include "s4d/io/image_io.h"
 #include "s4d/io/image_file.h"
-#include "s4d/stylize/registry.h"
+#include "s4d/frame_stylizers/registry.h"
 
 namespace fs = std::filesystem;
 using s4d::io::ImageF;
@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     const auto contents = pictures(value(args, "content", "")), styles = pictures(value(args, "styles", ""));
     const fs::path out = value(args, "out", "");
     const int work = std::stoi(value(args, "work", "256")), cell = std::stoi(value(args, "cell", "160")), gap = 4;
-    const auto stylizer = s4d::stylize::make_stylizer(value(args, "stylizer", "patch"));
+    const auto stylizer = s4d::frame_stylizers::make_stylizer(value(args, "stylizer", "patch"));
 
     const int cols = static_cast<int>(styles.size()) + 1, rows = static_cast<int>(contents.size()) + 1;
     ImageF sheet{gap + cols * (cell + gap), gap + rows * (cell + gap), 3, {}};

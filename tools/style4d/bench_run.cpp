@@ -36,7 +36,7 @@ struct Method {
 
 // The style image a style was trained with, as a Method's image and label: its copy in the style's
 // folder (run::style_image_path) labelled with the file name request.json records, or (a style from
-// before the copy was kept) the file request.json names (s4d/style/stylize_run.h).
+// before the copy was kept) the file request.json names (s4d/style_gaussians/stylize_run.h).
 std::pair<fs::path, std::string> requested_style_image(const fs::path& run, const std::string& style) {
   const fs::path file = run::style_dir(run, style) / "request.json";
   std::ifstream in(file);

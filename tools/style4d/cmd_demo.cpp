@@ -25,8 +25,8 @@
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/run/run_lock.h"
-#include "s4d/style/stylize_run.h"
-#include "s4d/stylize/builtin_style.h"
+#include "s4d/style_gaussians/stylize_run.h"
+#include "s4d/frame_stylizers/builtin_style.h"
 #include "s4d/synth/dataset.h"
 #include "s4d/train/trainer.h"
 #include "s4d/util/progress.h"
@@ -91,7 +91,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   // build and the demo fit 30 minutes on two lavapipe cores (docs/demo.md: with fast's full
   // fine stage and 100 MLP steps the demo alone took 29.5 minutes).
   run::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", args.get_or("fine-iters", "1200")));
-  style::StylizeRequest request;
+  style_gaussians::StylizeRequest request;
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));
   request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
   const std::string spiral_frames = args.get_or("spiral-frames", "60");
@@ -146,11 +146,11 @@ int cmd_demo(const std::vector<std::string>& argv) {
 
   // Stages 3-4 with the built-in style (written next to the run: the demo needs no file of ours).
   const fs::path style_image = out / "builtin_style.png";
-  if (!fs::exists(style_image)) io::write_png(style_image, stylize::builtin_style());
+  if (!fs::exists(style_image)) io::write_png(style_image, frame_stylizers::builtin_style());
   request.run = run, request.style_image = style_image, request.name = "builtin";
   request.spiral_frames = parse_number<int>("spiral-frames", spiral_frames);
   stage(rec, &ctx, "stylize", "stages 3-4: the weight-free stylizer on every camera's frames, then Style Gaussians",
-        [&] { rec.stylize = bench::measure_style(ctx, request, style::stylize_run(ctx, request, never_stop)); });
+        [&] { rec.stylize = bench::measure_style(ctx, request, style_gaussians::stylize_run(ctx, request, never_stop)); });
 
   const fs::path bench_dir = out / "bench";
   stage(rec, nullptr, "bench", "Style4D-Bench: test and spiral protocols rendered and scored, original and style", [&] {

@@ -6,7 +6,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "s4d/stylize/builtin_style.h"
+#include "s4d/frame_stylizers/builtin_style.h"
 
 namespace s4d::cli {
 
@@ -29,7 +29,7 @@ int cmd_make_style(const std::vector<std::string>& argv) {
   const int size = parse_number<int>("size", args.get_or("size", "384"));
   if (size < 32) throw std::invalid_argument("--size: " + std::to_string(size) + " is below 32");
   const uint64_t seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
-  io::write_png(out, stylize::builtin_style(size, seed));
+  io::write_png(out, frame_stylizers::builtin_style(size, seed));
   std::cout << "wrote " << out << " (" << size << "x" << size << ")\n";
   return 0;
 }

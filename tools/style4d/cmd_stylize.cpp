@@ -1,5 +1,5 @@
 // style4d stylize --run RUN --style IMG [--stylizer NAME] [--name NAME] [--method full|colors|scratch]
-// ...: stages 3 and 4 of Style4D on a trained run (s4d/style/stylize_run.h), then the
+// ...: stages 3 and 4 of Style4D on a trained run (s4d/style_gaussians/stylize_run.h), then the
 // measurement of the result (s4d/bench/style_eval.h). SIGINT or SIGTERM writes a
 // checkpoint and exits with 130; the same command continues it.
 #include <atomic>
@@ -11,8 +11,8 @@
 #include "args.h"
 #include "commands.h"
 #include "s4d/bench/style_eval.h"
-#include "s4d/style/stylize_run.h"
-#include "s4d/stylize/registry.h"
+#include "s4d/style_gaussians/stylize_run.h"
+#include "s4d/frame_stylizers/registry.h"
 
 namespace s4d::cli {
 
@@ -45,14 +45,14 @@ void refuse_stage4_options(const Args& args) {
                                   "run's settings (its length: --iters)");
 }
 
-style::StyleConfig config_from_args(const Args& args) {
-  style::StyleConfig c = style::style_setting(args.get_or("style-setting", "tuned"));
-  if (auto v = args.get("method")) c.method = style::method_setting(*v);
+style_gaussians::StyleConfig config_from_args(const Args& args) {
+  style_gaussians::StyleConfig c = style_gaussians::style_setting(args.get_or("style-setting", "tuned"));
+  if (auto v = args.get("method")) c.method = style_gaussians::method_setting(*v);
   if (c.method == run::StyleMethod::scratch) refuse_stage4_options(args);
   if (auto v = args.get("stylizer")) c.stylizer = *v;
   if (auto v = args.get("strength")) c.strength = parse_float("strength", *v);
   if (auto v = args.get("iters"); v && c.method != run::StyleMethod::scratch)
-    style::set_iterations(c, parse_number<uint32_t>("iters", *v));
+    style_gaussians::set_iterations(c, parse_number<uint32_t>("iters", *v));
   if (auto v = args.get("mlp-iters")) c.mlp_iterations = parse_number<uint32_t>("mlp-iters", *v);
   if (auto v = args.get("batch")) c.batch = parse_number<uint32_t>("batch", *v);
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
@@ -75,7 +75,7 @@ style::StyleConfig config_from_args(const Args& args) {
   }
   c.input_sigmoid = args.flag("input-sigmoid");
   c.train_colors = !args.flag("freeze-colors");
-  style::validate(c);
+  style_gaussians::validate(c);
   return c;
 }
 
@@ -83,7 +83,7 @@ style::StyleConfig config_from_args(const Args& args) {
 
 int cmd_stylize(const std::vector<std::string>& argv) {
   std::string names;
-  for (const std::string& n : stylize::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const std::string& n : frame_stylizers::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
   const std::vector<OptionSpec> specs = {
       {"run", "a trained run (style4d train)", true, "RUN"},
       {"style", "the style image, e.g. assets/styles/builtin.png", true, "IMG"},
@@ -130,7 +130,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
     return 0;
   }
   if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
-  style::StylizeRequest req;
+  style_gaussians::StylizeRequest req;
   req.run = args.require("run");
   req.style_image = args.require("style");
   req.name = args.get_or("name", "");
@@ -144,7 +144,7 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   engine::Context ctx;
   std::signal(SIGINT, request_stylize_stop);
   std::signal(SIGTERM, request_stylize_stop);
-  const style::StylizeOutcome out = style::stylize_run(ctx, req, g_stop);
+  const style_gaussians::StylizeOutcome out = style_gaussians::stylize_run(ctx, req, g_stop);
   if (!out.complete) return 130;
   const nlohmann::json s = bench::measure_style(ctx, req, out);
   const nlohmann::json& exact = s.at("warp_error").at("spiral_exact_flow");

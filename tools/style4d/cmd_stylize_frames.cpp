@@ -1,6 +1,6 @@
 // style4d stylize-frames --in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]
 // [--style-size N] [--strength S] [--seed N]: restyles one camera's frames in time order with a
-// frame stylizer (s4d_stylize).
+// frame stylizer (s4d_frame_stylizers).
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -11,14 +11,14 @@
 #include "commands.h"
 #include "frame_sequence.h"
 #include "s4d/io/image_file.h"
-#include "s4d/stylize/registry.h"
+#include "s4d/frame_stylizers/registry.h"
 #include "s4d/util/progress.h"
 
 namespace s4d::cli {
 
 int cmd_stylize_frames(const std::vector<std::string>& argv) {
   std::string names;
-  for (const std::string& n : stylize::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const std::string& n : frame_stylizers::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
   const std::vector<OptionSpec> specs = {
       {"in", "a folder of PNG frames (sorted by name) or a video (.mp4, .avi, .mov, .mkv)", true, "DIR|VIDEO"},
       {"style", "the style image (PNG, JPEG, ...), e.g. assets/styles/builtin.png", true, "IMG"},
@@ -47,7 +47,7 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   const std::string in = args.require("in"), style_path = args.require("style"), out = args.require("out");
   if (std::filesystem::exists(out) && std::filesystem::equivalent(in, out))
     throw std::invalid_argument("--out " + out + " is the input; it would overwrite the frames");
-  stylize::StylizeSettings settings;
+  frame_stylizers::StylizeSettings settings;
   const std::string strength_text = args.get_or("strength", "1");
   try {
     size_t used = 0;
@@ -59,11 +59,11 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   if (!(settings.strength >= 0.0f && settings.strength <= 1.0f))
     throw std::invalid_argument("--strength: " + strength_text + " is outside [0, 1]");
   settings.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
-  stylize::NetworkOptions network;
+  frame_stylizers::NetworkOptions network;
   network.weights = args.get_or("weights", "");
   network.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));
   if (network.style_size < 0) throw std::invalid_argument("--style-size: expected 0 or more pixels");
-  const auto stylizer = stylize::make_stylizer(args.get_or("stylizer", "patch"), network);
+  const auto stylizer = frame_stylizers::make_stylizer(args.get_or("stylizer", "patch"), network);
 
   const io::ImageF style = io::read_image_rgb(style_path);
   const FrameSequence input = read_frame_sequence(in);

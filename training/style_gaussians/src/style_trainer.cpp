@@ -1,0 +1,382 @@
+#include "s4d/style_gaussians/style_trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <set>
+
+#include "s4d/data/frame_cache.h"
+#include "s4d/engine/buffer_from.h"
+#include "s4d/optim/adam.h"
+#include "s4d/optim/grad_mask.h"
+#include "s4d/optim/image_loss.h"
+#include "s4d/optim/lr_schedule.h"
+#include "s4d/optim/tv_loss.h"
+#include "s4d/primitives/add.h"
+#include "s4d/run/checkpoint.h"
+#include "s4d/scene/cached_scene.h"
+#include "s4d/scene/styled_scene.h"
+#include "s4d/splat/rasterizer.h"
+#include "s4d/splat/scene_upload.h"
+#include "s4d/train/stage_runner.h"
+#include "s4d/train/view_sampler.h"
+#include "s4d/util/atomic_file.h"
+#include "s4d_style_splat.h"
+
+namespace s4d::style_gaussians {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr size_t kFrameCacheBytes = size_t{512} << 20;
+constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
+enum Group : uint32_t { gShDc, gShRest, gOpacity, gMlp, gCount };
+
+std::vector<const data::View*> views_of(const data::Dataset& d, bool test) {
+  std::vector<const data::View*> out;
+  for (const data::View& v : d.views)
+    if (v.test == test) out.push_back(&v);
+  return out;
+}
+
+engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
+  engine::Buffer b(ctx, name, std::max<size_t>(floats, 1) * 4);
+  engine::Recorder rec(ctx, "zero " + name);
+  rec.fill(b, 0);
+  ctx.run(std::move(rec));
+  return b;
+}
+
+// SuperGaussians' initialisation: weights U(-0.5, 0.5), biases 0; "identity" also zeroes the last
+// layer, so every MLP starts by adding nothing (2 sigmoid(0) - 1 = 0, sigmoid(0) - 0.5 = 0).
+std::vector<float> initial_mlp(uint32_t count, const std::string& init, uint32_t seed) {
+  std::vector<float> w(size_t{count} * S4D_STYLE_MLP_STRIDE, 0.0f);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-0.5f, 0.5f);
+  const uint32_t weight_end = init == "identity" ? S4D_STYLE_MLP_W3 : S4D_STYLE_MLP_B3;
+  for (uint32_t i = 0; i < count; ++i) {
+    float* p = &w[size_t{i} * S4D_STYLE_MLP_STRIDE];
+    for (uint32_t k = 0; k < weight_end; ++k) {
+      const bool bias = (k >= S4D_STYLE_MLP_B1 && k < S4D_STYLE_MLP_W2) || (k >= S4D_STYLE_MLP_B2 && k < S4D_STYLE_MLP_W3);
+      p[k] = bias ? 0.0f : u(rng);
+    }
+  }
+  return w;
+}
+
+// 1 / (3 x the median largest scale): a Gaussian's own extent maps to about one unit of input.
+float automatic_depth_scale(engine::Context& ctx, const splat::GaussianParams& g) {
+  std::vector<float> s = ctx.download<float>(*g.log_scales, size_t{g.count} * 3), largest(g.count);
+  for (uint32_t i = 0; i < g.count; ++i) largest[i] = std::exp(std::max({s[3 * i], s[3 * i + 1], s[3 * i + 2]}));
+  std::nth_element(largest.begin(), largest.begin() + g.count / 2, largest.end());
+  return 1.0f / (3.0f * std::max(largest[g.count / 2], 1e-6f));
+}
+
+// 1 for the Gaussians whose centre lies in the box (min xyz, max xyz), else 0.
+std::vector<uint32_t> inside_region(engine::Context& ctx, const splat::GaussianParams& g, const std::vector<float>& box) {
+  const std::vector<float> means = ctx.download<float>(*g.means, size_t{g.count} * 3);
+  std::vector<uint32_t> mask(g.count);
+  for (uint32_t i = 0; i < g.count; ++i) {
+    bool in = true;
+    for (int a = 0; a < 3; ++a) in = in && means[3 * i + a] >= box[a] && means[3 * i + a] <= box[3 + a];
+    mask[i] = in ? 1u : 0u;
+  }
+  return mask;
+}
+
+}  // namespace
+
+// Stage 4 as the runner drives it.
+struct StyleTrainer::Impl final : train::RunnerStage {
+  engine::Context& ctx;
+  const scene::TrainedRun& run;
+  std::string style;  // the style's name
+  StyleConfig config;
+  fs::path dir;
+  std::vector<const data::View*> train_views, test_views;
+  data::FrameCache frames;
+  std::unique_ptr<scene::CachedScene> geometry;
+  splat::Rasterizer rast;
+  optim::ImageLoss loss;
+  optim::TvLoss tv;
+  optim::Adam adam;
+  train::Evaluator evaluator;
+  train::ViewSampler sampler;
+  uint32_t count = 0, sh_coeffs = 0;
+  float depth_scale = 1;
+  bool full = false;
+  // Trained per-Gaussian arrays, their gradients and Adam moments: [0] SH deltas, [1] opacity deltas, [2] MLPs.
+  // batch_grad: a batch's later views' gradients, added to grad (config.batch > 1 only).
+  std::array<engine::Buffer, 3> param, grad, m, v, batch_grad;
+  std::array<size_t, 3> floats{};
+  engine::Buffer sh, opacity, target, v_rgb, v_means, v_scales, v_quats;
+  splat::StyleMlp mlp_desc{};
+  engine::Buffer region_mask;  // [count] u32, 1 = stylized; empty: every Gaussian
+  uint32_t region_count = 0;
+  uint32_t done = 0;  // steps done
+  double seconds_before = 0;
+  std::chrono::steady_clock::time_point start;  // of this session's run()
+  train::Recovery recovery_state;
+  run::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
+  double last_loss = 0;
+  train::Evaluation test;  // the closing test
+
+  Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg)
+      : ctx(c), run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)),
+        train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
+        rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
+        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
+    if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
+    if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
+    full = config.method == run::StyleMethod::full;
+    std::set<double> times;
+    for (const data::View& view : stylized.views) times.insert(view.time);
+    geometry = std::make_unique<scene::CachedScene>(ctx, scene::open_scene(ctx, run, "original"),
+                                                    std::vector<double>(times.begin(), times.end()), kGeometryCacheBytes);
+    const splat::GaussianParams g = geometry->at(*times.begin(), {});
+    if (g.sh == nullptr || g.colors != nullptr) throw std::runtime_error(run.root.string() + ": the run has no SH colours to stylize");
+    count = g.count, sh_coeffs = g.sh_coeffs;
+    depth_scale = config.depth_scale > 0 ? config.depth_scale : automatic_depth_scale(ctx, g);
+    floats = {size_t{count} * sh_coeffs * 3, count, full ? size_t{count} * S4D_STYLE_MLP_STRIDE : 0};
+    const char* names[3] = {"sh delta", "opacity delta", "mlp"};
+    for (size_t k = 0; k < 3; ++k) {
+      param[k] = zeros(ctx, std::string("style ") + names[k], floats[k]);
+      grad[k] = zeros(ctx, std::string("style ") + names[k] + " grad", floats[k]);
+      m[k] = zeros(ctx, std::string("style ") + names[k] + " adam m", floats[k]);
+      v[k] = zeros(ctx, std::string("style ") + names[k] + " adam v", floats[k]);
+      if (config.batch > 1) batch_grad[k] = zeros(ctx, std::string("style ") + names[k] + " batch grad", floats[k]);
+    }
+    std::vector<float> mlp = full ? initial_mlp(count, config.mlp_init, config.seed) : std::vector<float>{};
+    region_count = count;
+    if (!config.region.empty()) {
+      const std::vector<uint32_t> mask = inside_region(ctx, g, config.region);
+      region_count = static_cast<uint32_t>(std::count(mask.begin(), mask.end(), 1u));
+      for (uint32_t i = 0; i < count && full; ++i)  // outside: an MLP of zeros adds nothing
+        if (mask[i] == 0) std::fill_n(mlp.begin() + i * S4D_STYLE_MLP_STRIDE, S4D_STYLE_MLP_STRIDE, 0.0f);
+      region_mask = engine::buffer_from(ctx, "style region mask", mask);
+    }
+    if (full) ctx.upload(param[2], std::span<const float>(mlp));
+    sh = engine::Buffer(ctx, "styled sh", floats[0] * 4);
+    opacity = engine::Buffer(ctx, "styled opacity", floats[1] * 4);
+    v_means = engine::Buffer(ctx, "style v means (unused)", size_t{count} * 3 * 4);
+    v_scales = engine::Buffer(ctx, "style v scales (unused)", size_t{count} * 3 * 4);
+    v_quats = engine::Buffer(ctx, "style v quats (unused)", size_t{count} * 4 * 4);
+  }
+
+  fs::path checkpoint_path() const { return dir / "checkpoint.s4dckpt"; }
+
+  // ---- What the runner asks of a stage (stage_runner.h).
+  train::StagePlan plan() const override {
+    return {.name = "stage 4",
+            .progress_label = "stage 4 " + style,
+            .iterations = config.iterations,
+            .test_every = config.test_every,
+            .checkpoint_every = config.checkpoint_every,
+            .test_name = "test_psnr_vs_stylized",
+            .resume_hint = "run the same style4d stylize command again to continue",
+            .checkpoint = checkpoint_path()};
+  }
+  uint32_t iteration() const override { return done; }
+  double seconds() const override {
+    return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  train::Recovery& recovery() override { return recovery_state; }
+  void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
+  bool keeps_loss_row(const std::string& row) const override { return std::strtoul(row.c_str(), nullptr, 10) <= done; }
+  double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
+  void save(double seconds) override {
+    run::Checkpoint cp = snapshot(seconds);
+    run::write_checkpoint(checkpoint_path(), cp);
+    last_good = std::move(cp);
+  }
+  void restore_last_good() override { restore(last_good); }
+  train::ProgressValues final_test() override {
+    test = evaluate(test_views, dir / "eval");
+    return {{"test_psnr_vs_stylized", test.psnr}};
+  }
+
+  nlohmann::json meta(double seconds) const {
+    nlohmann::json j = {{"iteration", done}, {"seconds", seconds}, {"sampler", sampler.save()}, {"settings", to_json(config)},
+                        {"count", count}, {"depth_scale", depth_scale}};
+    if (recovery_state.rollbacks > 0) {  // absent: none, so a run that never rolled back writes what it always did
+      j["rollbacks"] = recovery_state.rollbacks;
+      j["lr_scale"] = recovery_state.lr_scale;
+    }
+    return j;
+  }
+
+  run::Checkpoint snapshot(double seconds) const {
+    run::Checkpoint cp{meta(seconds), {}, {}};
+    const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
+    for (size_t k = 0; k < 3; ++k) {
+      if (floats[k] == 0) continue;
+      cp.extra.emplace_back(names[k], ctx.download<float>(param[k], floats[k]));
+      cp.extra.emplace_back(std::string(names[k]) + ".adam_m", ctx.download<float>(m[k], floats[k]));
+      cp.extra.emplace_back(std::string(names[k]) + ".adam_v", ctx.download<float>(v[k], floats[k]));
+    }
+    return cp;
+  }
+
+  void restore(const run::Checkpoint& cp) {
+    const nlohmann::json saved = cp.meta.at("settings");
+    if (saved != to_json(config))
+      throw std::runtime_error(checkpoint_path().string() + " was written with other settings (" + saved.dump() +
+                               "); pass the same options or --restart");
+    if (cp.meta.at("count").get<uint32_t>() != count)
+      throw std::runtime_error(checkpoint_path().string() + ": trained for another Gaussian count; the run was retrained (use --restart)");
+    done = cp.meta.at("iteration").get<uint32_t>();
+    seconds_before = cp.meta.at("seconds").get<double>();
+    sampler.load(cp.meta.at("sampler").get<std::string>());
+    depth_scale = cp.meta.at("depth_scale").get<float>();
+    recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0)};
+    const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
+    for (size_t k = 0; k < 3; ++k)
+      for (auto [buffer, suffix] : {std::pair{&param[k], ""}, {&m[k], ".adam_m"}, {&v[k], ".adam_v"}}) {
+        if (floats[k] == 0) continue;
+        const std::string array = std::string(names[k]) + suffix;
+        const auto it = std::find_if(cp.extra.begin(), cp.extra.end(), [&](const auto& e) { return e.first == array; });
+        if (it == cp.extra.end() || it->second.size() != floats[k])
+          throw std::runtime_error(checkpoint_path().string() + ": array '" + array + "' is missing or of the wrong size");
+        ctx.upload(*buffer, std::span<const float>(it->second));
+      }
+  }
+
+  // Method full's MLPs train from this step on (earlier steps are colours only).
+  bool mlp_on() const { return full && done + config.mlp_iterations > config.iterations; }
+
+  // The MLPs' learning rate at step `done` (1-based), which is their step done - (iterations - mlp_iterations).
+  double mlp_lr() const {
+    if (config.mlp_lr_final == 0) return config.mlp_lr;
+    const uint32_t first = config.iterations - config.mlp_iterations;  // steps before the MLPs join
+    return optim::LogLinearSchedule{config.mlp_lr, config.mlp_lr_final, config.mlp_iterations}.at(done - 1 - first);
+  }
+
+  // The run's Gaussians at the view's time in this style (`with_mlp` false: colours only).
+  splat::GaussianParams styled(const data::View& view, const splat::Camera& cam, bool with_mlp = true) {
+    const splat::GaussianParams g = geometry->at(view.time, cam);
+    engine::Recorder rec(ctx, "style deltas");
+    splat::GaussianParams p = scene::record_style_deltas(rec, g, param[0], param[1], sh, opacity);
+    ctx.run(std::move(rec));
+    if (full && with_mlp) {
+      mlp_desc = scene::style_mlp(param[2], view.time, config.depth_input, depth_scale, config.input_sigmoid);
+      p.style = &mlp_desc;
+    }
+    return p;
+  }
+
+  splat::Camera load_target(const data::View& view) {
+    const io::ImageF& image = frames.get(view);
+    const splat::Camera cam = splat::to_splat_camera(view.camera);
+    const size_t n = size_t{cam.width} * cam.height * 3;
+    if (target.size() < n * 4) {
+      target = engine::Buffer(ctx, "style target", n * 4);
+      v_rgb = engine::Buffer(ctx, "style image gradient", n * 4);
+    }
+    ctx.upload(target, std::span<const float>(image.data));
+    return cam;
+  }
+
+  // One view's loss (L1 + TV) and its gradients into `out` (assigned); returns the loss.
+  double view_gradients(const data::View& view, bool mlp, std::array<engine::Buffer, 3>& out) {
+    const splat::Camera cam = load_target(view);
+    const splat::GaussianParams p = styled(view, cam, mlp);
+    rast.forward(p, cam, run.dataset.background);
+    {
+      engine::Recorder rec(ctx, "style loss");
+      loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, config.ssim_weight, v_rgb);
+      rec.barrier();
+      if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, v_rgb);
+      ctx.run(std::move(rec));
+    }
+    const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
+    if (!std::isfinite(value)) return value;
+    splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &out[1], &out[0], nullptr};
+    if (mlp) grads.v_style_mlp = &out[2];
+    rast.backward(p, {.v_rgb = &v_rgb}, grads);
+    return value;
+  }
+
+  // A step over config.batch views: the first view's gradients land in grad, the later ones' are
+  // added to them (summed, see StyleConfig::batch); the loss is the views' mean.
+  double step() override {
+    ++done;
+    const bool mlp = mlp_on();
+    last_loss = 0;
+    for (uint32_t b = 0; b < config.batch; ++b) {
+      const double value = view_gradients(*train_views[sampler.next()], mlp, b == 0 ? grad : batch_grad);
+      last_loss = std::isfinite(value) ? last_loss + value / config.batch : value;
+      if (!std::isfinite(last_loss)) return last_loss;
+      if (b == 0) continue;
+      engine::Recorder rec(ctx, "style batch gradients");
+      for (size_t k = 0; k < 3; ++k)
+        if (floats[k] > 0 && (k != 2 || mlp)) primitives::cmd_add(rec, grad[k], batch_grad[k], static_cast<uint32_t>(floats[k]));
+      ctx.run(std::move(rec));
+    }
+    if (region_mask.size() > 0) {
+      engine::Recorder rec(ctx, "style region");
+      optim::record_grad_mask(rec, grad[0], region_mask, count, sh_coeffs * 3);
+      optim::record_grad_mask(rec, grad[1], region_mask, count, 1);
+      if (mlp) optim::record_grad_mask(rec, grad[2], region_mask, count, S4D_STYLE_MLP_STRIDE);
+      ctx.run(std::move(rec));
+    }
+    const bool colors = !full || config.train_colors;
+    const double lrs[gCount] = {colors ? config.sh_dc_lr : 0.0, colors ? config.sh_rest_lr : 0.0,
+                                colors ? config.opacity_lr : 0.0, mlp ? mlp_lr() : 0.0};
+    for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k] * recovery_state.lr_scale}, done);
+    adam.upload();
+    engine::Recorder rec(ctx, "style update");
+    if (colors) {
+      adam.record_rows(rec, gShDc, gShRest, sh_coeffs * 3, 3, param[0], grad[0], m[0], v[0], static_cast<uint32_t>(floats[0]));
+      adam.record(rec, gOpacity, param[1], grad[1], m[1], v[1], count);
+    }
+    if (mlp) adam.record(rec, gMlp, param[2], grad[2], m[2], v[2], static_cast<uint32_t>(floats[2]));
+    ctx.run(std::move(rec));
+    return last_loss;
+  }
+
+  train::Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {}) {
+    return evaluator.evaluate(
+        rast, [&](const data::View& view) { return styled(view, splat::to_splat_camera(view.camera)); }, views, frames,
+        run.dataset.background, save_dir);
+  }
+
+  run::StyleFile style_file() const {
+    run::StyleFile s;
+    s.method = config.method;
+    s.settings = to_json(config);
+    s.count = count, s.sh_coeffs = sh_coeffs;
+    s.sh_delta = ctx.download<float>(param[0], floats[0]);
+    s.opacity_delta = ctx.download<float>(param[1], floats[1]);
+    if (full) s.mlp = ctx.download<float>(param[2], floats[2]);
+    s.depth_input = config.depth_input, s.depth_scale = depth_scale, s.input_sigmoid = config.input_sigmoid;
+    return s;
+  }
+};
+
+StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, const data::Dataset& stylized, std::string name,
+                           const StyleConfig& config) {
+  validate(config);
+  if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
+  impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config);
+  fs::create_directories(impl_->dir);
+  if (fs::exists(impl_->checkpoint_path())) impl_->restore(run::read_checkpoint(impl_->checkpoint_path()));
+  impl_->last_good = impl_->snapshot(impl_->seconds_before);
+}
+
+StyleTrainer::~StyleTrainer() = default;
+
+StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
+  Impl& s = *impl_;
+  s.start = std::chrono::steady_clock::now();
+  train::StageRunner runner(s.dir / "loss.csv", "iteration,loss,seconds");
+  if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
+  if (!runner.checkpoint(s)) throw std::runtime_error("stage 4: the final state is not finite");
+  run::write_style_file(run::style_file_path(s.run.root, s.style), s.style_file());
+  return {true, s.done, s.seconds(), s.region_count, std::move(s.test)};
+}
+
+}  // namespace s4d::style_gaussians
