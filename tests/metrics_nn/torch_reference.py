@@ -34,14 +34,23 @@ IMAGENET_MEAN, IMAGENET_STD = [0.485, 0.456, 0.406], [0.229, 0.224, 0.225]
 LPIPS_SHIFT, LPIPS_SCALE = [-0.030, -0.088, -0.188], [0.458, 0.448, 0.450]
 
 
-def randomise(module, gen):
-    """He-scaled weights keep activations O(1) through 16 layers; nonzero biases so they are read."""
+def randomise(module, gen, other=None):
+    """He-scaled convolution and linear weights keep activations O(1) through 16 layers; nonzero
+    biases so they are read; BatchNorm affine parameters and running statistics away from the
+    identity. Any other module goes to `other(m)`, in the same walk, so the random stream is one."""
     for m in module.modules():
-        if isinstance(m, nn.Conv2d):
-            fan_in = m.in_channels * m.kernel_size[0] * m.kernel_size[1]
-            m.weight.data = torch.randn(m.weight.shape, generator=gen) * (2.0 / fan_in) ** 0.5
+        if isinstance(m, (nn.Conv2d, nn.Linear)):
+            m.weight.data = torch.randn(m.weight.shape, generator=gen) * (2.0 / m.weight[0].numel()) ** 0.5
             if m.bias is not None:
                 m.bias.data = torch.rand(m.bias.shape, generator=gen) * 0.2 - 0.1
+        elif isinstance(m, nn.BatchNorm2d):
+            c = m.num_features
+            m.weight.data = torch.rand(c, generator=gen) + 0.5
+            m.bias.data = torch.rand(c, generator=gen) * 0.4 - 0.2
+            m.running_mean = torch.rand(c, generator=gen) * 0.4 - 0.2
+            m.running_var = torch.rand(c, generator=gen) * 1.5 + 0.5
+        elif other is not None:
+            other(m)
     return module
 
 

@@ -21,7 +21,7 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_nets import Ckdn
-from torch_reference import calibration_scores, noise_image, run, write_calibration_pairs
+from torch_reference import calibration_scores, noise_image, randomise, run, write_calibration_pairs
 import torch
 import torch.nn as nn
 import torchvision
@@ -31,21 +31,9 @@ from torchvision.transforms import InterpolationMode
 IMAGENET_MEAN, IMAGENET_STD = [0.485, 0.456, 0.406], [0.229, 0.224, 0.225]
 
 
-def randomise(model, gen):
-    """He-scaled convolutions and linear layers, BatchNorm affine parameters and running statistics
-    away from the identity; the last layer small so the sigmoid stays off its flat ends."""
-    for m in model.modules():
-        if isinstance(m, (nn.Conv2d, nn.Linear)):
-            fan_in = m.weight[0].numel()
-            m.weight.data = torch.randn(m.weight.shape, generator=gen) * (2.0 / fan_in) ** 0.5
-            if m.bias is not None:
-                m.bias.data = torch.rand(m.bias.shape, generator=gen) * 0.2 - 0.1
-        elif isinstance(m, nn.BatchNorm2d):
-            c = m.num_features
-            m.weight.data = torch.rand(c, generator=gen) + 0.5
-            m.bias.data = torch.rand(c, generator=gen) * 0.4 - 0.2
-            m.running_mean = torch.rand(c, generator=gen) * 0.4 - 0.2
-            m.running_var = torch.rand(c, generator=gen) * 1.5 + 0.5
+def randomise_ckdn(model, gen):
+    """torch_reference.randomise; the last layer small so the sigmoid stays off its flat ends."""
+    randomise(model, gen)
     model.net.fc_[6].weight.data *= 0.05
     return model
 
@@ -69,7 +57,7 @@ def main():
     image = lambda w, h: noise_image(w, h, gen)
 
     as_input = lambda u8: (u8.double() / 255).unsqueeze(0)
-    model = randomise(Ckdn(), gen)
+    model = randomise_ckdn(Ckdn(), gen)
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
     import convert_weights
     pth, weights = os.path.join(work, "CKDN_model_best.pth"), os.path.join(work, "weights")

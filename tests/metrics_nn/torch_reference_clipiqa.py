@@ -25,7 +25,7 @@ import sys
 
 import torch_or_skip  # noqa: F401  (exits 77 without torch, outside CI)
 from reference_nets import ClipModel
-from torch_reference import noise_image, run
+from torch_reference import noise_image, randomise, run
 import torch
 import torch.nn as nn
 import torchvision
@@ -47,21 +47,15 @@ def tokenize(texts):
     return out
 
 
-def randomise(model, gen):
-    for m in model.modules():
-        if isinstance(m, (nn.Conv2d, nn.Linear)):
-            m.weight.data = torch.randn(m.weight.shape, generator=gen) * (2.0 / m.weight[0].numel()) ** 0.5
-            if m.bias is not None:
-                m.bias.data = torch.rand(m.bias.shape, generator=gen) * 0.2 - 0.1
-        elif isinstance(m, nn.BatchNorm2d):
-            c = m.num_features
-            m.weight.data = torch.rand(c, generator=gen) + 0.5
-            m.bias.data = torch.rand(c, generator=gen) * 0.4 - 0.2
-            m.running_mean = torch.rand(c, generator=gen) * 0.4 - 0.2
-            m.running_var = torch.rand(c, generator=gen) * 1.5 + 0.5
-        elif isinstance(m, nn.MultiheadAttention):
+def randomise_clip(model, gen):
+    """torch_reference.randomise, the text tower's attention at 1/sqrt(width), the two class words'
+    embeddings nearly equal, and the unused position embedding as large as the features."""
+    def attention(m):
+        if isinstance(m, nn.MultiheadAttention):
             m.in_proj_weight.data = torch.randn(m.in_proj_weight.shape, generator=gen) * m.embed_dim ** -0.5
             m.in_proj_bias.data = torch.rand(m.in_proj_bias.shape, generator=gen) * 0.2 - 0.1
+
+    randomise(model, gen, attention)
     e = model.token_embedding.weight.data
     e.copy_(torch.randn(e.shape, generator=gen) * 0.5)
     e[WORDS["bad"]] = e[WORDS["good"]] + 0.005 * torch.randn(e.shape[1], generator=gen)
@@ -93,7 +87,7 @@ def check_run(name, style4d, convert_weights, work, gen, config, sizes):
     the reference; returns (failed, worst difference)."""
     folder = os.path.join(work, name)
     os.makedirs(folder)
-    model = randomise(ClipModel(**config), gen)
+    model = randomise_clip(ClipModel(**config), gen)
     ctx = torch.randn(2, 16, config["text_width"], generator=gen) * 0.5
     clip_pt, prompts = os.path.join(folder, "clip_rn50_random.pt"), os.path.join(folder, "prompts.pth")
     torch.save(model.state_dict(), clip_pt)
