@@ -338,7 +338,10 @@ void Context::retire(std::function<void()> destroy) {
 }
 
 void Context::collect_retired() {
-  while (!retired_.empty() && retired_.front().after <= completed_) {
+  // Nothing in flight and no recorder open: what waited for a recorder that was dropped without
+  // being submitted can go too (it would otherwise wait for a submission that never comes).
+  const bool idle = completed_ >= submitted_ && open_recorders_ == 0;
+  while (!retired_.empty() && (idle || retired_.front().after <= completed_)) {
     auto destroy = std::move(retired_.front().destroy);
     retired_.pop_front();
     destroy();

@@ -206,6 +206,18 @@ TEST_CASE("a buffer dropped while a recorder that uses it is still open lives un
   CHECK(ctx.take_validation_messages().empty());  // the layer reports use of a destroyed buffer
 }
 
+TEST_CASE("what is retired while a recorder is open is freed by wait_idle when that recorder is dropped unsubmitted") {
+  auto& ctx = test::context();
+  bool freed = false;
+  {
+    Recorder rec(ctx, "dropped without a submission");
+    ctx.retire([&freed] { freed = true; });  // waits for the open recorder's submission
+    CHECK(!freed);
+  }
+  ctx.wait_idle();
+  CHECK(freed);  // before: kept until the context's end, and never run there either
+}
+
 TEST_CASE("staging buffers cannot be bound to a shader") {
   auto& ctx = test::context();
   Buffer staging(ctx, "host staging", 64, engine::BufferKind::staging);
