@@ -23,29 +23,6 @@ namespace {
 
 constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
 
-// The scene's parameters on the device.
-struct DeviceScene {
-  engine::Buffer means, log_scales, quats, opacity_logits, sh;
-  splat::GaussianParams params;
-
-  DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g)
-      : means(engine::buffer_from(ctx, "bench means", g.means)),
-        log_scales(engine::buffer_from(ctx, "bench log_scales", g.log_scales)),
-        quats(engine::buffer_from(ctx, "bench quats", g.quats)),
-        opacity_logits(engine::buffer_from(ctx, "bench opacity_logits", g.opacity_logits)),
-        sh(engine::buffer_from(ctx, "bench sh", g.sh)) {
-    params = {.means = &means,
-              .log_scales = &log_scales,
-              .quats = &quats,
-              .opacity_logits = &opacity_logits,
-              .sh = &sh,
-              .count = static_cast<uint32_t>(g.size()),
-              .sh_degree = static_cast<uint32_t>(g.sh_degree),
-              .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
-  }
-  size_t bytes() const { return means.size() + log_scales.size() + quats.size() + opacity_logits.size() + sh.size(); }
-};
-
 // Gradient outputs and a random RGB cotangent (an RGB-only loss, as in training).
 struct DeviceGrads {
   engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_rgb;

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "s4d/engine/buffer_from.h"
+
 namespace s4d::bench {
 
 SplatScene make_splat_scene(uint32_t width, uint32_t height, uint32_t n, uint32_t seed) {
@@ -69,6 +71,22 @@ splat::Camera to_gpu_camera(const ref::Camera<float>& cam) {
   c.fx = cam.fx, c.fy = cam.fy, c.cx = cam.cx, c.cy = cam.cy;
   c.width = static_cast<uint32_t>(cam.width), c.height = static_cast<uint32_t>(cam.height);
   return c;
+}
+
+DeviceScene::DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g)
+    : means(engine::buffer_from(ctx, "bench means", g.means)),
+      log_scales(engine::buffer_from(ctx, "bench log_scales", g.log_scales)),
+      quats(engine::buffer_from(ctx, "bench quats", g.quats)),
+      opacity_logits(engine::buffer_from(ctx, "bench opacity_logits", g.opacity_logits)),
+      sh(engine::buffer_from(ctx, "bench sh", g.sh)) {
+  params = {.means = &means,
+            .log_scales = &log_scales,
+            .quats = &quats,
+            .opacity_logits = &opacity_logits,
+            .sh = &sh,
+            .count = static_cast<uint32_t>(g.size()),
+            .sh_degree = static_cast<uint32_t>(g.sh_degree),
+            .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
 }
 
 }  // namespace s4d::bench

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "s4d/engine/buffer.h"
+#include "s4d/engine/context.h"
 #include "s4d/io/nerf_cameras.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/ref/splat_raster_ref.h"
@@ -36,5 +38,17 @@ SplatScene to_splat_scene(const io::GaussianCloud& cloud, const io::CameraView& 
 SplatScene load_splat_scene(const std::filesystem::path& ply, const std::filesystem::path& cameras, size_t camera);
 
 splat::Camera to_gpu_camera(const ref::Camera<float>& cam);
+
+// A scene's parameters on the device, and the rasterizer's view of them (`params` points into this
+// object, so it neither copies nor moves).
+struct DeviceScene {
+  engine::Buffer means, log_scales, quats, opacity_logits, sh;
+  splat::GaussianParams params;
+
+  DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g);
+  DeviceScene(const DeviceScene&) = delete;
+  DeviceScene& operator=(const DeviceScene&) = delete;
+  size_t bytes() const { return means.size() + log_scales.size() + quats.size() + opacity_logits.size() + sh.size(); }
+};
 
 }  // namespace s4d::bench

@@ -95,18 +95,15 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 // A scene's parameters, gradient buffers and a random RGB cotangent on the device, with and without
 // style MLPs.
 struct Device {
-  engine::Buffer means, log_scales, quats, opacity_logits, sh, weights;
+  bench::DeviceScene scene;
+  engine::Buffer weights;
   engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_weights, v_rgb;
   splat::StyleMlp style;
   splat::GaussianParams plain, styled;
   splat::GaussianGrads grads;
 
   Device(engine::Context& ctx, const ref::Gaussians<float>& g, const ref::StyleMlp<float>& mlp, size_t pixels)
-      : means(engine::buffer_from(ctx, "means", g.means)),
-        log_scales(engine::buffer_from(ctx, "log_scales", g.log_scales)),
-        quats(engine::buffer_from(ctx, "quats", g.quats)),
-        opacity_logits(engine::buffer_from(ctx, "opacity_logits", g.opacity_logits)),
-        sh(engine::buffer_from(ctx, "sh", g.sh)),
+      : scene(ctx, g),
         weights(engine::buffer_from(ctx, "style weights", mlp.weights)),
         v_means(ctx, "v_means", g.means.size() * 4),
         v_log_scales(ctx, "v_log_scales", g.log_scales.size() * 4),
@@ -124,14 +121,7 @@ struct Device {
              .depth = static_cast<splat::StyleDepth>(mlp.depth),
              .depth_scale = mlp.depth_scale,
              .input_sigmoid = mlp.input_sigmoid};
-    plain = {.means = &means,
-             .log_scales = &log_scales,
-             .quats = &quats,
-             .opacity_logits = &opacity_logits,
-             .sh = &sh,
-             .count = static_cast<uint32_t>(g.size()),
-             .sh_degree = static_cast<uint32_t>(g.sh_degree),
-             .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
+    plain = scene.params;
     styled = plain;
     styled.style = &style;
     grads = {.v_means = &v_means,
