@@ -12,13 +12,17 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
   const splat::Camera unused{};
   for (double t : times) {
     if (cache_.count(t)) continue;
-    const splat::GaussianParams g = base_->at(t, unused);
+    engine::Recorder rec(ctx, "cache scene");  // the base's work and the copies: one submission
+    const splat::GaussianParams g = base_->record(rec, t, unused);
     const size_t n = g.count;
     const size_t bytes = n * (3 + 3 + 4 + 1 + size_t{g.sh_coeffs} * 3) * 4;
-    if (used + bytes > max_bytes) break;
+    if (used + bytes > max_bytes) {
+      ctx.run(std::move(rec));  // a source may already count the recorded work as done
+      break;
+    }
     used += bytes;
+    rec.barrier();
     Copy& c = cache_[t];  // map nodes stay put, so params may point into c
-    engine::Recorder rec(ctx, "cache scene");
     auto copy = [&](const engine::Buffer* src, engine::Buffer& dst, size_t floats, const char* what) {
       dst = engine::Buffer(ctx, std::string("cached ") + what, floats * 4);
       rec.copy(*src, dst, floats * 4);
@@ -32,6 +36,11 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     c.params.sh = copy(g.sh, c.sh, n * g.sh_coeffs * 3, "sh");
     ctx.run(std::move(rec));
   }
+}
+
+splat::GaussianParams CachedScene::record(engine::Recorder& rec, double time, const splat::Camera& camera) {
+  const auto it = cache_.find(time);
+  return it == cache_.end() ? base_->record(rec, time, camera) : it->second.params;
 }
 
 splat::GaussianParams CachedScene::at(double time, const splat::Camera& camera) {

@@ -142,6 +142,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   double total_ms = 0, total_scale = 0, total_raster_ms = 0;
   uint64_t measured = 0;  // rasterized frames whose time was measured (all but a last one)
   uint64_t last_submit = 0;
+  bool rendered = false;  // the last submission rasterized a frame, which renderer.finish() checks
   AdaptiveResolution resolution({.budget_ms = options.frame_budget_ms});
   std::optional<FrameView> shown;  // what renderer.pixels() hold
   std::chrono::steady_clock::time_point changed_at;  // when the view last changed
@@ -197,6 +198,9 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
 
     // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
     if (last_submit) ctx.wait(last_submit);
+    // The last frame rasterized past the instance buffers' capacity (they grew): render it again.
+    const bool overflowed = rendered && !renderer.finish();
+    rendered = false;
     if (measuring) {  // start of the render to its pixels on screen, the panel's work included
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count();
@@ -219,12 +223,13 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
                          .time = playback.time,
                          .style = styles.shown(),
                          .order = swapchain.pixel_order()};
-    const bool changed = !shown || !same_view(*shown, view);
+    const bool changed = overflowed || !shown || !same_view(*shown, view);
     if (changed) changed_at = t0;
     const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at).count();
     if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
       const double scale = changed && !screenshot ? resolution.scale(true) : 1.0;
       renderer.render(styles.source(), view.camera, view.time, view.order, rec, scale);
+      rendered = true;
       shown = view;
       measuring.emplace(t0, scale);
       const splat::Camera small = scaled_camera(view.camera, scale);
