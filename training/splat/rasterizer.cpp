@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -100,6 +102,7 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   list_stats_ = buffer("tile list stats", 4);
   totals_ = buffer("instance totals", 12);
   args_ = buffer("instance args", sizeof(gpu::InstanceArgs));
+  readback_ = engine::Buffer(ctx, name_ + " readback", sizeof(Readback), engine::BufferKind::staging);
 }
 
 size_t Rasterizer::device_bytes() const {
@@ -259,6 +262,10 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats),
                {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
                ceil_div(num_tiles, S4D_SPLAT_WG));
+  rec.barrier();
+  // What finish_forward checks, into host-visible memory in this submission: no read-back of its own.
+  rec.copy(totals_, readback_, sizeof(Readback::totals), 0, offsetof(Readback, totals));
+  rec.copy(list_stats_, readback_, sizeof(Readback::longest), 0, offsetof(Readback, longest));
   stage.emplace(*ctx_, "raster");
   std::vector<engine::Binding> bind = {
       S4D_BIND(RASTER_RANGES, ranges_),      S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_),
@@ -287,10 +294,9 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
 std::optional<RenderStats> Rasterizer::finish_forward() {
   if (!pending_) throw std::logic_error("rasterizer: finish_forward() without a recorded forward");
   pending_ = false;
-  // totals = (instances mod 2^32, carries, largest rectangle); without carries the first is the
-  // scan's total, offsets[n].
-  uint32_t totals[3] = {0, 0, 0};
-  ctx_->download(totals_, totals, sizeof(totals));
+  Readback back;
+  std::memcpy(&back, readback_.mapped(), sizeof back);
+  const uint32_t* totals = back.totals;
   if (totals[1] != 0)
     throw std::invalid_argument("rasterizer: the Gaussians cover more than 2^32 tile instances in this view; lower the "
                                 "resolution or the number or size of the Gaussians");
@@ -305,8 +311,7 @@ std::optional<RenderStats> Rasterizer::finish_forward() {
     ++overflows_;
     return std::nullopt;
   }
-  RenderStats stats{.instances = instances, .longest_tile_list = 0};
-  ctx_->download(list_stats_, &stats.longest_tile_list, 4);
+  const RenderStats stats{.instances = instances, .longest_tile_list = back.longest};
   check_list_length(ctx_->info(), stats.longest_tile_list, style_last_, false, "blend");
   longest_last_ = stats.longest_tile_list;
   have_forward_ = true;

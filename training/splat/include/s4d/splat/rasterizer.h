@@ -112,8 +112,9 @@ class Rasterizer {
   // compute them earlier in the same command buffer, followed by a barrier).
   void record_forward(engine::Recorder& rec, const GaussianParams& g, const Camera& cam,
                       const std::array<float, 3>& background);
-  // After the recorded forward ran: its stats, or nullopt when the tile instances overflowed the
-  // buffers (grown now: record the frame again). Throws as forward() does.
+  // After the recorded forward's submission completed (Context::wait): its stats, read from
+  // host-visible memory the frame wrote (no device work), or nullopt when the tile instances
+  // overflowed the buffers (grown now: record the frame again). Throws as forward() does.
   std::optional<RenderStats> finish_forward();
   // Frames recorded again because the instance buffers overflowed, and their capacity.
   uint32_t overflows() const { return overflows_; }
@@ -177,6 +178,13 @@ class Rasterizer {
   engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
   engine::Buffer grad2d_, scan_scratch_, list_stats_, totals_;
   engine::Buffer args_;  // gpu::InstanceArgs of the last recorded forward
+  // Copied at the end of each forward for finish_forward: count_tiles' totals (instances mod 2^32,
+  // carries, largest rectangle) and the longest tile list.
+  struct Readback {
+    uint32_t totals[3];
+    uint32_t longest;
+  };
+  engine::Buffer readback_;  // staging, one Readback
   engine::Buffer quadric_;  // style MLP inputs, [N*S4D_STYLE_QUADRIC_STRIDE]; allocated on first use
   uint32_t quadric_capacity_ = 0;
   primitives::RadixSortScratch depth_sort_, tile_sort_;
