@@ -328,6 +328,13 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
 }
 
 void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out) {
+  engine::Recorder rec(*ctx_, name_ + " backward");
+  record_backward(rec, g, v, out);
+  ctx_->run(std::move(rec));
+}
+
+void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g, const ImageCotangents& v,
+                                 const GaussianGrads& out) {
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
   check_params(g);
   if (g.count != count_last_ || (g.colors != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
@@ -356,7 +363,6 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
   engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
 
-  engine::Recorder rec(*ctx_, name_ + " backward");
   const engine::StageScope stage(*ctx_, "backward");
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
   if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
@@ -387,7 +393,6 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
                 S4D_BIND(PBWD_V_QUATS, *out.v_quats), S4D_BIND(PBWD_V_OPACITY_LOGITS, *out.v_opacity_logits),
                 S4D_BIND(PBWD_V_SH, out.v_sh ? *out.v_sh : v_colors), S4D_BIND(PBWD_V_COLORS, v_colors)},
                pp, ceil_div(n, S4D_SPLAT_WG));
-  ctx_->run(std::move(rec));
 }
 
 }  // namespace s4d::splat

@@ -122,6 +122,10 @@ class Rasterizer {
 
   // Backward of the last forward(), which must have used the same `g`. Waits.
   void backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out);
+  // The same recorded into `rec` (after a barrier() behind whatever wrote the cotangents); the
+  // gradients hold once `rec` has run.
+  void record_backward(engine::Recorder& rec, const GaussianParams& g, const ImageCotangents& v,
+                       const GaussianGrads& out);
 
   // Outputs of the last forward, row-major [H, W(, 3)].
   const engine::Buffer& rgb() const { return rgb_; }              // float [H*W*3]
