@@ -71,7 +71,9 @@ struct Scene {
   deform::CanonicalGaussians canonical() const {
     return {{{&means, &log_scales, &quats, &opacity, &sh}}, n, still_count, sh_coeffs};
   }
-  splat::GaussianBuffers<engine::Buffer> deformed() { return {{&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}}; }
+  splat::GaussianBuffers<engine::Buffer> deformed() {
+    return {{&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}};
+  }
   splat::GaussianGrads grads() { return {{&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}}; }
 };
 

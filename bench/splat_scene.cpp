@@ -74,7 +74,8 @@ splat::Camera to_gpu_camera(const ref::Camera<float>& cam) {
 }
 
 DeviceScene::DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g) {
-  const std::vector<float>* host[splat::kCloudAttrCount] = {&g.means, &g.log_scales, &g.quats, &g.opacity_logits, &g.sh};
+  const std::vector<float>* host[splat::kCloudAttrCount] = {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
+                                                            &g.sh};
   params = {.count = static_cast<uint32_t>(g.size()),
             .sh_degree = static_cast<uint32_t>(g.sh_degree),
             .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};

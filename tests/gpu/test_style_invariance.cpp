@@ -151,6 +151,7 @@ TEST_CASE("bad style inputs are refused with a clear message") {
   splat::StyleMlp nan_time = style.desc;
   nan_time.time = std::nanf("");
   p.style = &nan_time;
+  p[splat::Attr::style_mlp] = &style.weights;
   CHECK_THROWS_WITH_AS(r.forward(p, cam, kBg), doctest::Contains("finite"), std::invalid_argument);
 
   // The backward must see the forward's settings and a gradient buffer for the weights.

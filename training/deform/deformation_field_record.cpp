@@ -57,7 +57,8 @@ void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
     throw std::invalid_argument(name_ + ": the sh head needs sh_coeffs = 16, got " + std::to_string(g.sh_coeffs));
   require(g[Attr::means], "means", n * 12, name_);
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
-    if (gpu::deform_head_on(shape_, h)) require(g[splat::kCloudAttrs[h]], head_name(h), n * head_floats(h, g.sh_coeffs) * 4, name_);
+    if (gpu::deform_head_on(shape_, h))
+      require(g[splat::kCloudAttrs[h]], head_name(h), n * head_floats(h, g.sh_coeffs) * 4, name_);
   if (g.still_count > g.count)
     throw std::invalid_argument(name_ + ": " + std::to_string(g.still_count) + " still Gaussians of " +
                                 std::to_string(g.count));
@@ -114,7 +115,8 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
   check_gaussians(g);
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
-      require(out[splat::kCloudAttrs[h]], (std::string("deformed ") + head_name(h)).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+      require(out[splat::kCloudAttrs[h]], (std::string("deformed ") + head_name(h)).c_str(),
+              size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const uint32_t moving = g.count - g.still_count, rows = scratch_rows();
   rec.begin_label(name_ + " deform forward");
   for (uint32_t first = 0; first < moving; first += rows) {
@@ -142,7 +144,8 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
   require(v[Attr::means], "v_means", size_t{g.count} * 12, name_);
   for (uint32_t h = 1; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
-      require(v[splat::kCloudAttrs[h]], (std::string("v_") + head_name(h)).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+      require(v[splat::kCloudAttrs[h]], (std::string("v_") + head_name(h)).c_str(),
+              size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
   const uint32_t moving = g.count - g.still_count;

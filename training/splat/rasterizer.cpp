@@ -199,8 +199,9 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
     std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
     rec.dispatch(
         shader_pipeline(*ctx_, shaders::Id::project_fwd),
-        {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]), S4D_BIND(PROJ_QUATS, *g[Attr::quats]),
-         S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]), S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
+        {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]),
+         S4D_BIND(PROJ_QUATS, *g[Attr::quats]), S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]),
+         S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
          S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
          S4D_BIND(PROJ_COLOR_DEPTH, color_depth_), S4D_BIND(PROJ_INFO, info_), S4D_BIND(PROJ_DEPTH_KEYS, depth_keys_),
          S4D_BIND(PROJ_TILES_TOUCHED, tiles_touched_)},

@@ -98,7 +98,8 @@ class DeformationField {
   // deform_fwd), deform_bwd's layer sets back to the features, then deform_feat_bwd and
   // deform_wgrad, with barriers before, between and after them; still Gaussians' cotangents are
   // left as they are (dL/d canonical = dL/d deformed).
-  void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const splat::GaussianGrads& v) const;
+  void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
+                       const splat::GaussianGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
   void record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const;
   // R of the last recorded record_regularisers, after its submission completed (waits, downloads).

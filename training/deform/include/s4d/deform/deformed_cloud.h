@@ -4,7 +4,6 @@
 // (stage 2's steps, its evaluation, the motion split) and scene::DeformedScene (renders, the viewer,
 // export, stage 4) both call it, so what a run renders is what its trainer evaluated.
 #pragma once
-#include <array>
 #include <cstdint>
 
 #include "s4d/deform/deformation_field.h"

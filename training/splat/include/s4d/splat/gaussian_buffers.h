@@ -25,10 +25,15 @@ inline constexpr uint32_t kAttrCount = 7;
 inline constexpr uint32_t kCloudAttrCount = 5;
 inline constexpr std::array<Attr, kCloudAttrCount> kCloudAttrs = {Attr::means, Attr::log_scales, Attr::quats,
                                                                   Attr::opacity_logits, Attr::sh};
-inline constexpr std::array<Attr, kAttrCount> kAttrs = {Attr::means, Attr::log_scales, Attr::quats, Attr::opacity_logits,
-                                                        Attr::sh,    Attr::colors,     Attr::style_mlp};
 
 constexpr uint32_t index(Attr a) { return static_cast<uint32_t>(a); }
+
+// PerAttr<T, kCloudAttrCount> relies on it: the cloud's attributes are the first ones, in order.
+static_assert([] {
+  for (uint32_t i = 0; i < kCloudAttrCount; ++i)
+    if (index(kCloudAttrs[i]) != i) return false;
+  return true;
+}());
 
 // The attribute's name in buffer names, checkpoints and errors ("means", "opacity_logits", ...).
 constexpr const char* attr_name(Attr a) {
