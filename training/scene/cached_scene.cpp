@@ -14,22 +14,19 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     if (cache_.count(t)) continue;
     const splat::GaussianParams g = base_->at(t, unused);
     const size_t n = g.count;
-    const size_t bytes = n * (3 + 3 + 4 + 1 + size_t{g.sh_coeffs} * 3) * 4;
+    size_t bytes = 0;
+    for (splat::Attr a : splat::kCloudAttrs) bytes += n * splat::attr_floats(a, g.sh_coeffs) * 4;
     if (used + bytes > max_bytes) break;
     used += bytes;
     Copy& c = cache_[t];  // map nodes stay put, so params may point into c
     engine::Recorder rec(ctx, "cache scene");
-    auto copy = [&](const engine::Buffer* src, engine::Buffer& dst, size_t floats, const char* what) {
-      dst = engine::Buffer(ctx, std::string("cached ") + what, floats * 4);
-      rec.copy(*src, dst, floats * 4);
-      return &dst;
-    };
     c.params = g;
-    c.params.means = copy(g.means, c.means, n * 3, "means");
-    c.params.log_scales = copy(g.log_scales, c.log_scales, n * 3, "log scales");
-    c.params.quats = copy(g.quats, c.quats, n * 4, "quats");
-    c.params.opacity_logits = copy(g.opacity_logits, c.opacity_logits, n, "opacity");
-    c.params.sh = copy(g.sh, c.sh, n * g.sh_coeffs * 3, "sh");
+    for (splat::Attr a : splat::kCloudAttrs) {
+      const size_t floats = n * splat::attr_floats(a, g.sh_coeffs);
+      c.buffers[a] = engine::Buffer(ctx, std::string("cached ") + splat::attr_name(a), floats * 4);
+      rec.copy(*g[a], c.buffers[a], floats * 4);
+      c.params[a] = &c.buffers[a];
+    }
     ctx.run(std::move(rec));
   }
 }
