@@ -69,10 +69,12 @@ struct Scene {
   uint32_t n = 0, still_count = 0, sh_coeffs = 1;
 
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, n, still_count, sh_coeffs};
+    return {{{&means, &log_scales, &quats, &opacity, &sh}}, n, still_count, sh_coeffs};
   }
-  deform::DeformedGaussians deformed() { return {&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}; }
-  deform::DeformedGrads grads() { return {&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}; }
+  splat::GaussianBuffers<engine::Buffer> deformed() {
+    return {{&out_means, &out_log_scales, &out_quats, &out_opacity, &out_sh}};
+  }
+  splat::GaussianGrads grads() { return {{&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}}; }
 };
 
 Scene make_scene(engine::Context& ctx, const deform::FieldConfig& c, uint32_t n, unsigned seed) {

@@ -25,18 +25,13 @@ constexpr std::array<float, 3> kBackground = {0.25f, 0.5f, 0.75f};
 
 // Gradient outputs and a random RGB cotangent (an RGB-only loss, as in training).
 struct DeviceGrads {
-  engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_rgb;
+  splat::PerAttr<engine::Buffer, splat::kCloudAttrCount> grads;
+  engine::Buffer v_rgb;
 
   DeviceGrads(engine::Context& ctx, const splat::GaussianParams& p, size_t pixels, uint32_t seed) {
-    const size_t n = p.count;
-    auto make = [&](const char* what, size_t floats) {
-      return engine::Buffer(ctx, std::string("bench ") + what, floats * 4);
-    };
-    v_means = make("v_means", 3 * n);
-    v_log_scales = make("v_log_scales", 3 * n);
-    v_quats = make("v_quats", 4 * n);
-    v_opacity_logits = make("v_opacity_logits", n);
-    v_sh = make("v_sh", 3 * n * p.sh_coeffs);
+    for (splat::Attr a : splat::kCloudAttrs)
+      grads[a] = engine::Buffer(ctx, std::string("bench v_") + splat::attr_name(a),
+                                size_t{p.count} * splat::attr_floats(a, p.sh_coeffs) * 4);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-1, 1);
     std::vector<float> v(3 * pixels);
@@ -44,15 +39,14 @@ struct DeviceGrads {
     v_rgb = engine::buffer_from(ctx, "bench v_rgb", v);
   }
   splat::GaussianGrads out() {
-    return {.v_means = &v_means,
-            .v_log_scales = &v_log_scales,
-            .v_quats = &v_quats,
-            .v_opacity_logits = &v_opacity_logits,
-            .v_sh = &v_sh};
+    splat::GaussianGrads g;
+    for (splat::Attr a : splat::kCloudAttrs) g[a] = &grads[a];
+    return g;
   }
   size_t bytes() const {
-    return v_means.size() + v_log_scales.size() + v_quats.size() + v_opacity_logits.size() + v_sh.size() +
-           v_rgb.size();
+    size_t total = v_rgb.size();
+    for (const engine::Buffer& b : grads.items) total += b.size();
+    return total;
   }
 };
 

@@ -73,20 +73,22 @@ splat::Camera to_gpu_camera(const ref::Camera<float>& cam) {
   return c;
 }
 
-DeviceScene::DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g)
-    : means(engine::buffer_from(ctx, "bench means", g.means)),
-      log_scales(engine::buffer_from(ctx, "bench log_scales", g.log_scales)),
-      quats(engine::buffer_from(ctx, "bench quats", g.quats)),
-      opacity_logits(engine::buffer_from(ctx, "bench opacity_logits", g.opacity_logits)),
-      sh(engine::buffer_from(ctx, "bench sh", g.sh)) {
-  params = {.means = &means,
-            .log_scales = &log_scales,
-            .quats = &quats,
-            .opacity_logits = &opacity_logits,
-            .sh = &sh,
-            .count = static_cast<uint32_t>(g.size()),
+DeviceScene::DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g) {
+  const std::vector<float>* host[splat::kCloudAttrCount] = {&g.means, &g.log_scales, &g.quats, &g.opacity_logits,
+                                                            &g.sh};
+  params = {.count = static_cast<uint32_t>(g.size()),
             .sh_degree = static_cast<uint32_t>(g.sh_degree),
             .sh_coeffs = static_cast<uint32_t>(g.sh_coeffs())};
+  for (splat::Attr a : splat::kCloudAttrs) {
+    buffers[a] = engine::buffer_from(ctx, std::string("bench ") + splat::attr_name(a), *host[splat::index(a)]);
+    params[a] = &buffers[a];
+  }
+}
+
+size_t DeviceScene::bytes() const {
+  size_t total = 0;
+  for (const engine::Buffer& b : buffers.items) total += b.size();
+  return total;
 }
 
 }  // namespace s4d::bench

@@ -42,13 +42,13 @@ splat::Camera to_gpu_camera(const ref::Camera<float>& cam);
 // A scene's parameters on the device, and the rasterizer's view of them (`params` points into this
 // object, so it neither copies nor moves).
 struct DeviceScene {
-  engine::Buffer means, log_scales, quats, opacity_logits, sh;
+  splat::PerAttr<engine::Buffer, splat::kCloudAttrCount> buffers;
   splat::GaussianParams params;
 
   DeviceScene(engine::Context& ctx, const ref::Gaussians<float>& g);
   DeviceScene(const DeviceScene&) = delete;
   DeviceScene& operator=(const DeviceScene&) = delete;
-  size_t bytes() const { return means.size() + log_scales.size() + quats.size() + opacity_logits.size() + sh.size(); }
+  size_t bytes() const;
 };
 
 }  // namespace s4d::bench

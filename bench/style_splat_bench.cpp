@@ -97,39 +97,34 @@ double ms_since(std::chrono::steady_clock::time_point t) {
 struct Device {
   bench::DeviceScene scene;
   engine::Buffer weights;
-  engine::Buffer v_means, v_log_scales, v_quats, v_opacity_logits, v_sh, v_weights, v_rgb;
+  splat::PerAttr<engine::Buffer> v_attrs;  // gradients of the cloud's attributes and style_mlp
+  engine::Buffer v_rgb;
   splat::StyleMlp style;
   splat::GaussianParams plain, styled;
   splat::GaussianGrads grads;
 
   Device(engine::Context& ctx, const ref::Gaussians<float>& g, const ref::StyleMlp<float>& mlp, size_t pixels)
       : scene(ctx, g),
-        weights(engine::buffer_from(ctx, "style weights", mlp.weights)),
-        v_means(ctx, "v_means", g.means.size() * 4),
-        v_log_scales(ctx, "v_log_scales", g.log_scales.size() * 4),
-        v_quats(ctx, "v_quats", g.quats.size() * 4),
-        v_opacity_logits(ctx, "v_opacity_logits", g.opacity_logits.size() * 4),
-        v_sh(ctx, "v_sh", g.sh.size() * 4),
-        v_weights(ctx, "v_style_mlp", mlp.weights.size() * 4) {
+        weights(engine::buffer_from(ctx, "style weights", mlp.weights)) {
+    for (splat::Attr a : {splat::Attr::means, splat::Attr::log_scales, splat::Attr::quats, splat::Attr::opacity_logits,
+                          splat::Attr::sh, splat::Attr::style_mlp}) {
+      v_attrs[a] = engine::Buffer(ctx, std::string("v_") + splat::attr_name(a),
+                            g.size() * splat::attr_floats(a, static_cast<uint32_t>(g.sh_coeffs())) * 4);
+      grads[a] = &v_attrs[a];
+    }
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-1, 1);
     std::vector<float> v(3 * pixels);
     for (float& x : v) x = u(rng);
     v_rgb = engine::buffer_from(ctx, "v_rgb", v);
-    style = {.weights = &weights,
-             .time = mlp.time,
+    style = {.time = mlp.time,
              .depth = static_cast<splat::StyleDepth>(mlp.depth),
              .depth_scale = mlp.depth_scale,
              .input_sigmoid = mlp.input_sigmoid};
     plain = scene.params;
     styled = plain;
     styled.style = &style;
-    grads = {.v_means = &v_means,
-             .v_log_scales = &v_log_scales,
-             .v_quats = &v_quats,
-             .v_opacity_logits = &v_opacity_logits,
-             .v_sh = &v_sh,
-             .v_style_mlp = &v_weights};
+    styled[splat::Attr::style_mlp] = &weights;
   }
 };
 

@@ -46,6 +46,14 @@
 
 // Binding ids. Per-Gaussian arrays are flat floats: means/log_scales/colors [N*3], quats [N*4] (w,x,y,z),
 // opacity_logits [N], sh [N*K*3] coefficient-major.
+// Floats per Gaussian of those arrays; the host's attribute table (s4d/splat/gaussian_buffers.h) is
+// built from these. sh holds K coefficients of 3 channels each.
+#define S4D_MEANS_FLOATS 3
+#define S4D_LOG_SCALES_FLOATS 3
+#define S4D_QUATS_FLOATS 4
+#define S4D_OPACITY_LOGITS_FLOATS 1
+#define S4D_SH_FLOATS_PER_COEFF 3
+#define S4D_COLORS_FLOATS 3
 #define S4D_B_PROJ_MEANS 0
 #define S4D_B_PROJ_LOG_SCALES 1
 #define S4D_B_PROJ_QUATS 2

@@ -28,21 +28,11 @@ DeviceScene::DeviceScene(engine::Context& ctx, const Scene& g)
       v_sh(zeros(ctx, "v_sh", g.sh.size())),
       v_colors(zeros(ctx, "v_colors", g.colors.size())) {
   const bool use_colors = !g.colors.empty();
-  params = {.means = &means,
-            .log_scales = &log_scales,
-            .quats = &quats,
-            .opacity_logits = &opacity_logits,
-            .sh = &sh,
-            .colors = use_colors ? &colors : nullptr,
+  params = {.buffers = {{&means, &log_scales, &quats, &opacity_logits, &sh, use_colors ? &colors : nullptr}},
             .count = static_cast<uint32_t>(g.size()),
             .sh_degree = static_cast<uint32_t>(g.sh_degree),
             .sh_coeffs = static_cast<uint32_t>(std::max<size_t>(1, g.sh_coeffs()))};
-  grads = {.v_means = &v_means,
-           .v_log_scales = &v_log_scales,
-           .v_quats = &v_quats,
-           .v_opacity_logits = &v_opacity_logits,
-           .v_sh = &v_sh,
-           .v_colors = use_colors ? &v_colors : nullptr};
+  grads = {{&v_means, &v_log_scales, &v_quats, &v_opacity_logits, &v_sh, use_colors ? &v_colors : nullptr}};
 }
 
 splat::Camera gpu_camera(const Cam& cam) {
@@ -109,7 +99,7 @@ GpuBackward gpu_backward(splat::Rasterizer& r, DeviceScene& s, const ref::ImageG
   g.v_log_scales = ctx.download<float>(s.v_log_scales, 3 * n);
   g.v_quats = ctx.download<float>(s.v_quats, 4 * n);
   g.v_opacity_logits = ctx.download<float>(s.v_opacity_logits, n);
-  if (s.params.colors) g.v_colors = ctx.download<float>(s.v_colors, 3 * n);
+  if (s.params[splat::Attr::colors]) g.v_colors = ctx.download<float>(s.v_colors, 3 * n);
   else g.v_sh = ctx.download<float>(s.v_sh, 3 * n * s.params.sh_coeffs);
   const auto g2 = ctx.download<float>(r.grad2d(), S4D_G2D_STRIDE * n);
   out.grad2d = ref::ProjectedGrads<float>(n);

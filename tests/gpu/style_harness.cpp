@@ -13,8 +13,7 @@ namespace s4d::test {
 DeviceStyle::DeviceStyle(engine::Context& ctx, const ref::StyleMlp<float>& mlp)
     : weights(engine::buffer_from(ctx, "style weights", mlp.weights)),
       v_mlp(engine::buffer_from(ctx, "v_style_mlp", std::vector<float>(mlp.weights.size(), 0.0f))) {
-  desc = {.weights = &weights,
-          .time = mlp.time,
+  desc = {.time = mlp.time,
           .depth = static_cast<splat::StyleDepth>(mlp.depth),
           .depth_scale = mlp.depth_scale,
           .input_sigmoid = mlp.input_sigmoid};

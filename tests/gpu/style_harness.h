@@ -19,7 +19,8 @@ struct DeviceStyle {
   DeviceStyle& operator=(const DeviceStyle&) = delete;
   void attach(DeviceScene& scene) {
     scene.params.style = &desc;
-    scene.grads.v_style_mlp = &v_mlp;
+    scene.params[splat::Attr::style_mlp] = &weights;
+    scene.grads[splat::Attr::style_mlp] = &v_mlp;
   }
   std::vector<float> download_v_mlp(engine::Context& ctx) const;
 };

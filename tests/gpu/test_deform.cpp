@@ -56,7 +56,7 @@ struct Scene {
   std::vector<uint32_t> order;  // Gaussian order[j] as drawn is at j
   engine::Buffer means, log_scales, quats, opacity, sh;
   deform::CanonicalGaussians canonical() const {
-    return {&means, &log_scales, &quats, &opacity, &sh, kN, still_count, S4D_DEFORM_SH_COEFFS};
+    return {{{&means, &log_scales, &quats, &opacity, &sh}}, kN, still_count, S4D_DEFORM_SH_COEFFS};
   }
 };
 
@@ -124,7 +124,7 @@ double max_rel(const std::vector<float>& gpu, const std::vector<double>& ref) {
 
 struct Deformed {
   engine::Buffer means, log_scales, quats, opacity, sh;
-  deform::DeformedGaussians view() { return {&means, &log_scales, &quats, &opacity, &sh}; }
+  splat::GaussianBuffers<engine::Buffer> view() { return {{&means, &log_scales, &quats, &opacity, &sh}}; }
 };
 
 Deformed run_forward(const Field& f, const Scene& s, float time = kTime) {
@@ -142,7 +142,7 @@ Deformed run_forward(const Field& f, const Scene& s, float time = kTime) {
 struct Cotangents {
   ref::DeformGaussians<float> host;
   engine::Buffer v_means, v_log_scales, v_quats, v_opacity, v_sh;
-  deform::DeformedGrads view() { return {&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}; }
+  splat::GaussianGrads view() { return {{&v_means, &v_log_scales, &v_quats, &v_opacity, &v_sh}}; }
 };
 
 Cotangents make_cotangents(unsigned seed) {
@@ -300,27 +300,26 @@ TEST_CASE("deform-to-time (DeformedCloud): the heads that are on come from the f
   c.heads = S4D_DEFORM_HEADS_DNERF;
   Field f = make_field(c, 7);
   Scene s = make_scene(c, 8, 4);  // every fourth Gaussian still: the field's copied tail
-  const splat::GaussianParams canonical{.means = &s.means, .log_scales = &s.log_scales, .quats = &s.quats,
-                                        .opacity_logits = &s.opacity, .sh = &s.sh, .count = kN, .sh_degree = 3,
-                                        .sh_coeffs = S4D_DEFORM_SH_COEFFS};
+  const splat::GaussianParams canonical{.buffers = {{&s.means, &s.log_scales, &s.quats, &s.opacity, &s.sh}},
+                                        .count = kN, .sh_degree = 3, .sh_coeffs = S4D_DEFORM_SH_COEFFS};
   engine::Context& ctx = test::context();
   deform::DeformedCloud cloud(ctx, c.heads, kN, S4D_DEFORM_SH_COEFFS);
-  CHECK(cloud.outputs().opacity_logits == nullptr);  // allocated for the heads that are on only
-  CHECK(cloud.outputs().sh == nullptr);
+  CHECK(cloud.outputs()[splat::Attr::opacity_logits] == nullptr);  // allocated for the heads that are on only
+  CHECK(cloud.outputs()[splat::Attr::sh] == nullptr);
   engine::Recorder rec(ctx, "deform to time");
   const splat::GaussianParams p = cloud.record(rec, f.gpu, canonical, s.still_count, kTime);
   ctx.run(std::move(rec));
-  CHECK(p.opacity_logits == &s.opacity);
-  CHECK(p.sh == &s.sh);
+  CHECK(p[splat::Attr::opacity_logits] == &s.opacity);
+  CHECK(p[splat::Attr::sh] == &s.sh);
   CHECK(p.sh_degree == 3);
-  REQUIRE(p.quats == cloud.outputs().quats);
+  REQUIRE(p[splat::Attr::quats] == cloud.outputs()[splat::Attr::quats]);
   engine::Buffer means(ctx, "out means", kN * 12), scales(ctx, "out log_scales", kN * 12), quats(ctx, "out quats", kN * 16);
   engine::Recorder direct(ctx, "deform forward");
-  f.gpu.record_forward(direct, s.canonical(), kTime, {&means, &scales, &quats, nullptr, nullptr});
+  f.gpu.record_forward(direct, s.canonical(), kTime, {{&means, &scales, &quats}});
   ctx.run(std::move(direct));
-  CHECK(ctx.download<float>(*p.means, 3 * kN) == ctx.download<float>(means, 3 * kN));  // the same kernels: bit for bit
-  CHECK(ctx.download<float>(*p.log_scales, 3 * kN) == ctx.download<float>(scales, 3 * kN));
-  CHECK(ctx.download<float>(*p.quats, 4 * kN) == ctx.download<float>(quats, 4 * kN));
+  CHECK(ctx.download<float>(*p[splat::Attr::means], 3 * kN) == ctx.download<float>(means, 3 * kN));  // the same kernels: bit for bit
+  CHECK(ctx.download<float>(*p[splat::Attr::log_scales], 3 * kN) == ctx.download<float>(scales, 3 * kN));
+  CHECK(ctx.download<float>(*p[splat::Attr::quats], 4 * kN) == ctx.download<float>(quats, 4 * kN));
 
   deform::DeformedCloud fewer(ctx, c.heads, kN - 1, S4D_DEFORM_SH_COEFFS);
   deform::DeformedCloud all_heads(ctx, S4D_DEFORM_HEADS_DYNERF, kN, S4D_DEFORM_SH_COEFFS);
@@ -371,9 +370,9 @@ TEST_CASE("rendering a run whose checkpoint marks still Gaussians anywhere (befo
   const std::vector<float> planes = f.gpu.download_planes(), mlp = f.gpu.download_mlp();
   engine::Context& ctx = test::context();
   scene::DeformedScene all(ctx, cloud, c, planes, mlp, {}, 3), old(ctx, cloud, c, planes, mlp, mask, 3);
-  const std::vector<float> means_all = ctx.download<float>(*all.at(kTime, {}).means, 3 * kN);
+  const std::vector<float> means_all = ctx.download<float>(*all.at(kTime, {})[splat::Attr::means], 3 * kN);
   const splat::GaussianParams p = old.at(kTime, {});
-  const std::vector<float> means = ctx.download<float>(*p.means, 3 * kN), sh = ctx.download<float>(*p.sh, 48 * kN);
+  const std::vector<float> means = ctx.download<float>(*p[splat::Attr::means], 3 * kN), sh = ctx.download<float>(*p[splat::Attr::sh], 48 * kN);
   for (uint32_t i = 0; i < kN; ++i) {  // the checkpoint's order, every value bit for bit
     const std::vector<float>& want = mask[i] ? s.host.means : means_all;
     for (int k = 0; k < 3; ++k) REQUIRE(means[3 * i + k] == want[3 * i + k]);
@@ -391,7 +390,7 @@ TEST_CASE("a deformed scene asked the same time again returns the same Gaussians
   cloud.opacity_logits = s.host.opacity_logits, cloud.sh = s.host.sh, cloud.sh_degree = 3;
   engine::Context& ctx = test::context();
   scene::DeformedScene scene(ctx, cloud, c, f.gpu.download_planes(), f.gpu.download_mlp(), {}, 3);
-  auto means_at = [&](double t) { return ctx.download<float>(*scene.at(t, {}).means, 3 * kN); };
+  auto means_at = [&](double t) { return ctx.download<float>(*scene.at(t, {})[splat::Attr::means], 3 * kN); };
   const std::vector<float> first = means_at(0.25), again = means_at(0.25), other = means_at(0.75), back = means_at(0.25);
   CHECK(again == first);
   CHECK(other != first);
@@ -431,8 +430,8 @@ TEST_CASE("deformation field errors name the field and the buffer") {
   g.sh_coeffs = 9;
   CHECK_THROWS_WITH_AS(f.gpu.record_forward(rec, g, kTime, d.view()), "test field: the sh head needs sh_coeffs = 16, got 9",
                        std::invalid_argument);
-  deform::DeformedGaussians out = d.view();
-  out.quats = &small;
+  splat::GaussianBuffers<engine::Buffer> out = d.view();
+  out[splat::Attr::quats] = &small;
   CHECK_THROWS_WITH_AS(f.gpu.record_forward(rec, s.canonical(), kTime, out),
                        "test field: buffer 'deformed quats' (small) holds 16 bytes, needs 4800", std::invalid_argument);
   CHECK_THROWS_AS(f.gpu.upload_mlp(std::vector<float>(3)), std::invalid_argument);

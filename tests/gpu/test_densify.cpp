@@ -26,7 +26,7 @@ ref::DensifyState to_ref(const model::HostState& h) {
   ref::DensifyState s;
   s.sh_width = static_cast<uint32_t>(h.cloud.sh_coeffs() * 3);
   s.param = {h.cloud.means, h.cloud.log_scales, h.cloud.quats, h.cloud.opacity_logits, h.cloud.sh};
-  for (int a = 0; a < S::kAttrs; ++a) s.m[a] = h.m[a], s.v[a] = h.v[a];
+  for (int a = 0; a < S::kAttrs; ++a) s.m[a] = h.m[splat::kCloudAttrs[a]], s.v[a] = h.v[splat::kCloudAttrs[a]];
   for (int k = 0; k < S::kStats; ++k) s.stat[k] = h.stats[k];
   return s;
 }
@@ -36,7 +36,7 @@ model::HostState to_host(const ref::DensifyState& s, int sh_degree) {
   h.cloud.sh_degree = sh_degree;
   h.cloud.means = s.param[S::kMeans], h.cloud.log_scales = s.param[S::kLogScales], h.cloud.quats = s.param[S::kQuats];
   h.cloud.opacity_logits = s.param[S::kOpacity], h.cloud.sh = s.param[S::kSh];
-  for (int a = 0; a < S::kAttrs; ++a) h.m[a] = s.m[a], h.v[a] = s.v[a];
+  for (int a = 0; a < S::kAttrs; ++a) h.m[splat::kCloudAttrs[a]] = s.m[a], h.v[splat::kCloudAttrs[a]] = s.v[a];
   for (int k = 0; k < S::kStats; ++k) h.stats[k] = s.stat[k];
   return h;
 }
@@ -102,11 +102,11 @@ Compared compare(const model::HostState& gpu, const ref::DensifyState& twin, con
         if (a == S::kMeans && child) {
           c.worst_child_mean = std::max(c.worst_child_mean, double{std::abs(g.param[a][x] - twin.param[a][x])});
         } else if (ref::float_bits(g.param[a][x]) != ref::float_bits(twin.param[a][x])) {
-          if (++mismatches <= 5) FAIL_CHECK(model::attr_name(model::Attr(a)) << "[" << x << "]: GPU " << g.param[a][x] << " twin " << twin.param[a][x]);
+          if (++mismatches <= 5) FAIL_CHECK(splat::attr_name(splat::kCloudAttrs[a]) << "[" << x << "]: GPU " << g.param[a][x] << " twin " << twin.param[a][x]);
         }
         // Adam moments: bit-exact; zero for copies and children, the source's for originals.
         if (ref::float_bits(g.m[a][x]) != ref::float_bits(twin.m[a][x]) || ref::float_bits(g.v[a][x]) != ref::float_bits(twin.v[a][x]))
-          if (++mismatches <= 5) FAIL_CHECK(model::attr_name(model::Attr(a)) << " moments [" << x << "] differ");
+          if (++mismatches <= 5) FAIL_CHECK(splat::attr_name(splat::kCloudAttrs[a]) << " moments [" << x << "] differ");
         if (kind != S4D_DENSIFY_SLOT_ORIGINAL && (g.m[a][x] != 0 || g.v[a][x] != 0))
           if (++mismatches <= 5) FAIL_CHECK("new entry " << j << " has non-zero Adam moments");
       }
@@ -259,11 +259,11 @@ TEST_CASE("densify keeps the Adam moments of surviving Gaussians and zeroes thos
   const size_t source[6] = {0, 1, 1, 2, 2, 3};
   const bool fresh[6] = {false, false, true, true, true, false};
   for (size_t j = 0; j < 6; ++j)
-    for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-      const uint32_t w = g.width(model::Attr(a));
+    for (splat::Attr a : splat::kCloudAttrs) {
+      const uint32_t w = g.width(a);
       for (uint32_t e = 0; e < w; ++e) {
-        CHECK(out.m[a][j * w + e] == (fresh[j] ? 0.0f : in.m[a][source[j] * w + e]));
-        CHECK(out.v[a][j * w + e] == (fresh[j] ? 0.0f : in.v[a][source[j] * w + e]));
+        CHECK(out.m[a][j * w + e] == (fresh[j] ? 0.0f : in.m[splat::index(a)][source[j] * w + e]));
+        CHECK(out.v[a][j * w + e] == (fresh[j] ? 0.0f : in.v[splat::index(a)][source[j] * w + e]));
       }
     }
 }

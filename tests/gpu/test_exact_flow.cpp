@@ -87,7 +87,7 @@ TEST_CASE("flow_project and flow_displace match their CPU twins, including means
   s4d::engine::Buffer dev_means = s4d::engine::buffer_from(ctx, "means", means);
   s4d::engine::Buffer sa(ctx, "screen a", n * 12), sb(ctx, "screen b", n * 12), colors(ctx, "colors", n * 12);
   s4d::splat::GaussianParams g;
-  g.means = &dev_means;
+  g[s4d::splat::Attr::means] = &dev_means;
   g.count = static_cast<uint32_t>(n);
   s4d::splat::project_means(ctx, g, s4d::test::gpu_camera(a), sa);
   s4d::splat::project_means(ctx, g, s4d::test::gpu_camera(b), sb);

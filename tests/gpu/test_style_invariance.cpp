@@ -140,18 +140,18 @@ TEST_CASE("bad style inputs are refused with a clear message") {
   test::DeviceStyle style(test::context(), mlp);
   splat::Rasterizer r(test::context());
 
-  splat::StyleMlp missing = style.desc;
-  missing.weights = nullptr;
   splat::GaussianParams p = dev.params;
-  p.style = &missing;
-  CHECK_THROWS_WITH_AS(r.forward(p, cam, kBg), doctest::Contains("style MLP weights"), std::invalid_argument);
+  p.style = &style.desc;  // no weights buffer
+  CHECK_THROWS_WITH_AS(r.forward(p, cam, kBg), doctest::Contains("style_mlp buffer is missing"), std::invalid_argument);
   mlp.weights.resize(ref::kStyleMlpStride * (g.size() - 1));
   test::DeviceStyle short_weights(test::context(), mlp);
   p.style = &short_weights.desc;
+  p[splat::Attr::style_mlp] = &short_weights.weights;
   CHECK_THROWS_WITH_AS(r.forward(p, cam, kBg), doctest::Contains("'style weights'"), std::invalid_argument);
   splat::StyleMlp nan_time = style.desc;
   nan_time.time = std::nanf("");
   p.style = &nan_time;
+  p[splat::Attr::style_mlp] = &style.weights;
   CHECK_THROWS_WITH_AS(r.forward(p, cam, kBg), doctest::Contains("finite"), std::invalid_argument);
 
   // The backward must see the forward's settings and a gradient buffer for the weights.
@@ -159,7 +159,7 @@ TEST_CASE("bad style inputs are refused with a clear message") {
   r.forward(dev.params, cam, kBg);
   engine::Buffer v(test::context(), "v_rgb", 3 * 32 * 32 * 4);
   splat::GaussianGrads grads = dev.grads;
-  grads.v_style_mlp = nullptr;
+  grads[splat::Attr::style_mlp] = nullptr;
   CHECK_THROWS_WITH_AS(r.backward(dev.params, {.v_rgb = &v}, grads), doctest::Contains("v_style_mlp"),
                        std::invalid_argument);
   splat::StyleMlp later = style.desc;

@@ -21,8 +21,10 @@ inline model::HostState small_state(size_t n, int degree, unsigned seed) {
   };
   fill(s.cloud.means, n * 3), fill(s.cloud.log_scales, n * 3), fill(s.cloud.quats, n * 4), fill(s.cloud.opacity_logits, n);
   fill(s.cloud.sh, n * k * 3);
-  const size_t widths[] = {3, 3, 4, 1, k * 3};
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) fill(s.m[a], n * widths[a]), fill(s.v[a], n * widths[a]);
+  for (splat::Attr a : splat::kCloudAttrs) {
+    const size_t width = splat::attr_floats(a, static_cast<uint32_t>(k));
+    fill(s.m[a], n * width), fill(s.v[a], n * width);
+  }
   for (auto& st : s.stats) fill(st, n);
   return s;
 }

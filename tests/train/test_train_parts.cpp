@@ -78,13 +78,13 @@ TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, trunc
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
   CHECK(back.state.cloud.sh == cp.state.cloud.sh);
-  CHECK(back.state.m[model::kSh] == cp.state.m[model::kSh]);
-  CHECK(back.state.v[model::kQuats] == cp.state.v[model::kQuats]);
+  CHECK(back.state.m[splat::Attr::sh] == cp.state.m[splat::Attr::sh]);
+  CHECK(back.state.v[splat::Attr::quats] == cp.state.v[splat::Attr::quats]);
   CHECK(back.state.stats[model::kMaxRadius] == cp.state.stats[model::kMaxRadius]);
   CHECK(back.extra == cp.extra);
 
   run::Checkpoint bad = cp;
-  bad.state.m[model::kOpacity][7] = NAN;
+  bad.state.m[splat::Attr::opacity_logits][7] = NAN;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "a.s4dckpt", bad), doctest::Contains("opacity_logits.adam_m"),
                        std::invalid_argument);
   CHECK(run::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
@@ -150,7 +150,6 @@ TEST_CASE("the motion split puts still Gaussians last, stably, and moves every p
   auto row = [](const std::vector<float>& v, size_t width, size_t i) {
     return std::vector<float>(v.begin() + i * width, v.begin() + (i + 1) * width);
   };
-  const size_t widths[] = {3, 3, 4, 1, 12};
   for (size_t j = 0; j < mask.size(); ++j) {
     const size_t i = split.order[j];
     CHECK(row(g.cloud.means, 3, j) == row(s.cloud.means, 3, i));
@@ -158,9 +157,9 @@ TEST_CASE("the motion split puts still Gaussians last, stably, and moves every p
     CHECK(row(g.cloud.quats, 4, j) == row(s.cloud.quats, 4, i));
     CHECK(row(g.cloud.opacity_logits, 1, j) == row(s.cloud.opacity_logits, 1, i));
     CHECK(row(g.cloud.sh, 12, j) == row(s.cloud.sh, 12, i));
-    for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-      CHECK(row(g.m[a], widths[a], j) == row(s.m[a], widths[a], i));
-      CHECK(row(g.v[a], widths[a], j) == row(s.v[a], widths[a], i));
+    for (splat::Attr a : splat::kCloudAttrs) {
+      CHECK(row(g.m[a], splat::attr_floats(a, 4), j) == row(s.m[a], splat::attr_floats(a, 4), i));
+      CHECK(row(g.v[a], splat::attr_floats(a, 4), j) == row(s.v[a], splat::attr_floats(a, 4), i));
     }
     for (uint32_t k = 0; k < model::kStatCount; ++k) CHECK(g.stats[k][j] == s.stats[k][i]);
   }

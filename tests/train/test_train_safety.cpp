@@ -100,7 +100,7 @@ TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refuse
     offset += bytes;
   }
   CHECK(offset == file.size());
-  CHECK(checked == 5 + 2 * model::kAttrCount + model::kStatCount + 2);  // every non-empty array, the field's too
+  CHECK(checked == 5 + 2 * splat::kCloudAttrCount + model::kStatCount + 2);  // every non-empty array, the field's too
   // The header: a bit of its JSON, or of its stored checksum.
   const std::string header_error = bad.string() + ": header: checksum mismatch";
   for (size_t at : {size_t{24}, size_t{24} + l.header_len / 2, size_t{24} + l.header_len - 1, size_t{16}, size_t{23}}) {
@@ -148,7 +148,7 @@ TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
   const run::Checkpoint back = run::read_checkpoint(dir / "v1.s4dckpt");
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
-  CHECK(back.state.v[model::kSh] == cp.state.v[model::kSh]);
+  CHECK(back.state.v[splat::Attr::sh] == cp.state.v[splat::Attr::sh]);
   CHECK(back.extra == cp.extra);
 }
 

@@ -42,10 +42,12 @@ void require(const engine::Buffer* b, const char* what, size_t bytes, const std:
                                 " bytes, needs " + std::to_string(bytes));
 }
 
-// Floats per Gaussian of head h's parameter.
-size_t head_floats(uint32_t h, uint32_t sh_coeffs) { return h == 4 ? 3 * size_t{sh_coeffs} : gpu::deform_head_out(h); }
+using splat::Attr;
 
-const char* const kHeadNames[S4D_DEFORM_HEADS] = {"means", "log_scales", "quats", "opacity_logits", "sh"};
+// Floats per Gaussian of head h's parameter.
+size_t head_floats(uint32_t h, uint32_t sh_coeffs) { return splat::attr_floats(splat::kCloudAttrs[h], sh_coeffs); }
+
+const char* head_name(uint32_t h) { return splat::attr_name(splat::kCloudAttrs[h]); }
 
 }  // namespace
 
@@ -53,10 +55,10 @@ void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
   const size_t n = g.count;
   if (gpu::deform_head_on(shape_, 4) && g.sh_coeffs != S4D_DEFORM_SH_COEFFS)
     throw std::invalid_argument(name_ + ": the sh head needs sh_coeffs = 16, got " + std::to_string(g.sh_coeffs));
-  require(g.means, "means", n * 12, name_);
-  const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
+  require(g[Attr::means], "means", n * 12, name_);
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
-    if (gpu::deform_head_on(shape_, h)) require(inputs[h], kHeadNames[h], n * head_floats(h, g.sh_coeffs) * 4, name_);
+    if (gpu::deform_head_on(shape_, h))
+      require(g[splat::kCloudAttrs[h]], head_name(h), n * head_floats(h, g.sh_coeffs) * 4, name_);
   if (g.still_count > g.count)
     throw std::invalid_argument(name_ + ": " + std::to_string(g.still_count) + " still Gaussians of " +
                                 std::to_string(g.count));
@@ -84,8 +86,9 @@ uint32_t DeformationField::heads_on() const { return (gpu::deform_layer_count(sh
 // The MLP's forward over one pass's rows, after deform_feat: the trunk layers, the heads' hidden
 // layers and, with `outputs`, their output layers, each set one deform_fwd dispatch after a barrier.
 void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformParams p, const CanonicalGaussians& g,
-                                          const engine::Buffer* const outputs[S4D_DEFORM_HEADS]) const {
-  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+                                          const splat::GaussianBuffers<engine::Buffer>* outputs) const {
+  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g[Attr::means]; };
+  auto out = [&](Attr a) -> const engine::Buffer& { return in(outputs ? (*outputs)[a] : nullptr); };
   const engine::Pipeline& fwd = shader_pipeline(*ctx_, shaders::Id::deform_fwd);
   const uint32_t tiles = ceil_div(p.n - p.first, S4D_DEFORM_TILE), te = shape_.trunk_extra;
   auto set = [&](uint32_t layer, uint32_t layers) {
@@ -94,14 +97,12 @@ void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformPara
     rec.barrier();
     // Bindings of heads that are off, or of sets that write no output, are never accessed; the means stand in.
     rec.dispatch(fwd,
-                 {S4D_BIND(DFWD_MLP, mlp_), S4D_BIND(DFWD_SCRATCH, scratch_), S4D_BIND(DFWD_MEANS, *g.means),
-                  S4D_BIND(DFWD_LOG_SCALES, in(g.log_scales)), S4D_BIND(DFWD_QUATS, in(g.quats)),
-                  S4D_BIND(DFWD_OPACITY_LOGITS, in(g.opacity_logits)), S4D_BIND(DFWD_SH, in(g.sh)),
-                  S4D_BIND(DFWD_OUT_MEANS, in(outputs ? outputs[0] : nullptr)),
-                  S4D_BIND(DFWD_OUT_LOG_SCALES, in(outputs ? outputs[1] : nullptr)),
-                  S4D_BIND(DFWD_OUT_QUATS, in(outputs ? outputs[2] : nullptr)),
-                  S4D_BIND(DFWD_OUT_OPACITY_LOGITS, in(outputs ? outputs[3] : nullptr)),
-                  S4D_BIND(DFWD_OUT_SH, in(outputs ? outputs[4] : nullptr))},
+                 {S4D_BIND(DFWD_MLP, mlp_), S4D_BIND(DFWD_SCRATCH, scratch_), S4D_BIND(DFWD_MEANS, *g[Attr::means]),
+                  S4D_BIND(DFWD_LOG_SCALES, in(g[Attr::log_scales])), S4D_BIND(DFWD_QUATS, in(g[Attr::quats])),
+                  S4D_BIND(DFWD_OPACITY_LOGITS, in(g[Attr::opacity_logits])), S4D_BIND(DFWD_SH, in(g[Attr::sh])),
+                  S4D_BIND(DFWD_OUT_MEANS, out(Attr::means)), S4D_BIND(DFWD_OUT_LOG_SCALES, out(Attr::log_scales)),
+                  S4D_BIND(DFWD_OUT_QUATS, out(Attr::quats)), S4D_BIND(DFWD_OUT_OPACITY_LOGITS, out(Attr::opacity_logits)),
+                  S4D_BIND(DFWD_OUT_SH, out(Attr::sh))},
                  p, tiles * gpu::deform_set_blocks(shape_, layer, layers, false, false));
   };
   for (uint32_t e = 0; e <= te; ++e) set(e, 1);
@@ -110,12 +111,12 @@ void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformPara
 }
 
 void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
-                                      const DeformedGaussians& out) const {
+                                      const splat::GaussianBuffers<engine::Buffer>& out) const {
   check_gaussians(g);
-  const engine::Buffer* outputs[S4D_DEFORM_HEADS] = {out.means, out.log_scales, out.quats, out.opacity_logits, out.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
-      require(outputs[h], (std::string("deformed ") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+      require(out[splat::kCloudAttrs[h]], (std::string("deformed ") + head_name(h)).c_str(),
+              size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const uint32_t moving = g.count - g.still_count, rows = scratch_rows();
   rec.begin_label(name_ + " deform forward");
   for (uint32_t first = 0; first < moving; first += rows) {
@@ -124,32 +125,32 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
     p.n = std::min(moving - first, rows) + first;
     rec.barrier();  // the scratch's previous readers are done
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat),
-                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g.means), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
+                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g[Attr::means]), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
                  ceil_div(p.n - first, S4D_DEFORM_WG));
-    record_mlp_forward(rec, p, g, outputs);
+    record_mlp_forward(rec, p, g, &out);
   }
-  const engine::Buffer* inputs[S4D_DEFORM_HEADS] = {g.means, g.log_scales, g.quats, g.opacity_logits, g.sh};
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h) && g.still_count > 0) {  // still: deformed = canonical
       const size_t row = head_floats(h, g.sh_coeffs) * 4;
-      rec.copy(*inputs[h], *outputs[h], g.still_count * row, moving * row, moving * row);
+      const Attr a = splat::kCloudAttrs[h];
+      rec.copy(*g[a], *out[a], g.still_count * row, moving * row, moving * row);
     }
   rec.end_label();
 }
 
 void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
-                                       const DeformedGrads& v) const {
+                                       const splat::GaussianGrads& v) const {
   check_gaussians(g);
-  const engine::Buffer* grads[S4D_DEFORM_HEADS] = {v.v_means, v.v_log_scales, v.v_quats, v.v_opacity_logits, v.v_sh};
-  require(v.v_means, "v_means", size_t{g.count} * 12, name_);
+  require(v[Attr::means], "v_means", size_t{g.count} * 12, name_);
   for (uint32_t h = 1; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
-      require(grads[h], (std::string("v_") + kHeadNames[h]).c_str(), size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
+      require(v[splat::kCloudAttrs[h]], (std::string("v_") + head_name(h)).c_str(),
+              size_t{g.count} * head_floats(h, g.sh_coeffs) * 4, name_);
   const engine::DeviceInfo& info = ctx_->info();
   const bool float_atomics = info.float_atomic_add_buffer && info.float_atomic_add_shared && !options_.force_cas_atomics;
   const uint32_t moving = g.count - g.still_count;
   if (moving == 0) return;
-  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g.means; };
+  auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g[Attr::means]; };
   const uint32_t rows = scratch_rows(), te = shape_.trunk_extra;
   gpu::DeformWgradParams wp{};
   wp.shape = shape_;
@@ -169,12 +170,12 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
     const uint32_t groups = ceil_div(wp.rows, S4D_DEFORM_WG), tiles = ceil_div(wp.rows, S4D_DEFORM_TILE);
     rec.barrier();  // the scratch's previous readers are done
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_feat),
-                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g.means), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
+                 {S4D_BIND(DFEAT_PLANES, planes_), S4D_BIND(DFEAT_MEANS, *g[Attr::means]), S4D_BIND(DFEAT_SCRATCH, scratch_)}, p,
                  groups);
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::deform_cot),
-                 {S4D_BIND(DCOT_V_MEANS, *v.v_means), S4D_BIND(DCOT_V_LOG_SCALES, in(v.v_log_scales)),
-                  S4D_BIND(DCOT_V_QUATS, in(v.v_quats)), S4D_BIND(DCOT_V_OPACITY_LOGITS, in(v.v_opacity_logits)),
-                  S4D_BIND(DCOT_V_SH, in(v.v_sh)), S4D_BIND(DCOT_SCRATCH, scratch_)},
+                 {S4D_BIND(DCOT_V_MEANS, *v[Attr::means]), S4D_BIND(DCOT_V_LOG_SCALES, in(v[Attr::log_scales])),
+                  S4D_BIND(DCOT_V_QUATS, in(v[Attr::quats])), S4D_BIND(DCOT_V_OPACITY_LOGITS, in(v[Attr::opacity_logits])),
+                  S4D_BIND(DCOT_V_SH, in(v[Attr::sh])), S4D_BIND(DCOT_SCRATCH, scratch_)},
                  p, groups);
     record_mlp_forward(rec, p, g, nullptr);  // the activations: nothing is kept from the forward
     // Input cotangents, from the heads' outputs back to the features.
@@ -190,7 +191,7 @@ void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGau
     for (uint32_t e = te + 1; e-- > 0;) set(e, 1, false);
     rec.barrier();
     rec.dispatch(feat_bwd,
-                 {S4D_BIND(DFB_PLANES, planes_), S4D_BIND(DFB_MEANS, *g.means), S4D_BIND(DFB_V_MEANS, *v.v_means),
+                 {S4D_BIND(DFB_PLANES, planes_), S4D_BIND(DFB_MEANS, *g[Attr::means]), S4D_BIND(DFB_V_MEANS, *v[Attr::means]),
                   S4D_BIND(DFB_V_PLANES, v_planes_), S4D_BIND(DFB_SCRATCH, scratch_)},
                  p, groups);
     rec.dispatch(wgrad, {S4D_BIND(DWG_SCRATCH, scratch_), S4D_BIND(DWG_V_MLP, v_mlp_)}, wp,

@@ -152,8 +152,8 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
     rec.fill(tally_, 0);
     rec.dispatch(
         primitives::shader_pipeline(ctx, shaders::Id::densify_classify),
-        {S4D_BIND(CLASSIFY_LOG_SCALES, g.param(model::kLogScales)),
-         S4D_BIND(CLASSIFY_OPACITY, g.param(model::kOpacity)), S4D_BIND(CLASSIFY_GRAD_ACCUM, g.stat(model::kGradAccum)),
+        {S4D_BIND(CLASSIFY_LOG_SCALES, g.param(Attr::log_scales)),
+         S4D_BIND(CLASSIFY_OPACITY, g.param(Attr::opacity_logits)), S4D_BIND(CLASSIFY_GRAD_ACCUM, g.stat(model::kGradAccum)),
          S4D_BIND(CLASSIFY_GRAD_COUNT, g.stat(model::kGradCount)),
          S4D_BIND(CLASSIFY_MAX_RADIUS, g.stat(model::kMaxRadius)), S4D_BIND(CLASSIFY_FLAGS, flags_),
          S4D_BIND(CLASSIFY_COUNTS, counts_), S4D_BIND(CLASSIFY_KEYS, keys_), S4D_BIND(CLASSIFY_VALUES, values_),
@@ -217,33 +217,33 @@ DensifyResult Densifier::densify(model::TrainableGaussians& g, const DensifyRule
                        {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.stat(Stat(k))),
                         S4D_BIND(GATHER_DST, next.stat[k])},
                        gpu::SlotParams{.n = m, .width = 1, .zero_new = 1, .value = 0}, groups(m));
-      for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-        const uint32_t w = g.width(Attr(a));
+      for (Attr a : splat::kCloudAttrs) {
+        const uint32_t w = g.width(a);
         if (uint64_t{m} * w >= (uint64_t{1} << 32))
-          throw std::invalid_argument(std::string("densify: ") + model::attr_name(Attr(a)) + " of " + std::to_string(m) +
+          throw std::invalid_argument(std::string("densify: ") + splat::attr_name(a) + " of " + std::to_string(m) +
                                       " Gaussians exceeds 2^32 words");
         const gpu::SlotParams copy{.n = m, .width = w, .zero_new = 0, .value = 0};
         const gpu::SlotParams fresh_zero{.n = m, .width = w, .zero_new = 1, .value = 0};
         rec.dispatch(gather,
-                     {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.param(Attr(a))),
+                     {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.param(a)),
                       S4D_BIND(GATHER_DST, next.param[a])},
                      copy, groups(uint64_t{m} * w));
         rec.dispatch(
             gather,
-            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment1(Attr(a))), S4D_BIND(GATHER_DST, next.m[a])},
+            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment1(a)), S4D_BIND(GATHER_DST, next.m[a])},
             fresh_zero, groups(uint64_t{m} * w));
         rec.dispatch(
             gather,
-            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment2(Attr(a))), S4D_BIND(GATHER_DST, next.v[a])},
+            {S4D_BIND(GATHER_SLOTS, slots), S4D_BIND(GATHER_SRC, g.moment2(a)), S4D_BIND(GATHER_DST, next.v[a])},
             fresh_zero, groups(uint64_t{m} * w));
       }
       rec.barrier();
       const gpu::SplitParams sp{.n = m, .seed = rules.seed, .log_split_shrink = cp.log_split_shrink, ._pad0 = 0};
       rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::densify_split),
-                   {S4D_BIND(SPLIT_SLOTS, slots), S4D_BIND(SPLIT_MEANS, g.param(model::kMeans)),
-                    S4D_BIND(SPLIT_LOG_SCALES, g.param(model::kLogScales)),
-                    S4D_BIND(SPLIT_QUATS, g.param(model::kQuats)), S4D_BIND(SPLIT_OUT_MEANS, next.param[model::kMeans]),
-                    S4D_BIND(SPLIT_OUT_LOG_SCALES, next.param[model::kLogScales])},
+                   {S4D_BIND(SPLIT_SLOTS, slots), S4D_BIND(SPLIT_MEANS, g.param(Attr::means)),
+                    S4D_BIND(SPLIT_LOG_SCALES, g.param(Attr::log_scales)),
+                    S4D_BIND(SPLIT_QUATS, g.param(Attr::quats)), S4D_BIND(SPLIT_OUT_MEANS, next.param[Attr::means]),
+                    S4D_BIND(SPLIT_OUT_LOG_SCALES, next.param[Attr::log_scales])},
                    sp, groups(m));
     }
     rec.end_label();
@@ -267,8 +267,8 @@ void Densifier::reset_opacity(model::TrainableGaussians& g, float max_opacity) {
   engine::Recorder rec(*ctx_, name_ + " reset opacity");
   const gpu::SlotParams p{.n = n, .width = 1, .zero_new = 0, .value = gpu::densify_reset_logit(max_opacity)};
   rec.dispatch(primitives::shader_pipeline(*ctx_, shaders::Id::densify_reset_opacity),
-               {S4D_BIND(RESET_OPACITY, g.param(model::kOpacity)), S4D_BIND(RESET_M, g.moment1(model::kOpacity)),
-                S4D_BIND(RESET_V, g.moment2(model::kOpacity))},
+               {S4D_BIND(RESET_OPACITY, g.param(Attr::opacity_logits)), S4D_BIND(RESET_M, g.moment1(Attr::opacity_logits)),
+                S4D_BIND(RESET_V, g.moment2(Attr::opacity_logits))},
                p, groups(n));
   ctx_->run(std::move(rec));
 }

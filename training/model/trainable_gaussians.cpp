@@ -7,18 +7,6 @@
 
 namespace s4d::model {
 
-const char* attr_name(Attr a) {
-  switch (a) {
-    case kMeans: return "means";
-    case kLogScales: return "log_scales";
-    case kQuats: return "quats";
-    case kOpacity: return "opacity_logits";
-    case kSh: return "sh";
-    case kAttrCount: break;
-  }
-  throw std::out_of_range("attr_name: no attribute " + std::to_string(static_cast<uint32_t>(a)));
-}
-
 const char* stat_name(Stat s) {
   switch (s) {
     case kGradAccum: return "grad_accum";
@@ -31,18 +19,13 @@ const char* stat_name(Stat s) {
 
 namespace {
 
-std::array<const std::vector<float>*, kAttrCount> cloud_arrays(const io::GaussianCloud& c) {
-  return {&c.means, &c.log_scales, &c.quats, &c.opacity_logits, &c.sh};
-}
-
-std::array<std::vector<float>*, kAttrCount> cloud_arrays(io::GaussianCloud& c) {
-  return {&c.means, &c.log_scales, &c.quats, &c.opacity_logits, &c.sh};
-}
+using splat::cloud_arrays;
+using splat::kCloudAttrs;
 
 HostState zero_state(const io::GaussianCloud& cloud) {
   HostState s{cloud, {}, {}, {}};
   const auto arrays = cloud_arrays(cloud);
-  for (uint32_t a = 0; a < kAttrCount; ++a) {
+  for (Attr a : kCloudAttrs) {
     s.m[a].assign(arrays[a]->size(), 0.0f);
     s.v[a].assign(arrays[a]->size(), 0.0f);
   }
@@ -61,22 +44,11 @@ TrainableGaussians::TrainableGaussians(engine::Context& ctx, const HostState& st
   upload(state);
 }
 
-uint32_t TrainableGaussians::width(Attr a) const {
-  switch (a) {
-    case kMeans: case kLogScales: return 3;
-    case kQuats: return 4;
-    case kOpacity: return 1;
-    case kSh: return sh_coeffs() * 3;
-    case kAttrCount: break;
-  }
-  throw std::out_of_range(name_ + ": no attribute " + std::to_string(static_cast<uint32_t>(a)));
-}
-
 void TrainableGaussians::upload(const HostState& state) {
   const auto arrays = cloud_arrays(state.cloud);
-  for (uint32_t a = 0; a < kAttrCount; ++a) {
-    const size_t n = size_t{count_} * width(Attr(a));
-    const std::string what = name_ + " " + attr_name(Attr(a));
+  for (Attr a : kCloudAttrs) {
+    const size_t n = size_t{count_} * width(a);
+    const std::string what = name_ + " " + splat::attr_name(a);
     if (arrays[a]->size() != n || state.m[a].size() != n || state.v[a].size() != n)
       throw std::invalid_argument(what + ": expected " + std::to_string(n) + " floats for " + std::to_string(count_) +
                                   " Gaussians in the parameters and both Adam moments");
@@ -94,37 +66,28 @@ void TrainableGaussians::upload(const HostState& state) {
 }
 
 void TrainableGaussians::allocate_grads() {
-  for (uint32_t a = 0; a < kAttrCount; ++a)
-    grad_[a] = engine::Buffer(*ctx_, name_ + " " + attr_name(Attr(a)) + " grad", size_t{count_} * width(Attr(a)) * 4);
+  for (Attr a : kCloudAttrs)
+    grad_[a] = engine::Buffer(*ctx_, name_ + " " + splat::attr_name(a) + " grad", size_t{count_} * width(a) * 4);
 }
 
 splat::GaussianParams TrainableGaussians::params(int active_degree) const {
   const int degree = active_degree < 0 ? sh_degree_ : std::min(active_degree, sh_degree_);
-  return {.means = &param_[kMeans],
-          .log_scales = &param_[kLogScales],
-          .quats = &param_[kQuats],
-          .opacity_logits = &param_[kOpacity],
-          .sh = &param_[kSh],
-          .colors = nullptr,
-          .count = count_,
-          .sh_degree = static_cast<uint32_t>(degree),
-          .sh_coeffs = sh_coeffs()};
+  splat::GaussianParams p{.count = count_, .sh_degree = static_cast<uint32_t>(degree), .sh_coeffs = sh_coeffs()};
+  for (Attr a : kCloudAttrs) p[a] = &param_[a];
+  return p;
 }
 
 splat::GaussianGrads TrainableGaussians::grads() {
-  return {.v_means = &grad_[kMeans],
-          .v_log_scales = &grad_[kLogScales],
-          .v_quats = &grad_[kQuats],
-          .v_opacity_logits = &grad_[kOpacity],
-          .v_sh = &grad_[kSh],
-          .v_colors = nullptr};
+  splat::GaussianGrads g;
+  for (Attr a : kCloudAttrs) g[a] = &grad_[a];
+  return g;
 }
 
 TrainableGaussians::Arrays TrainableGaussians::allocate(uint32_t count) const {
   Arrays out;
-  for (uint32_t a = 0; a < kAttrCount; ++a) {
-    const size_t bytes = size_t{count} * width(Attr(a)) * 4;
-    const std::string what = name_ + " " + attr_name(Attr(a));
+  for (Attr a : kCloudAttrs) {
+    const size_t bytes = size_t{count} * width(a) * 4;
+    const std::string what = name_ + " " + splat::attr_name(a);
     out.param[a] = engine::Buffer(*ctx_, what, bytes);
     out.m[a] = engine::Buffer(*ctx_, what + " adam m", bytes);
     out.v[a] = engine::Buffer(*ctx_, what + " adam v", bytes);
@@ -134,8 +97,8 @@ TrainableGaussians::Arrays TrainableGaussians::allocate(uint32_t count) const {
 }
 
 void TrainableGaussians::adopt(Arrays&& next, uint32_t count) {
-  for (uint32_t a = 0; a < kAttrCount; ++a) {
-    const size_t bytes = size_t{count} * width(Attr(a)) * 4;
+  for (Attr a : kCloudAttrs) {
+    const size_t bytes = size_t{count} * width(a) * 4;
     for (const engine::Buffer* b : {&next.param[a], &next.m[a], &next.v[a]})
       if (b->size() != bytes)
         throw std::invalid_argument(name_ + ": adopted buffer '" + b->name() + "' holds " + std::to_string(b->size()) +
@@ -156,8 +119,8 @@ HostState TrainableGaussians::download() const {
   HostState s;
   s.cloud.sh_degree = sh_degree_;
   const auto arrays = cloud_arrays(s.cloud);
-  for (uint32_t a = 0; a < kAttrCount; ++a) {
-    const size_t n = size_t{count_} * width(Attr(a));
+  for (Attr a : kCloudAttrs) {
+    const size_t n = size_t{count_} * width(a);
     *arrays[a] = ctx_->download<float>(param_[a], n);
     s.m[a] = ctx_->download<float>(m_[a], n);
     s.v[a] = ctx_->download<float>(v_[a], n);
@@ -170,7 +133,7 @@ io::GaussianCloud TrainableGaussians::download_cloud() const {
   io::GaussianCloud c;
   c.sh_degree = sh_degree_;
   const auto arrays = cloud_arrays(c);
-  for (uint32_t a = 0; a < kAttrCount; ++a) *arrays[a] = ctx_->download<float>(param_[a], size_t{count_} * width(Attr(a)));
+  for (Attr a : kCloudAttrs) *arrays[a] = ctx_->download<float>(param_[a], size_t{count_} * width(a));
   return c;
 }
 

@@ -35,15 +35,12 @@ struct NamedArray {
 template <class State>
 auto arrays_of(State& s) {
   using Vec = std::conditional_t<std::is_const_v<State>, const std::vector<float>, std::vector<float>>;
-  auto& c = s.cloud;
-  std::vector<NamedArray<Vec>> out = {{"means", &c.means},
-                                 {"log_scales", &c.log_scales},
-                                 {"quats", &c.quats},
-                                 {"opacity_logits", &c.opacity_logits},
-                                 {"sh", &c.sh}};
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-    out.push_back({std::string(model::attr_name(model::Attr(a))) + ".adam_m", &s.m[a]});
-    out.push_back({std::string(model::attr_name(model::Attr(a))) + ".adam_v", &s.v[a]});
+  std::vector<NamedArray<Vec>> out;
+  const auto cloud = splat::cloud_arrays(s.cloud);
+  for (splat::Attr a : splat::kCloudAttrs) out.push_back({splat::attr_name(a), cloud[a]});
+  for (splat::Attr a : splat::kCloudAttrs) {
+    out.push_back({std::string(splat::attr_name(a)) + ".adam_m", &s.m[a]});
+    out.push_back({std::string(splat::attr_name(a)) + ".adam_v", &s.v[a]});
   }
   for (uint32_t k = 0; k < model::kStatCount; ++k) out.push_back({model::stat_name(model::Stat(k)), &s.stats[k]});
   return out;
@@ -190,11 +187,11 @@ Checkpoint read_checkpoint(const fs::path& path) {
   if (offset != file.size()) fail(path, std::to_string(file.size() - offset) + " unexpected bytes after the arrays");
   const int degree = cp.state.cloud.sh_degree;
   if (degree < 0 || degree > 3) fail(path, "sh_degree " + std::to_string(degree) + " is not 0..3");
-  const size_t widths[model::kAttrCount] = {3, 3, 4, 1, size_t((degree + 1) * (degree + 1)) * 3};
+  const uint32_t sh_coeffs = static_cast<uint32_t>((degree + 1) * (degree + 1));
   for (const auto& a : arrays_of(cp.state)) {
     size_t expected = count;
-    for (uint32_t k = 0; k < model::kAttrCount; ++k)
-      if (a.name.rfind(model::attr_name(model::Attr(k)), 0) == 0) expected = count * widths[k];
+    for (splat::Attr k : splat::kCloudAttrs)
+      if (a.name.rfind(splat::attr_name(k), 0) == 0) expected = count * splat::attr_floats(k, sh_coeffs);
     if (a.values->size() != expected)
       fail(path, "array '" + a.name + "' holds " + std::to_string(a.values->size()) + " floats, expected " +
                      std::to_string(expected) + " for " + std::to_string(count) + " Gaussians");

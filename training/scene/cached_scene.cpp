@@ -15,7 +15,8 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     engine::Recorder rec(ctx, "cache scene");  // the base's work and the copies: one submission
     const splat::GaussianParams g = base_->record(rec, t, unused);
     const size_t n = g.count;
-    const size_t bytes = n * (3 + 3 + 4 + 1 + size_t{g.sh_coeffs} * 3) * 4;
+    size_t bytes = 0;
+    for (splat::Attr a : splat::kCloudAttrs) bytes += n * splat::attr_floats(a, g.sh_coeffs) * 4;
     if (used + bytes > max_bytes) {
       ctx.run(std::move(rec));  // a source may already count the recorded work as done
       break;
@@ -23,17 +24,13 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     used += bytes;
     rec.barrier();
     Copy& c = cache_[t];  // map nodes stay put, so params may point into c
-    auto copy = [&](const engine::Buffer* src, engine::Buffer& dst, size_t floats, const char* what) {
-      dst = engine::Buffer(ctx, std::string("cached ") + what, floats * 4);
-      rec.copy(*src, dst, floats * 4);
-      return &dst;
-    };
     c.params = g;
-    c.params.means = copy(g.means, c.means, n * 3, "means");
-    c.params.log_scales = copy(g.log_scales, c.log_scales, n * 3, "log scales");
-    c.params.quats = copy(g.quats, c.quats, n * 4, "quats");
-    c.params.opacity_logits = copy(g.opacity_logits, c.opacity_logits, n, "opacity");
-    c.params.sh = copy(g.sh, c.sh, n * g.sh_coeffs * 3, "sh");
+    for (splat::Attr a : splat::kCloudAttrs) {
+      const size_t floats = n * splat::attr_floats(a, g.sh_coeffs);
+      c.buffers[a] = engine::Buffer(ctx, std::string("cached ") + splat::attr_name(a), floats * 4);
+      rec.copy(*g[a], c.buffers[a], floats * 4);
+      c.params[a] = &c.buffers[a];
+    }
     ctx.run(std::move(rec));
   }
 }

@@ -1,6 +1,5 @@
 #include "s4d/scene/deformed_scene.h"
 
-#include <iterator>
 #include <string>
 #include <utility>
 
@@ -49,16 +48,12 @@ splat::GaussianParams DeformedScene::record(engine::Recorder& rec, double time, 
   const splat::GaussianParams p = deformed_.record(rec, field_, canonical, still_count_, static_cast<float>(time));
   if (!still_runs_.empty()) {  // the old mask: still Gaussians get their canonical values back
     rec.barrier();
-    const deform::DeformedGaussians out = deformed_.outputs();
-    const std::pair<const engine::Buffer*, engine::Buffer*> pairs[] = {  // canonical, deformed (null: head off)
-        {canonical.means, out.means}, {canonical.log_scales, out.log_scales}, {canonical.quats, out.quats},
-        {canonical.opacity_logits, out.opacity_logits}, {canonical.sh, out.sh}};
-    const size_t widths[] = {3, 3, 4, 1, size_t{3} * canonical.sh_coeffs};
-    for (size_t h = 0; h < std::size(pairs); ++h)
+    const splat::GaussianBuffers<engine::Buffer> out = deformed_.outputs();  // null: head off
+    for (splat::Attr a : splat::kCloudAttrs) {
+      const size_t width = splat::attr_floats(a, canonical.sh_coeffs);
       for (const auto& [first, end] : still_runs_)
-        if (pairs[h].second)
-          rec.copy(*pairs[h].first, *pairs[h].second, (end - first) * widths[h] * 4, first * widths[h] * 4,
-                   first * widths[h] * 4);
+        if (out[a]) rec.copy(*canonical[a], *out[a], (end - first) * width * 4, first * width * 4, first * width * 4);
+    }
   }
   last_.emplace(time, p);
   return p;

@@ -5,16 +5,16 @@
 namespace s4d::scene {
 
 io::GaussianCloud download_cloud(engine::Context& ctx, const splat::GaussianParams& g) {
-  if (g.colors) throw std::invalid_argument("download_cloud: the Gaussians have a colour buffer in place of SH");
+  using splat::Attr;
+  if (g[Attr::colors]) throw std::invalid_argument("download_cloud: the Gaussians have a colour buffer in place of SH");
   const size_t n = g.count;
   io::GaussianCloud cloud;
-  cloud.means = ctx.download<float>(*g.means, n * 3);
-  cloud.log_scales = ctx.download<float>(*g.log_scales, n * 3);
-  cloud.quats = ctx.download<float>(*g.quats, n * 4);
-  cloud.opacity_logits = ctx.download<float>(*g.opacity_logits, n);
+  const auto arrays = splat::cloud_arrays(cloud);
+  for (Attr a : {Attr::means, Attr::log_scales, Attr::quats, Attr::opacity_logits})
+    *arrays[a] = ctx.download<float>(*g[a], n * splat::attr_floats(a, 0));
   cloud.sh_degree = static_cast<int>(g.sh_degree);
   const size_t stored = g.sh_coeffs, kept = cloud.sh_coeffs();
-  const std::vector<float> sh = ctx.download<float>(*g.sh, n * stored * 3);
+  const std::vector<float> sh = ctx.download<float>(*g[Attr::sh], n * stored * 3);
   cloud.sh.reserve(n * kept * 3);
   for (size_t i = 0; i < n; ++i)
     cloud.sh.insert(cloud.sh.end(), sh.begin() + static_cast<std::ptrdiff_t>(i * stored * 3),

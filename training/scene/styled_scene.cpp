@@ -11,24 +11,24 @@ namespace s4d::scene {
 splat::GaussianParams record_style_deltas(engine::Recorder& rec, const splat::GaussianParams& g,
                                           const engine::Buffer& sh_delta, const engine::Buffer& opacity_delta,
                                           const engine::Buffer& out_sh, const engine::Buffer& out_opacity) {
-  if (g.sh == nullptr || g.opacity_logits == nullptr || g.colors != nullptr)
+  using splat::Attr;
+  if (g[Attr::sh] == nullptr || g[Attr::opacity_logits] == nullptr || g[Attr::colors] != nullptr)
     throw std::invalid_argument("a style applies to SH colours and opacities; this scene has none");
   const uint32_t sh_floats = g.count * g.sh_coeffs * 3;
-  rec.copy(*g.sh, out_sh, size_t{sh_floats} * 4);
-  rec.copy(*g.opacity_logits, out_opacity, size_t{g.count} * 4);
+  rec.copy(*g[Attr::sh], out_sh, size_t{sh_floats} * 4);
+  rec.copy(*g[Attr::opacity_logits], out_opacity, size_t{g.count} * 4);
   rec.barrier();
   primitives::cmd_add(rec, out_sh, sh_delta, sh_floats);
   primitives::cmd_add(rec, out_opacity, opacity_delta, g.count);
   splat::GaussianParams out = g;
-  out.sh = &out_sh;
-  out.opacity_logits = &out_opacity;
+  out[Attr::sh] = &out_sh;
+  out[Attr::opacity_logits] = &out_opacity;
   return out;
 }
 
-splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, run::DepthInput depth, float depth_scale,
+splat::StyleMlp style_mlp(double time, run::DepthInput depth, float depth_scale,
                           bool input_sigmoid) {
   splat::StyleMlp m;
-  m.weights = &weights;
   m.time = static_cast<float>(time);
   m.depth = depth == run::DepthInput::ndc ? splat::StyleDepth::ndc : splat::StyleDepth::relative;
   m.depth_scale = depth_scale;
@@ -73,8 +73,9 @@ splat::GaussianParams StyledScene::record(engine::Recorder& rec, double time, co
   rec.barrier();  // the base's work, if any, before the copies read it
   splat::GaussianParams out = record_style_deltas(rec, g, sh_delta_, opacity_delta_, sh_, opacity_);
   if (method_ == run::StyleMethod::full) {
-    mlp_desc_ = style_mlp(mlp_, time, depth_, depth_scale_, input_sigmoid_);
+    mlp_desc_ = style_mlp(time, depth_, depth_scale_, input_sigmoid_);
     out.style = &mlp_desc_;
+    out[splat::Attr::style_mlp] = &mlp_;
   }
   return out;
 }

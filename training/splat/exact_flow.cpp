@@ -27,13 +27,13 @@ constexpr size_t kLaneBytes = S4D_FLOW_SCREEN_STRIDE * sizeof(float);
 }  // namespace
 
 void project_means(engine::Context& ctx, const GaussianParams& g, const Camera& cam, engine::Buffer& screen) {
-  require(g.means, "means", size_t{g.count} * 12);
+  require(g[Attr::means], "means", size_t{g.count} * 12);
   require(&screen, "screen lanes", size_t{g.count} * kLaneBytes);
   if (g.count == 0) return;
   const gpu::FlowProjectParams p{.cam = gpu_camera(cam), .n = g.count, ._pad0 = 0, ._pad1 = 0, ._pad2 = 0};
   engine::Recorder rec(ctx, "flow project");
   rec.dispatch(shader_pipeline(ctx, shaders::Id::flow_project),
-               {S4D_BIND(FLOWP_MEANS, *g.means), S4D_BIND(FLOWP_SCREEN, screen)}, p, ceil_div(g.count, S4D_FLOW_WG));
+               {S4D_BIND(FLOWP_MEANS, *g[Attr::means]), S4D_BIND(FLOWP_SCREEN, screen)}, p, ceil_div(g.count, S4D_FLOW_WG));
   ctx.run(std::move(rec));
 }
 
@@ -52,7 +52,7 @@ void screen_displacement(engine::Context& ctx, const engine::Buffer& from, const
 }
 
 FlowImage render_flow(Rasterizer& r, GaussianParams g, const engine::Buffer& displacement, const Camera& cam) {
-  g.colors = &displacement;
+  g[Attr::colors] = &displacement;
   r.forward(g, cam, {0.0f, 0.0f, 0.0f});  // a black background adds nothing to the blended sum
   const size_t npix = size_t{cam.width} * cam.height;
   const std::vector<float> sum = r.context().download<float>(r.rgb(), 3 * npix);

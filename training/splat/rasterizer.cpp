@@ -37,6 +37,14 @@ void require(const engine::Buffer* b, const char* what, size_t bytes) {
                                 std::to_string(b->size()) + " bytes, " + std::to_string(bytes) + " needed");
 }
 
+// The attributes a forward reads: the geometry and opacity, then colours or SH, then the style MLPs.
+std::vector<Attr> read_attrs(bool colors, bool style) {
+  std::vector<Attr> attrs = {Attr::means, Attr::log_scales, Attr::quats, Attr::opacity_logits,
+                             colors ? Attr::colors : Attr::sh};
+  if (style) attrs.push_back(Attr::style_mlp);
+  return attrs;
+}
+
 void check_params(const GaussianParams& g) {
   const size_t n = g.count;
   if (g.sh_degree > S4D_MAX_SH_DEGREE)
@@ -44,12 +52,8 @@ void check_params(const GaussianParams& g) {
   if (g.sh_coeffs < (g.sh_degree + 1) * (g.sh_degree + 1) || g.sh_coeffs > S4D_MAX_SH_COEFFS)
     throw std::invalid_argument("rasterizer: sh_coeffs " + std::to_string(g.sh_coeffs) + " does not hold degree " +
                                 std::to_string(g.sh_degree));
-  require(g.means, "means", n * 12);
-  require(g.log_scales, "log_scales", n * 12);
-  require(g.quats, "quats", n * 16);
-  require(g.opacity_logits, "opacity_logits", n * 4);
-  if (g.colors != nullptr) require(g.colors, "colors", n * 12);
-  else require(g.sh, "sh", n * g.sh_coeffs * 12);
+  for (Attr a : read_attrs(g[Attr::colors] != nullptr, g.style != nullptr))
+    require(g[a], attr_name(a), n * attr_floats(a, g.sh_coeffs) * 4);
 }
 
 void check_camera(const Camera& cam) {
@@ -73,7 +77,7 @@ gpu::ProjectParams project_params(const GaussianParams& g, const Camera& cam) {
   p.n = g.count;
   p.sh_degree = g.sh_degree;
   p.sh_coeffs = g.sh_coeffs;
-  p.flags = g.colors != nullptr ? S4D_SPLAT_USE_COLORS : 0u;
+  p.flags = g[Attr::colors] != nullptr ? S4D_SPLAT_USE_COLORS : 0u;
   return p;
 }
 
@@ -186,7 +190,7 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
   pending_ = false;
   check_params(g);
   check_camera(cam);
-  if (g.style != nullptr) check_style(*g.style, g.count);
+  if (g.style != nullptr) check_style(*g.style);
   if (uint64_t{cam.width} * cam.height * 12 > ctx_->info().max_storage_buffer_range)
     throw std::invalid_argument("rasterizer: a " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
                                 " RGB image exceeds the storage-buffer range of " + ctx_->info().name);
@@ -196,22 +200,22 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
   if (g.style != nullptr) reserve_quadrics(n);
   const gpu::ProjectParams pp = project_params(g, cam);
   const uint32_t tiles_x = pp.cam.size.z, num_tiles = pp.cam.size.z * pp.cam.size.w;
-  const engine::Buffer& colors = g.colors != nullptr ? *g.colors : *g.sh;
+  const engine::Buffer& colors = g[Attr::colors] != nullptr ? *g[Attr::colors] : *g[Attr::sh];
 
   // Project, sort by depth, count tiles in depth order, scan to offsets.
   std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
   rec.dispatch(
       shader_pipeline(*ctx_, shaders::Id::project_fwd),
-      {S4D_BIND(PROJ_MEANS, *g.means), S4D_BIND(PROJ_LOG_SCALES, *g.log_scales), S4D_BIND(PROJ_QUATS, *g.quats),
-       S4D_BIND(PROJ_OPACITY_LOGITS, *g.opacity_logits), S4D_BIND(PROJ_SH, g.sh ? *g.sh : colors),
+      {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]), S4D_BIND(PROJ_QUATS, *g[Attr::quats]),
+       S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]), S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
        S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
        S4D_BIND(PROJ_COLOR_DEPTH, color_depth_), S4D_BIND(PROJ_INFO, info_), S4D_BIND(PROJ_DEPTH_KEYS, depth_keys_),
        S4D_BIND(PROJ_TILES_TOUCHED, tiles_touched_)},
       pp, ceil_div(n, S4D_SPLAT_WG));
   if (g.style != nullptr)
     rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric),
-                 {S4D_BIND(SQUAD_MEANS, *g.means), S4D_BIND(SQUAD_LOG_SCALES, *g.log_scales),
-                  S4D_BIND(SQUAD_QUATS, *g.quats), S4D_BIND(SQUAD_QUADRIC, quadric_)},
+                 {S4D_BIND(SQUAD_MEANS, *g[Attr::means]), S4D_BIND(SQUAD_LOG_SCALES, *g[Attr::log_scales]),
+                  S4D_BIND(SQUAD_QUATS, *g[Attr::quats]), S4D_BIND(SQUAD_QUADRIC, quadric_)},
                  pp, ceil_div(n, S4D_SPLAT_WG));
   stage.emplace(*ctx_, "sort");
   primitives::cmd_iota(rec, sorted_ids_, n);
@@ -275,7 +279,7 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
       S4D_BIND(RASTER_COUNT, count_),        S4D_BIND(RASTER_LAST, last_),
       S4D_BIND(RASTER_FINAL_T, final_t_)};
   if (g.style != nullptr)
-    bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g.style->weights)});
+    bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
   const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
   const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
   rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
@@ -283,7 +287,7 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
   cam_ = cam;
   background_ = background;
   count_last_ = n;
-  colors_last_ = g.colors != nullptr;
+  colors_last_ = g[Attr::colors] != nullptr;
   sh_degree_last_ = g.sh_degree;
   sh_coeffs_last_ = g.sh_coeffs;
   style_last_ = g.style != nullptr;
@@ -337,35 +341,30 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
                                  const GaussianGrads& out) {
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
   check_params(g);
-  if (g.count != count_last_ || (g.colors != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
+  if (g.count != count_last_ || (g[Attr::colors] != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
       g.sh_coeffs != sh_coeffs_last_ || (g.style != nullptr) != style_last_ ||
       (style_last_ && !same_style_settings(*g.style, style_settings_last_)))
     throw std::invalid_argument("rasterizer: backward() parameters differ from the last forward()");
-  if (style_last_) check_style(*g.style, g.count);
+  if (style_last_) check_style(*g.style);
   const uint32_t n = g.count;
   const size_t pixels = size_t{cam_.width} * cam_.height;
   require(v.v_rgb, "v_rgb", pixels * 12);
   if (v.v_alpha) require(v.v_alpha, "v_alpha", pixels * 4);
   if (v.v_depth) require(v.v_depth, "v_depth", pixels * 4);
-  require(out.v_means, "v_means", size_t{n} * 12);
-  require(out.v_log_scales, "v_log_scales", size_t{n} * 12);
-  require(out.v_quats, "v_quats", size_t{n} * 16);
-  require(out.v_opacity_logits, "v_opacity_logits", size_t{n} * 4);
-  if (colors_last_) require(out.v_colors, "v_colors", size_t{n} * 12);
-  else require(out.v_sh, "v_sh", size_t{n} * g.sh_coeffs * 12);
-  if (style_last_) require(out.v_style_mlp, "v_style_mlp", size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
+  for (Attr a : read_attrs(colors_last_, style_last_))
+    require(out[a], ("v_" + std::string(attr_name(a))).c_str(), size_t{n} * attr_floats(a, g.sh_coeffs) * 4);
 
   const gpu::ProjectParams pp = project_params(g, cam_);
   const uint32_t num_tiles = pp.cam.size.z * pp.cam.size.w;
   const uint32_t flags = (v.v_alpha ? S4D_RASTER_HAS_V_ALPHA : 0u) | (v.v_depth ? S4D_RASTER_HAS_V_DEPTH : 0u);
   const bool float_atomics = ctx_->info().float_atomic_add_buffer && !options_.force_cas_atomics;
   check_list_length(ctx_->info(), longest_last_, style_last_, !float_atomics, "differentiate");
-  const engine::Buffer& colors = g.colors ? *g.colors : *g.sh;
-  engine::Buffer& v_colors = colors_last_ ? *out.v_colors : *out.v_sh;
+  const engine::Buffer& colors = g[Attr::colors] ? *g[Attr::colors] : *g[Attr::sh];
+  engine::Buffer& v_colors = colors_last_ ? *out[Attr::colors] : *out[Attr::sh];
 
   const engine::StageScope stage(*ctx_, "backward");
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
-  if (style_last_ && n > 0) rec.fill(*out.v_style_mlp, 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
+  if (style_last_ && n > 0) rec.fill(*out[Attr::style_mlp], 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
   rec.barrier();
   std::vector<engine::Binding> bind = {
       S4D_BIND(RBWD_RANGES, ranges_),     S4D_BIND(RBWD_GAUSSIAN_IDS, gaussian_ids_),
@@ -376,8 +375,8 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
       S4D_BIND(RBWD_V_DEPTH, v.v_depth ? *v.v_depth : *v.v_rgb), S4D_BIND(RBWD_GRAD2D, grad2d_)};
   const StyleMlp* style = style_last_ ? g.style : nullptr;
   if (style != nullptr)
-    bind.insert(bind.end(), {S4D_BIND(RBWD_QUADRIC, quadric_), S4D_BIND(RBWD_STYLE_MLP, *style->weights),
-                             S4D_BIND(RBWD_V_STYLE_MLP, *out.v_style_mlp)});
+    bind.insert(bind.end(), {S4D_BIND(RBWD_QUADRIC, quadric_), S4D_BIND(RBWD_STYLE_MLP, *g[Attr::style_mlp]),
+                             S4D_BIND(RBWD_V_STYLE_MLP, *out[Attr::style_mlp])});
   const shaders::Id id = style != nullptr
                              ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
                              : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
@@ -385,13 +384,13 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
   rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
-               {S4D_BIND(PBWD_MEANS, *g.means), S4D_BIND(PBWD_LOG_SCALES, *g.log_scales),
-                S4D_BIND(PBWD_QUATS, *g.quats), S4D_BIND(PBWD_OPACITY_LOGITS, *g.opacity_logits),
-                S4D_BIND(PBWD_SH, g.sh ? *g.sh : colors), S4D_BIND(PBWD_COLORS, colors), S4D_BIND(PBWD_INFO, info_),
+               {S4D_BIND(PBWD_MEANS, *g[Attr::means]), S4D_BIND(PBWD_LOG_SCALES, *g[Attr::log_scales]),
+                S4D_BIND(PBWD_QUATS, *g[Attr::quats]), S4D_BIND(PBWD_OPACITY_LOGITS, *g[Attr::opacity_logits]),
+                S4D_BIND(PBWD_SH, g[Attr::sh] ? *g[Attr::sh] : colors), S4D_BIND(PBWD_COLORS, colors), S4D_BIND(PBWD_INFO, info_),
                 S4D_BIND(PBWD_CONIC_OPACITY, conic_opacity_), S4D_BIND(PBWD_GRAD2D, grad2d_),
-                S4D_BIND(PBWD_V_MEANS, *out.v_means), S4D_BIND(PBWD_V_LOG_SCALES, *out.v_log_scales),
-                S4D_BIND(PBWD_V_QUATS, *out.v_quats), S4D_BIND(PBWD_V_OPACITY_LOGITS, *out.v_opacity_logits),
-                S4D_BIND(PBWD_V_SH, out.v_sh ? *out.v_sh : v_colors), S4D_BIND(PBWD_V_COLORS, v_colors)},
+                S4D_BIND(PBWD_V_MEANS, *out[Attr::means]), S4D_BIND(PBWD_V_LOG_SCALES, *out[Attr::log_scales]),
+                S4D_BIND(PBWD_V_QUATS, *out[Attr::quats]), S4D_BIND(PBWD_V_OPACITY_LOGITS, *out[Attr::opacity_logits]),
+                S4D_BIND(PBWD_V_SH, out[Attr::sh] ? *out[Attr::sh] : v_colors), S4D_BIND(PBWD_V_COLORS, v_colors)},
                pp, ceil_div(n, S4D_SPLAT_WG));
 }
 

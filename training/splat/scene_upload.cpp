@@ -7,26 +7,18 @@
 namespace s4d::splat {
 
 DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name)
-    : means_(engine::buffer_from(ctx, name + " means", cloud.means)),
-      log_scales_(engine::buffer_from(ctx, name + " log_scales", cloud.log_scales)),
-      quats_(engine::buffer_from(ctx, name + " quats", cloud.quats)),
-      opacity_logits_(engine::buffer_from(ctx, name + " opacity_logits", cloud.opacity_logits)),
-      sh_(engine::buffer_from(ctx, name + " sh", cloud.sh)),
-      count_(static_cast<uint32_t>(cloud.size())),
-      sh_degree_(cloud.sh_degree) {}
+    : count_(static_cast<uint32_t>(cloud.size())), sh_degree_(cloud.sh_degree) {
+  const auto arrays = cloud_arrays(cloud);
+  for (Attr a : kCloudAttrs) buffers_[a] = engine::buffer_from(ctx, name + " " + attr_name(a), *arrays[a]);
+}
 
 GaussianParams DeviceGaussians::params(int sh_degree) const {
   const int degree = sh_degree < 0 ? sh_degree_ : std::min(sh_degree, sh_degree_);
-  const uint32_t stored = static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1));
-  return {.means = &means_,
-          .log_scales = &log_scales_,
-          .quats = &quats_,
-          .opacity_logits = &opacity_logits_,
-          .sh = &sh_,
-          .colors = nullptr,
-          .count = count_,
-          .sh_degree = static_cast<uint32_t>(degree),
-          .sh_coeffs = stored};
+  GaussianParams p{.count = count_,
+                   .sh_degree = static_cast<uint32_t>(degree),
+                   .sh_coeffs = static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1))};
+  for (Attr a : kCloudAttrs) p[a] = &buffers_[a];
+  return p;
 }
 
 Camera to_splat_camera(const io::CameraView& view) {

@@ -9,12 +9,7 @@ namespace s4d::splat {
 static_assert(static_cast<uint32_t>(StyleDepth::ndc) == S4D_STYLE_DEPTH_NDC);
 static_assert(static_cast<uint32_t>(StyleDepth::relative) == S4D_STYLE_DEPTH_RELATIVE);
 
-void check_style(const StyleMlp& style, uint32_t n) {
-  if (style.weights == nullptr) throw std::invalid_argument("rasterizer: style MLP weights buffer is missing");
-  const size_t bytes = size_t{n} * S4D_STYLE_MLP_STRIDE * 4;
-  if (style.weights->size() < bytes)
-    throw std::invalid_argument("rasterizer: buffer '" + style.weights->name() + "' (style MLP weights) holds " +
-                                std::to_string(style.weights->size()) + " bytes, " + std::to_string(bytes) + " needed");
+void check_style(const StyleMlp& style) {
   if (style.depth != StyleDepth::ndc && style.depth != StyleDepth::relative)
     throw std::invalid_argument("rasterizer: unknown style depth mode " +
                                 std::to_string(static_cast<uint32_t>(style.depth)));

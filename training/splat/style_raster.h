@@ -9,10 +9,11 @@
 
 namespace s4d::splat {
 
-// Throws std::invalid_argument naming the field when `style` cannot drive n Gaussians.
-void check_style(const StyleMlp& style, uint32_t n);
+// Throws std::invalid_argument naming the field when `style`'s settings are invalid (the weights
+// are GaussianParams[Attr::style_mlp], checked with the other attributes).
+void check_style(const StyleMlp& style);
 
-// Whether two descriptions render the same (their weight buffers aside).
+// Whether two descriptions render the same.
 bool same_style_settings(const StyleMlp& a, const StyleMlp& b);
 
 // Push constants of raster_fwd / raster_bwd, plain (style == nullptr) or style variant; `flags`

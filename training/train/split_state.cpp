@@ -17,12 +17,9 @@ model::HostState gather_state(const model::HostState& s, std::span<const uint32_
   };
   model::HostState out;
   out.cloud.sh_degree = s.cloud.sh_degree;
-  out.cloud.means = gather(s.cloud.means);
-  out.cloud.log_scales = gather(s.cloud.log_scales);
-  out.cloud.quats = gather(s.cloud.quats);
-  out.cloud.opacity_logits = gather(s.cloud.opacity_logits);
-  out.cloud.sh = gather(s.cloud.sh);
-  for (size_t a = 0; a < s.m.size(); ++a) out.m[a] = gather(s.m[a]), out.v[a] = gather(s.v[a]);
+  const auto from = splat::cloud_arrays(s.cloud);
+  const auto to = splat::cloud_arrays(out.cloud);
+  for (splat::Attr a : splat::kCloudAttrs) *to[a] = gather(*from[a]), out.m[a] = gather(s.m[a]), out.v[a] = gather(s.v[a]);
   for (size_t k = 0; k < s.stats.size(); ++k) out.stats[k] = gather(s.stats[k]);
   return out;
 }

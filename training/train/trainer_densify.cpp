@@ -23,7 +23,7 @@ void Trainer::Impl::update_mask() {
   const uint32_t samples = std::max<uint32_t>(2, config.motion_samples);
   for (uint32_t k = 0; k < samples; ++k) {
     const splat::GaussianParams p = deform_to(double(k) / (samples - 1));
-    const std::vector<float> means = ctx.download<float>(*p.means, size_t{n} * 3);
+    const std::vector<float> means = ctx.download<float>(*p[splat::Attr::means], size_t{n} * 3);
     for (size_t i = 0; i < means.size(); ++i) lo[i] = std::min(lo[i], means[i]), hi[i] = std::max(hi[i], means[i]);
   }
   const double limit = config.static_motion * dataset.extent;

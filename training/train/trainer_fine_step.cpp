@@ -14,9 +14,9 @@ void Trainer::Impl::size_stage2_buffers() {
   const uint32_t n = gaussians->size();
   if (sized_for == n) return;
   deformed = deform::DeformedCloud(ctx, config.field_heads, n, gaussians->sh_coeffs());
-  for (uint32_t a = 0; a < model::kAttrCount; ++a)
-    scratch_grad[a] = engine::Buffer(ctx, std::string("batch gradient ") + model::attr_name(model::Attr(a)),
-                                     size_t{n} * gaussians->width(model::Attr(a)) * 4);
+  for (splat::Attr a : splat::kCloudAttrs)
+    scratch_grad[a] = engine::Buffer(ctx, std::string("batch gradient ") + splat::attr_name(a),
+                                     size_t{n} * gaussians->width(a) * 4);
   batch_stats = densifier.make_batch_scratch(n);
   sized_for = n;
 }
@@ -74,25 +74,19 @@ optim::LossValue Trainer::Impl::fine_step() {
     // The first view's gradients land in the cloud's gradient buffers, later ones are added to them.
     splat::GaussianGrads grads = gaussians->grads();
     if (b > 0)
-      grads = {&scratch_grad[model::kMeans], &scratch_grad[model::kLogScales], &scratch_grad[model::kQuats],
-               &scratch_grad[model::kOpacity], &scratch_grad[model::kSh], nullptr};
+      for (splat::Attr a : splat::kCloudAttrs) grads[a] = &scratch_grad[a];
     engine::Recorder rec(ctx, "backward");
     rast.record_backward(rec, params, {.v_rgb = &v_rgb}, grads);
     rec.barrier();
     std::optional<engine::StageScope> timed(std::in_place, ctx, "field");
-    field->record_backward(rec, canonical(), static_cast<float>(view.time),
-                           {grads.v_means, head(S4D_DEFORM_HEAD_SCALES) ? grads.v_log_scales : nullptr,
-                            head(S4D_DEFORM_HEAD_ROTATIONS) ? grads.v_quats : nullptr,
-                            head(S4D_DEFORM_HEAD_OPACITY) ? grads.v_opacity_logits : nullptr,
-                            head(S4D_DEFORM_HEAD_SH) ? grads.v_sh : nullptr});
+    field->record_backward(rec, canonical(), static_cast<float>(view.time), grads);
     timed.emplace(ctx, "densify");
     if (stats) densifier.record_accumulate_batch_add(rec, *gaussians, rast, batch_stats);
     rec.barrier();
     timed.emplace(ctx, "backward");  // the batch's gradient sum
     if (b > 0)
-      for (uint32_t a = 0; a < model::kAttrCount; ++a)
-        primitives::cmd_add(rec, gaussians->grad(model::Attr(a)), scratch_grad[a],
-                               gaussians->size() * gaussians->width(model::Attr(a)));
+      for (splat::Attr a : splat::kCloudAttrs)
+        primitives::cmd_add(rec, gaussians->grad(a), scratch_grad[a], gaussians->size() * gaussians->width(a));
     ctx.run(std::move(rec));
   }
   set_learning_rates(iteration);

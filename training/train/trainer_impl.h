@@ -63,7 +63,7 @@ struct Trainer::Impl {
   std::array<float, 3> aabb_min{}, aabb_max{};
   engine::Buffer planes_m, planes_v, mlp_m, mlp_v;
   deform::DeformedCloud deformed;  // the Gaussians at the time of the view in hand (deform_to)
-  std::array<engine::Buffer, model::kAttrCount> scratch_grad;
+  model::CloudArrays<engine::Buffer> scratch_grad;
   engine::Buffer batch_stats;
   uint32_t sized_for = UINT32_MAX;  // Gaussian count the stage-2 buffers hold
   // The last still_count Gaussians do not move and skip the field (config.static_motion); 0 until

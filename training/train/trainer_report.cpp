@@ -38,9 +38,9 @@ void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
   iteration = 0;
   sampler = stage_sampler();
   engine::Recorder rec(ctx, "fresh optimizer");
-  for (uint32_t a = 0; a < model::kAttrCount; ++a) {
-    rec.fill(gaussians->moment1(model::Attr(a)), 0);
-    rec.fill(gaussians->moment2(model::Attr(a)), 0);
+  for (splat::Attr a : splat::kCloudAttrs) {
+    rec.fill(gaussians->moment1(a), 0);
+    rec.fill(gaussians->moment2(a), 0);
   }
   for (uint32_t s = 0; s < model::kStatCount; ++s) rec.fill(gaussians->stat(model::Stat(s)), 0);
   ctx.run(std::move(rec));

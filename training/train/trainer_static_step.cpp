@@ -57,12 +57,11 @@ void Trainer::Impl::record_adam(engine::Recorder& rec) {
   const engine::StageScope timed(ctx, "adam");
   model::TrainableGaussians& g = *gaussians;
   const uint32_t count = g.size();
-  for (uint32_t a = model::kMeans; a < model::kSh; ++a) {
-    const auto attr = model::Attr(a);
-    adam.record(rec, a, g.param(attr), g.grad(attr), g.moment1(attr), g.moment2(attr), count * g.width(attr));
-  }
-  adam.record_rows(rec, gShDc, gShRest, g.width(model::kSh), 3, g.param(model::kSh), g.grad(model::kSh),
-                   g.moment1(model::kSh), g.moment2(model::kSh), count * g.width(model::kSh));
+  for (splat::Attr a : {splat::Attr::means, splat::Attr::log_scales, splat::Attr::quats, splat::Attr::opacity_logits})
+    adam.record(rec, splat::index(a), g.param(a), g.grad(a), g.moment1(a), g.moment2(a), count * g.width(a));
+  const splat::Attr sh = splat::Attr::sh;
+  adam.record_rows(rec, gShDc, gShRest, g.width(sh), 3, g.param(sh), g.grad(sh), g.moment1(sh), g.moment2(sh),
+                   count * g.width(sh));
   if (fine()) {
     adam.record(rec, gPlanes, field->planes(), field->v_planes(), planes_m, planes_v, field->plane_floats());
     adam.record(rec, gMlp, field->mlp(), field->v_mlp(), mlp_m, mlp_v, field->mlp_floats());

@@ -70,7 +70,7 @@ std::vector<float> initial_mlp(uint32_t count, const std::string& init, uint32_t
 
 // 1 / (3 x the median largest scale): a Gaussian's own extent maps to about one unit of input.
 float automatic_depth_scale(engine::Context& ctx, const splat::GaussianParams& g) {
-  std::vector<float> s = ctx.download<float>(*g.log_scales, size_t{g.count} * 3), largest(g.count);
+  std::vector<float> s = ctx.download<float>(*g[splat::Attr::log_scales], size_t{g.count} * 3), largest(g.count);
   for (uint32_t i = 0; i < g.count; ++i) largest[i] = std::exp(std::max({s[3 * i], s[3 * i + 1], s[3 * i + 2]}));
   std::nth_element(largest.begin(), largest.begin() + g.count / 2, largest.end());
   return 1.0f / (3.0f * std::max(largest[g.count / 2], 1e-6f));
@@ -78,7 +78,7 @@ float automatic_depth_scale(engine::Context& ctx, const splat::GaussianParams& g
 
 // 1 for the Gaussians whose centre lies in the box (min xyz, max xyz), else 0.
 std::vector<uint32_t> inside_region(engine::Context& ctx, const splat::GaussianParams& g, const std::vector<float>& box) {
-  const std::vector<float> means = ctx.download<float>(*g.means, size_t{g.count} * 3);
+  const std::vector<float> means = ctx.download<float>(*g[splat::Attr::means], size_t{g.count} * 3);
   std::vector<uint32_t> mask(g.count);
   for (uint32_t i = 0; i < g.count; ++i) {
     bool in = true;
@@ -138,7 +138,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     geometry = std::make_unique<scene::CachedScene>(ctx, scene::open_scene(ctx, run, "original"),
                                                     std::vector<double>(times.begin(), times.end()), kGeometryCacheBytes);
     const splat::GaussianParams g = geometry->at(*times.begin(), {});
-    if (g.sh == nullptr || g.colors != nullptr) throw std::runtime_error(run.root.string() + ": the run has no SH colours to stylize");
+    if (g[splat::Attr::sh] == nullptr || g[splat::Attr::colors] != nullptr) throw std::runtime_error(run.root.string() + ": the run has no SH colours to stylize");
     count = g.count, sh_coeffs = g.sh_coeffs;
     depth_scale = config.depth_scale > 0 ? config.depth_scale : automatic_depth_scale(ctx, g);
     floats = {size_t{count} * sh_coeffs * 3, count, full ? size_t{count} * S4D_STYLE_MLP_STRIDE : 0};
@@ -262,8 +262,9 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     splat::GaussianParams p = scene::record_style_deltas(rec, g, param[0], param[1], sh, opacity);
     ctx.run(std::move(rec));
     if (full && with_mlp) {
-      mlp_desc = scene::style_mlp(param[2], view.time, config.depth_input, depth_scale, config.input_sigmoid);
+      mlp_desc = scene::style_mlp(view.time, config.depth_input, depth_scale, config.input_sigmoid);
       p.style = &mlp_desc;
+      p[splat::Attr::style_mlp] = &param[2];
     }
     return p;
   }
@@ -294,8 +295,10 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     }
     const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
     if (!std::isfinite(value)) return value;
-    splat::GaussianGrads grads{&v_means, &v_scales, &v_quats, &out[1], &out[0], nullptr};
-    if (mlp) grads.v_style_mlp = &out[2];
+    splat::GaussianGrads grads;
+    grads[splat::Attr::means] = &v_means, grads[splat::Attr::log_scales] = &v_scales, grads[splat::Attr::quats] = &v_quats;
+    grads[splat::Attr::opacity_logits] = &out[1], grads[splat::Attr::sh] = &out[0];
+    if (mlp) grads[splat::Attr::style_mlp] = &out[2];
     rast.backward(p, {.v_rgb = &v_rgb}, grads);
     return value;
   }

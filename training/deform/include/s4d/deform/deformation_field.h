@@ -17,45 +17,34 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/splat/gaussian_buffers.h"
 #include "s4d_deform.h"
 
 namespace s4d::deform {
 
-// Canonical (undeformed) Gaussians, flat float layouts as in s4d_splat.h. `means` is always read;
-// the others only when their head is on (they may be null otherwise). The last `still_count`
-// Gaussians are still ("deform only what moves", motion_split.h puts them last): the field skips
-// them, so their deformed values are copies of the canonical ones and they feed the field no gradient.
+// Canonical (undeformed) Gaussians, one buffer per attribute (s4d/splat/gaussian_buffers.h). `means`
+// is always read; the other cloud attributes only when their head is on (they may be null
+// otherwise). The last `still_count` Gaussians are still ("deform only what moves", motion_split.h
+// puts them last): the field skips them, so their deformed values are copies of the canonical ones
+// and they feed the field no gradient.
+//
+// Deformed outputs (record_forward) are a splat::GaussianBuffers<engine::Buffer> in the same
+// layouts, written only for heads that are on (others may be null: use the canonical buffer there).
+// Cotangents of the deformed parameters (record_backward) are the rasterizer's splat::GaussianGrads:
+// [means] is updated in place to dL/d canonical means; the other canonical gradients equal the
+// deformed ones (deformed = canonical + delta) and are only read, for heads that are on.
 struct CanonicalGaussians {
-  const engine::Buffer* means = nullptr;           // [N*3]
-  const engine::Buffer* log_scales = nullptr;      // [N*3]
-  const engine::Buffer* quats = nullptr;           // [N*4] (w, x, y, z)
-  const engine::Buffer* opacity_logits = nullptr;  // [N]
-  const engine::Buffer* sh = nullptr;              // [N*K*3], K = sh_coeffs
+  splat::GaussianBuffers<const engine::Buffer> buffers;
   uint32_t count = 0;
   uint32_t still_count = 0;  // <= count
   uint32_t sh_coeffs = 0;  // K; must be S4D_DEFORM_SH_COEFFS when the sh head is on
+
+  const engine::Buffer*& operator[](splat::Attr a) { return buffers[a]; }
+  const engine::Buffer* operator[](splat::Attr a) const { return buffers[a]; }
 };
 
-// Deformed outputs, same layouts. Written only for heads that are on (others may be null: use the
-// canonical buffer there).
-struct DeformedGaussians {
-  engine::Buffer* means = nullptr;
-  engine::Buffer* log_scales = nullptr;
-  engine::Buffer* quats = nullptr;
-  engine::Buffer* opacity_logits = nullptr;
-  engine::Buffer* sh = nullptr;
-};
-
-// Cotangents of the deformed parameters. v_means is updated in place to dL/d canonical means; the
-// other canonical gradients equal the deformed ones (deformed = canonical + delta) and are only read,
-// for heads that are on (others may be null).
-struct DeformedGrads {
-  engine::Buffer* v_means = nullptr;
-  const engine::Buffer* v_log_scales = nullptr;
-  const engine::Buffer* v_quats = nullptr;
-  const engine::Buffer* v_opacity_logits = nullptr;
-  const engine::Buffer* v_sh = nullptr;
-};
+// The field's heads are the cloud's attributes in order: head h deforms splat::kCloudAttrs[h].
+static_assert(S4D_DEFORM_HEADS == splat::kCloudAttrCount);
 
 // ALGORITHMS.md 3.2 weights (D-NeRF: 1e-4, 1e-2, 1e-4; DyNeRF: 2e-4, 1e-3, 1e-4).
 struct RegulariserWeights {
@@ -102,13 +91,15 @@ class DeformationField {
   // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): per
   // scratch_rows() moving Gaussians deform_feat and deform_fwd's layer sets, with barriers before
   // and between them (they share the scratch buffer); buffer copies of the still ones.
-  void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGaussians& out) const;
-  // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v.v_means.
+  void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
+                      const splat::GaussianBuffers<engine::Buffer>& out) const;
+  // Backward of record_forward with the same g and time: adds to v_planes() and v_mlp(), updates v[means].
   // Records, per scratch_rows() moving Gaussians, the forward's activations again (deform_feat,
   // deform_fwd), deform_bwd's layer sets back to the features, then deform_feat_bwd and
   // deform_wgrad, with barriers before, between and after them; still Gaussians' cotangents are
   // left as they are (dL/d canonical = dL/d deformed).
-  void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time, const DeformedGrads& v) const;
+  void record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
+                       const splat::GaussianGrads& v) const;
   // Adds the regularisers' gradient to v_planes(); their value is regulariser_value() once run.
   void record_regularisers(engine::Recorder& rec, const RegulariserWeights& w) const;
   // R of the last recorded record_regularisers, after its submission completed (waits, downloads).
@@ -119,7 +110,7 @@ class DeformationField {
   void check_gaussians(const CanonicalGaussians& g) const;
   uint32_t heads_on() const;
   void record_mlp_forward(engine::Recorder& rec, gpu::DeformParams p, const CanonicalGaussians& g,
-                          const engine::Buffer* const outputs[S4D_DEFORM_HEADS]) const;
+                          const splat::GaussianBuffers<engine::Buffer>* outputs) const;
 
   engine::Context* ctx_;
   FieldConfig config_;

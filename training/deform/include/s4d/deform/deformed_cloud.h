@@ -4,7 +4,6 @@
 // (stage 2's steps, its evaluation, the motion split) and scene::DeformedScene (renders, the viewer,
 // export, stage 4) both call it, so what a run renders is what its trainer evaluated.
 #pragma once
-#include <array>
 #include <cstdint>
 
 #include "s4d/deform/deformation_field.h"
@@ -27,7 +26,7 @@ class DeformedCloud {
   DeformedCloud(engine::Context& ctx, uint32_t heads, uint32_t count, uint32_t sh_coeffs);
 
   // The deformed buffers, null for the heads that are off.
-  DeformedGaussians outputs();
+  splat::GaussianBuffers<engine::Buffer> outputs();
 
   // Records `field`'s forward pass from `canonical` (count and sh_coeffs as this cloud's; the last
   // `still_count` Gaussians are copied, not deformed) at raw time `time` into this cloud's buffers,
@@ -39,7 +38,7 @@ class DeformedCloud {
 
  private:
   uint32_t heads_ = 0, count_ = 0, sh_coeffs_ = 0;
-  std::array<engine::Buffer, S4D_DEFORM_HEADS> buffers_;  // head order: means, log_scales, quats, opacity_logits, sh
+  splat::PerAttr<engine::Buffer, splat::kCloudAttrCount> buffers_;  // the heads' attributes
 };
 
 }  // namespace s4d::deform

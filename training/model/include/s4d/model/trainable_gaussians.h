@@ -10,13 +10,15 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/splat/gaussian_buffers.h"
 #include "s4d/splat/rasterizer.h"
 
 namespace s4d::model {
 
-// The trained tensors, in the order of their Adam parameter groups.
-enum Attr : uint32_t { kMeans, kLogScales, kQuats, kOpacity, kSh, kAttrCount };
-const char* attr_name(Attr a);
+using splat::Attr;
+// One array per trained tensor: the cloud's attributes (splat::kCloudAttrs, the Adam groups' order).
+template <class T>
+using CloudArrays = splat::PerAttr<T, splat::kCloudAttrCount>;
 
 // Densification statistics (ALGORITHMS.md 2.2), one float per Gaussian each.
 enum Stat : uint32_t { kGradAccum, kGradCount, kMaxRadius, kStatCount };
@@ -25,7 +27,7 @@ const char* stat_name(Stat s);
 // Everything per Gaussian for `count` Gaussians, on the host (checkpoints, tests).
 struct HostState {
   io::GaussianCloud cloud;
-  std::array<std::vector<float>, kAttrCount> m, v;  // Adam moments, same layouts as the parameters
+  CloudArrays<std::vector<float>> m, v;  // Adam moments, same layouts as the parameters
   std::array<std::vector<float>, kStatCount> stats;
 };
 
@@ -38,7 +40,7 @@ class TrainableGaussians {
   uint32_t size() const { return count_; }
   int sh_degree() const { return sh_degree_; }  // stored degree
   uint32_t sh_coeffs() const { return static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1)); }
-  uint32_t width(Attr a) const;  // floats per Gaussian of attribute a
+  uint32_t width(Attr a) const { return splat::attr_floats(a, sh_coeffs()); }  // floats per Gaussian
 
   engine::Buffer& param(Attr a) { return param_[a]; }
   engine::Buffer& grad(Attr a) { return grad_[a]; }
@@ -55,7 +57,7 @@ class TrainableGaussians {
   // Replaces every array with one for `count` Gaussians (the densifier's output). Each array in
   // `next` must hold count x width floats; grads are reallocated, not carried.
   struct Arrays {
-    std::array<engine::Buffer, kAttrCount> param, m, v;
+    CloudArrays<engine::Buffer> param, m, v;
     std::array<engine::Buffer, kStatCount> stat;
   };
   void adopt(Arrays&& next, uint32_t count);
@@ -74,7 +76,7 @@ class TrainableGaussians {
   std::string name_;
   uint32_t count_ = 0;
   int sh_degree_ = 0;
-  std::array<engine::Buffer, kAttrCount> param_, grad_, m_, v_;
+  CloudArrays<engine::Buffer> param_, grad_, m_, v_;
   std::array<engine::Buffer, kStatCount> stat_;
 };
 

@@ -29,7 +29,7 @@ class CachedScene final : public SceneSource {
 
  private:
   struct Copy {
-    engine::Buffer means, log_scales, quats, opacity_logits, sh;
+    splat::PerAttr<engine::Buffer, splat::kCloudAttrCount> buffers;
     splat::GaussianParams params;
   };
   engine::Context* ctx_;

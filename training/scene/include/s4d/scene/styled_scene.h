@@ -13,15 +13,16 @@
 
 namespace s4d::scene {
 
-// Records out_sh = g.sh + sh_delta and out_opacity = g.opacity_logits + opacity_delta and returns g
+// Records out_sh = g[sh] + sh_delta and out_opacity = g[opacity_logits] + opacity_delta and returns g
 // pointing at the outputs: the one place where a style's deltas meet the run's values, shared by
 // rendering and stage-4 training. Buffers hold g.count entries in g's layouts.
 splat::GaussianParams record_style_deltas(engine::Recorder& rec, const splat::GaussianParams& g,
                                           const engine::Buffer& sh_delta, const engine::Buffer& opacity_delta,
                                           const engine::Buffer& out_sh, const engine::Buffer& out_opacity);
 
-// The rasterizer's description of a style's MLPs at `time` (weights [count * S4D_STYLE_MLP_STRIDE]).
-splat::StyleMlp style_mlp(const engine::Buffer& weights, double time, run::DepthInput depth, float depth_scale,
+// The rasterizer's description of a style's MLPs at `time`; their weights, [count *
+// S4D_STYLE_MLP_STRIDE], go in GaussianParams[Attr::style_mlp].
+splat::StyleMlp style_mlp(double time, run::DepthInput depth, float depth_scale,
                           bool input_sigmoid);
 
 class StyledScene final : public SceneSource {

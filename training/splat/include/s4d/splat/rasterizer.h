@@ -21,6 +21,7 @@
 
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
+#include "s4d/splat/gaussian_buffers.h"
 #include "s4d/primitives/radix_sort.h"
 
 namespace s4d::splat {
@@ -42,10 +43,10 @@ enum class StyleDepth : uint32_t {
 
 // Per-Gaussian style MLPs ("Style Gaussians", ALGORITHMS.md 4.3; layout in
 // shaders/shared/s4d_style_splat.h). With GaussianParams::style set, every (pixel, Gaussian) pair
-// evaluates Gaussian i's MLP on x = (time, depth feature) inside the blend loop and blends colour
-// c_i + dRGB with alpha min(0.99, (o_i + dO) G). Zero W3 and b3 render exactly as without.
+// evaluates Gaussian i's MLP (GaussianParams[Attr::style_mlp]) on x = (time, depth feature) inside
+// the blend loop and blends colour c_i + dRGB with alpha min(0.99, (o_i + dO) G). Zero W3 and b3
+// render exactly as without.
 struct StyleMlp {
-  const engine::Buffer* weights = nullptr;  // [N*52] f32: W1 4x2, b1, W2 4x4, b2, W3 4x4, b3 (column-major)
   float time = 0;                           // x0, the normalised time in [0, 1)
   StyleDepth depth = StyleDepth::ndc;
   // StyleDepth::relative only. The default 1 keeps world units; a caller that wants the feature in
@@ -54,29 +55,18 @@ struct StyleMlp {
   bool input_sigmoid = false;  // x = sigmoid(x) before the first layer (SuperGaussians does)
 };
 
-// Device-resident Gaussian parameters, flat float arrays (layouts in shaders/shared/s4d_splat.h).
+// Device-resident Gaussian parameters, one buffer per attribute (gaussian_buffers.h): means,
+// log_scales, quats (w, x, y, z; normalised in the kernel) and opacity_logits always; sh unless
+// colors is set (colors replaces the SH colour); style_mlp [N*52] when `style` is set.
 struct GaussianParams {
-  const engine::Buffer* means = nullptr;           // [N*3]
-  const engine::Buffer* log_scales = nullptr;      // [N*3]
-  const engine::Buffer* quats = nullptr;           // [N*4] (w, x, y, z), normalised in the kernel
-  const engine::Buffer* opacity_logits = nullptr;  // [N]
-  const engine::Buffer* sh = nullptr;              // [N*K*3] coefficient-major
-  const engine::Buffer* colors = nullptr;          // [N*3] or nullptr: when set it replaces the SH colour
+  GaussianBuffers<const engine::Buffer> buffers;
   uint32_t count = 0;
   uint32_t sh_degree = 0;  // active degree 0..3
   uint32_t sh_coeffs = 1;  // K stored per Gaussian and channel, >= (sh_degree + 1)^2
   const StyleMlp* style = nullptr;  // nullptr: the plain rasterizer
-};
 
-// Gradient outputs, same layouts as the parameters; assigned (not accumulated) by backward().
-struct GaussianGrads {
-  engine::Buffer* v_means = nullptr;
-  engine::Buffer* v_log_scales = nullptr;
-  engine::Buffer* v_quats = nullptr;
-  engine::Buffer* v_opacity_logits = nullptr;
-  engine::Buffer* v_sh = nullptr;      // required unless colours were used
-  engine::Buffer* v_colors = nullptr;  // required when colours were used
-  engine::Buffer* v_style_mlp = nullptr;  // [N*52], required when the forward used style MLPs
+  const engine::Buffer*& operator[](Attr a) { return buffers[a]; }
+  const engine::Buffer* operator[](Attr a) const { return buffers[a]; }
 };
 
 // Cotangents of the forward images. v_rgb is required; v_alpha and v_depth are optional.
@@ -120,7 +110,9 @@ class Rasterizer {
   uint32_t overflows() const { return overflows_; }
   uint32_t instance_capacity() const { return instance_capacity_; }
 
-  // Backward of the last forward(), which must have used the same `g`. Waits.
+  // Backward of the last forward(), which must have used the same `g`. Waits. Gradients are assigned
+  // (not accumulated): means, log_scales, quats and opacity_logits always; sh unless colours were
+  // used, colors when they were, style_mlp when the forward used style MLPs.
   void backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out);
   // The same recorded into `rec` (after a barrier() behind whatever wrote the cotangents); the
   // gradients hold once `rec` has run.
@@ -172,7 +164,7 @@ class Rasterizer {
   bool colors_last_ = false;
   uint32_t sh_degree_last_ = 0, sh_coeffs_last_ = 0;
   bool style_last_ = false;
-  StyleMlp style_settings_last_{};  // the last forward's style settings (weights pointer unused)
+  StyleMlp style_settings_last_{};  // the last forward's style settings
   bool have_forward_ = false;
   bool pending_ = false;  // a forward was recorded and not yet finished
   uint32_t overflows_ = 0;

@@ -21,7 +21,7 @@ class DeviceGaussians {
   uint32_t size() const { return count_; }
 
  private:
-  engine::Buffer means_, log_scales_, quats_, opacity_logits_, sh_;
+  PerAttr<engine::Buffer, kCloudAttrCount> buffers_;
   uint32_t count_ = 0;
   int sh_degree_ = 0;
 };
