@@ -114,7 +114,7 @@ size_t Rasterizer::device_bytes() const {
   for (const engine::Buffer* b : {&xy_, &conic_opacity_, &color_depth_, &info_, &depth_keys_, &tiles_touched_,
                                   &sorted_ids_, &offsets_, &tile_keys_, &gaussian_ids_, &ranges_, &rgb_, &alpha_,
                                   &depth_, &count_, &last_, &final_t_, &grad2d_, &scan_scratch_, &list_stats_,
-                                  &quadric_})
+                                  &quadric_, &args_})
     total += b->size();
   for (const primitives::RadixSortScratch* s : {&depth_sort_, &tile_sort_})
     total += s->temp_keys.size() + s->temp_values.size() + s->histogram.size() + s->scan_scratch.size();
