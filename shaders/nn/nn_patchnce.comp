@@ -1,5 +1,6 @@
 // nn_patchnce: PatchNCE's cross-entropy of each row of the score matrix q . k with the diagonal as
-// the positive, and its gradient w.r.t. the scores (s4d_nn_ccpl.h). One invocation per row.
+// the positive, and its gradient w.r.t. the scores (s4d_nn_ccpl.h). One invocation per row, four
+// passes over it.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_nn_ccpl.h"
@@ -17,12 +18,13 @@ void main() {
   uint row = i * p.samples;
   float top = scores[row] * p.inv_tau;
   for (uint j = 1; j < p.samples; ++j) top = max(top, scores[row + j] * p.inv_tau);
-  float sum = 0.0;
-  for (uint j = 0; j < p.samples; ++j) sum += exp(scores[row + j] * p.inv_tau - top);
-  float lse = top + log(sum);
-  loss[i] = lse - scores[row + i] * p.inv_tau;
-  for (uint j = 0; j < p.samples; ++j) {
-    float prob = exp(scores[row + j] * p.inv_tau - lse);
-    grad[row + j] = p.scale * p.inv_tau * (prob - (j == i ? 1.0 : 0.0));
-  }
+  // 1 - softmax_i as the sum of the others' shares: no cancellation when the positive dominates.
+  float others = 0.0;
+  for (uint j = 0; j < p.samples; ++j)
+    if (j != i) others += exp(scores[row + j] * p.inv_tau - top);
+  float positive = exp(scores[row + i] * p.inv_tau - top), sum = positive + others;
+  loss[i] = log(sum) + top - scores[row + i] * p.inv_tau;
+  float g = p.scale * p.inv_tau / sum;
+  for (uint j = 0; j < p.samples; ++j)
+    grad[row + j] = j == i ? -g * others : g * exp(scores[row + j] * p.inv_tau - top);
 }

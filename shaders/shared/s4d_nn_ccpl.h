@@ -28,7 +28,9 @@
 // for j != i (the diagonal masked out of them), target the positive. That is the cross-entropy of
 // row i of P / tau with target i: loss[i] = logsumexp_j(P[i, j] / tau) - P[i, i] / tau. Writes
 // loss[i] and grad[i, j] = scale (softmax_j(P[i, :] / tau) - [i == j]) / tau, the gradient of
-// scale * sum_i loss[i] w.r.t. P. One invocation per row, looping over it three times.
+// scale * sum_i loss[i] w.r.t. P, its diagonal as -(the other entries' shares): 1 - softmax_i
+// would cancel when the positive dominates (float, logits up to 2 / tau apart). One invocation per
+// row, looping over it four times.
 #define S4D_B_PNCE_SCORES 0  // [s, s]
 #define S4D_B_PNCE_GRAD 1    // [s, s], written
 #define S4D_B_PNCE_LOSS 2    // [s], written

@@ -102,7 +102,7 @@ Tensor l2norm_columns_backward(engine::Recorder& rec, const Tensor& x, const Ten
 
 PatchNce patchnce(engine::Recorder& rec, const Tensor& scores, float tau, float scale) {
   if (scores.c != 1 || scores.h != scores.w) fail("patchnce", "expects square scores [1, s, s], got " + scores.shape());
-  check_loop("patchnce", 3 * uint64_t{scores.w}, "rows of " + std::to_string(scores.w));
+  check_loop("patchnce", 4 * uint64_t{scores.w}, "rows of " + std::to_string(scores.w));
   if (!(tau > 0)) fail("patchnce", "needs a positive temperature");
   PatchNce out{engine::Buffer(rec.context(), "patchnce losses", size_t{scores.h} * sizeof(float)),
                make_tensor(rec.context(), "d scores", 1, scores.h, scores.w)};

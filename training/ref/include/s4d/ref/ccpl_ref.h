@@ -78,13 +78,13 @@ PatchNceRef<T> patchnce_rows(const std::vector<T>& scores, uint32_t s, T inv_tau
   PatchNceRef<T> r{std::vector<T>(s), std::vector<T>(size_t{s} * s)};
   for (uint32_t i = 0; i < s; ++i) {
     const T* row = &scores[size_t{i} * s];
-    T top = row[0] * inv_tau, sum = 0;
+    T top = row[0] * inv_tau, others = 0;
     for (uint32_t j = 1; j < s; ++j) top = std::max(top, row[j] * inv_tau);
-    for (uint32_t j = 0; j < s; ++j) sum += std::exp(row[j] * inv_tau - top);
-    const T lse = top + std::log(sum);
-    r.loss[i] = lse - row[i] * inv_tau;
     for (uint32_t j = 0; j < s; ++j)
-      r.grad[size_t{i} * s + j] = scale * inv_tau * (std::exp(row[j] * inv_tau - lse) - (i == j ? T(1) : T(0)));
+      if (j != i) others += std::exp(row[j] * inv_tau - top);
+    const T sum = std::exp(row[i] * inv_tau - top) + others, g = scale * inv_tau / sum;
+    r.loss[i] = std::log(sum) + top - row[i] * inv_tau;
+    for (uint32_t j = 0; j < s; ++j) r.grad[size_t{i} * s + j] = j == i ? -g * others : g * std::exp(row[j] * inv_tau - top);
   }
   return r;
 }

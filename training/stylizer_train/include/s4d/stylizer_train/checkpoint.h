@@ -1,7 +1,9 @@
 // train-stylizer's checkpoint, OUT/checkpoint.safetensors beside the weights it continues: Adam's
 // moments of every trained tensor ("<file>.<tensor>.exp_avg" and ".exp_avg_sq", PyTorch's names,
-// flat), and in its metadata the steps done and the --losses set. The weights files carry the same
-// step in their metadata, so a folder whose weights and checkpoint disagree is refused, not mixed.
+// flat), the CCPL projection heads (no weights file holds them: "ccpl_heads.<level>.<0|2>.weight",
+// ".bias", as CCPL's Sequential), and in its metadata the steps done and the --losses set. The
+// weights files carry the same step in their metadata, so a folder whose weights and checkpoint
+// disagree is refused, not mixed.
 #pragma once
 #include <filesystem>
 #include <string>
@@ -24,9 +26,15 @@ struct MomentBuffers {
   engine::Buffer* v;
 };
 
+// A tensor the checkpoint holds itself, flat.
+struct CheckpointTensor {
+  std::string name;
+  engine::Buffer* buffer;
+};
+
 // Writes path atomically (a temporary file renamed).
 void write_checkpoint(engine::Context& ctx, const std::filesystem::path& path, const CheckpointState& state,
-                      const std::vector<MomentBuffers>& moments);
+                      const std::vector<MomentBuffers>& moments, const std::vector<CheckpointTensor>& tensors);
 
 // The metadata. Throws std::runtime_error naming the file and the missing or bad field.
 CheckpointState read_checkpoint_state(const std::filesystem::path& path);
@@ -35,6 +43,9 @@ CheckpointState read_checkpoint_state(const std::filesystem::path& path);
 // another size.
 void read_checkpoint_moments(engine::Context& ctx, const std::filesystem::path& path,
                              const std::vector<MomentBuffers>& moments);
+// Uploads the tensors; throws as read_checkpoint_moments.
+void read_checkpoint_tensors(engine::Context& ctx, const std::filesystem::path& path,
+                             const std::vector<CheckpointTensor>& tensors);
 
 // The "step" in a weights file's metadata; -1 where it has none (a folder not written by
 // train-stylizer, or --init's).

@@ -3,7 +3,7 @@
 // not kept, as HGST) and randomly cropped to crop x crop, the loss of s4d/nn/mcc_loss.h and its
 // gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
 // weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
-// .safetensors). HGST's CCPL term is not here yet. An --out folder holding a checkpoint
+// .safetensors); the CCPL heads stay in the checkpoint. An --out folder holding a checkpoint
 // (checkpoint.h) continues from it, step for step as if never interrupted; any other non-empty
 // folder is refused unless restart.
 #pragma once
