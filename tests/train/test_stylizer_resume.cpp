@@ -172,6 +172,12 @@ TEST_CASE("train-stylizer continues its checkpoint step for step and never start
   f.s.losses = "mccnet";
   CHECK(refusal(f) == "--losses mccnet: " + checkpoint + " was trained with --losses full; pass --restart to start over");
   f.s.losses = "full";
+  f.s.batch = 3;  // every setting a continued run must repeat is refused by name; one stands for them
+  CHECK(refusal(f) == "--batch 3: " + checkpoint + " was trained with --batch 2; pass --restart to start over");
+  f.s.batch = 2;
+  f.s.lr = 1.5e-3;
+  CHECK(refusal(f) == "--lr 0.0015: " + checkpoint + " was trained with --lr 0.001; pass --restart to start over");
+  f.s.lr = 1e-3;
   f.s.init = f.dir / "whole";
   CHECK(refusal(f).find("--init: --out " + f.s.out.string() + " continues from its checkpoint") == 0);
   f.s.init.clear();

@@ -44,16 +44,22 @@ void write_checkpoint(engine::Context& ctx, const fs::path& path, const Checkpoi
       tensors.push_back({b.name + suffix, {static_cast<int64_t>(n)}, ctx.download<float>(*buffer, n)});
     }
   const fs::path tmp = path.string() + ".tmp";
-  io::write_safetensors(tmp, tensors, io::TensorDtype::f32, {{"step", std::to_string(state.step)}, {"losses", state.losses}});
+  std::map<std::string, std::string> meta{{"step", std::to_string(state.step)}, {"losses", state.losses}};
+  for (const auto& [key, value] : state.settings) meta[key] = value;
+  io::write_safetensors(tmp, tensors, io::TensorDtype::f32, meta);
   fs::rename(tmp, path);
 }
 
-CheckpointState read_checkpoint_state(const fs::path& path) {
+CheckpointState read_checkpoint_state(const fs::path& path, const std::vector<std::string>& keys) {
   const io::SafetensorsFile file(path);
   const std::map<std::string, std::string>& meta = file.metadata();
-  for (const char* key : {"step", "losses"})
+  std::vector<std::string> wanted = {"step", "losses"};
+  wanted.insert(wanted.end(), keys.begin(), keys.end());
+  for (const std::string& key : wanted)
     if (!meta.count(key)) throw std::runtime_error(path.string() + ": metadata has no " + key);
-  return {parse_step(path, meta.at("step")), meta.at("losses")};
+  CheckpointState state{parse_step(path, meta.at("step")), meta.at("losses"), {}};
+  for (const std::string& key : keys) state.settings.emplace_back(key, meta.at(key));
+  return state;
 }
 
 void read_checkpoint_moments(engine::Context& ctx, const fs::path& path, const std::vector<MomentBuffers>& moments) {

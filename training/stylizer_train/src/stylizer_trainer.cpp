@@ -1,6 +1,8 @@
 #include "s4d/stylizer_train/stylizer_trainer.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -134,6 +136,15 @@ bool same_bytes(const fs::path& a, const fs::path& b) {
                     std::istreambuf_iterator<char>(fb));
 }
 
+// The options a continued run must repeat, as the checkpoint's metadata records them.
+std::vector<std::pair<std::string, std::string>> kept_settings(const StylizerTrainSettings& s) {
+  char lr[32];  // the shortest of 15 or 17 digits that reads back as the same double
+  std::snprintf(lr, sizeof lr, "%.15g", s.lr);
+  if (std::strtod(lr, nullptr) != s.lr) std::snprintf(lr, sizeof lr, "%.17g", s.lr);
+  return {{"batch", std::to_string(s.batch)}, {"crop", std::to_string(s.crop)}, {"resize", std::to_string(s.resize)},
+          {"lr", lr}, {"seed", std::to_string(s.seed)}};
+}
+
 // The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start.
 int steps_done(const StylizerTrainSettings& s) {
   const fs::path checkpoint = s.out / "checkpoint.safetensors";
@@ -141,10 +152,18 @@ int steps_done(const StylizerTrainSettings& s) {
   if (s.restart || !fs::exists(s.out) || fs::is_empty(s.out)) return 0;
   if (!fs::exists(checkpoint))
     throw std::invalid_argument("--out " + s.out.string() + " holds files but no checkpoint.safetensors to continue; pass --restart to train it from the start");
-  const CheckpointState state = read_checkpoint_state(checkpoint);
+  const std::vector<std::pair<std::string, std::string>> settings = kept_settings(s);
+  std::vector<std::string> keys;
+  for (const auto& kv : settings) keys.push_back(kv.first);
+  const CheckpointState state = read_checkpoint_state(checkpoint, keys);
   if (state.losses != s.losses)
     throw std::invalid_argument("--losses " + s.losses + ": " + checkpoint.string() + " was trained with --losses " + state.losses +
                                 "; pass --restart to start over");
+  for (size_t i = 0; i < settings.size(); ++i)
+    if (state.settings[i].second != settings[i].second)
+      throw std::invalid_argument("--" + settings[i].first + " " + settings[i].second + ": " + checkpoint.string() +
+                                  " was trained with --" + settings[i].first + " " + state.settings[i].second +
+                                  "; pass --restart to start over");
   if (!s.init.empty())
     throw std::invalid_argument("--init: --out " + s.out.string() + " continues from its checkpoint; pass --restart to start over from --init");
   if (state.step >= s.steps)
@@ -236,7 +255,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   auto save_all = [&](int step) {
     save(ctx, s.out / "decoder.safetensors", step, decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
     save(ctx, s.out / "mcc_module.safetensors", step, mcc_params, {false, false, false, true});
-    write_checkpoint(ctx, checkpoint, {step, s.losses}, moment_buffers, head_tensors);
+    write_checkpoint(ctx, checkpoint, {step, s.losses, kept_settings(s)}, moment_buffers, head_tensors);
   };
   optim::Adam adam(ctx, 1, "stylizer adam");
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
