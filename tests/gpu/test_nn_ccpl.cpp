@@ -134,6 +134,21 @@ TEST_CASE("one CCPL level (heads, normalisation, PatchNCE and back) matches its 
     CHECK(max_rel(context().download<float>(g1w, out * c), twin.grads.second.weight) < 1e-5);
     CHECK(max_rel(context().download<float>(g1b, out), twin.grads.second.bias) < 1e-5);
   }
+  // Weight 0 without head gradients (a set that only logs the term): the same losses, dq untouched.
+  {
+    const nn::CcplSamples samples = nn::draw_ccpl_samples(10, 12, 16, true, draw);
+    const auto prior = test::random_chw(c, 10, 12, rng);
+    auto [loss, dfq] = run([&](engine::Recorder& r) {
+      nn::Tensor into = test::upload(prior, "dfq");
+      engine::Buffer l = nn::record_ccpl_level(r, head, test::upload(fq, "fq"), test::upload(fk, "fk"), samples, 0.07f, 0.0f, into, nullptr);
+      return std::pair{std::move(l), std::move(into)};
+    });
+    const auto twin = ref::ccpl_level(to_double(fq), to_double(fk), samples.anchor, samples.neighbour, twin_head, 0.07, 1.0, false);
+    double value = 0;
+    for (const float v : context().download<float>(loss, 128)) value += v / 128;
+    CHECK(std::abs(value - twin.value) / twin.value < 1e-6);  // as above
+    CHECK(nn::download(context(), dfq) == prior.v);
+  }
   nn::CcplSamples bad = nn::draw_ccpl_samples(10, 12, 2, false, draw);
   bad.neighbour[3] = 120;
   nn::Tensor dfq = test::upload(fq, "dfq");

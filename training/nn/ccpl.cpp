@@ -141,6 +141,7 @@ engine::Buffer record_ccpl_level(engine::Recorder& rec, const CcplHead& head, co
   };
   const Side q = forward(fq), k = forward(fk);
   PatchNce nce = patchnce(rec, attention_scores(rec, q.z, k.z, 0, s), tau, weight / static_cast<float>(s));
+  if (weight == 0.0f && head_grads == nullptr) return std::move(nce.loss);  // logged only: every gradient is 0
   // Through the head back to the differences, with the heads' gradients where they are trained.
   auto backward = [&](const Side& side, const Tensor& grad_rows, const Tensor& other) {
     Tensor dz = make_tensor(rec.context(), "d ccpl z", other.c, 1, s);

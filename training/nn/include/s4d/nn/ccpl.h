@@ -70,8 +70,8 @@ PatchNce patchnce(engine::Recorder& rec, const Tensor& scores, float tau, float 
 
 // Records one level's term weight * mean_i PatchNCE_i: dfq += its gradient w.r.t. q's features and,
 // where head_grads is not null (2 entries: first, second), the heads' gradients through q and k are
-// added to it (CCPL's k is not detached before its head). Returns the per-sample losses (their sum
-// / s is the unweighted term). Throws std::invalid_argument naming the shapes or index at fault.
+// added to it (CCPL's k is not detached before its head); weight 0 without head_grads records the
+// forward only. Returns the per-sample losses (their sum / s is the unweighted term). Throws std::invalid_argument naming the shapes or index at fault.
 engine::Buffer record_ccpl_level(engine::Recorder& rec, const CcplHead& head, const Tensor& fq, const Tensor& fk,
                                  const CcplSamples& samples, float tau, float weight, Tensor& dfq,
                                  ConvGrads* head_grads);
