@@ -4,8 +4,9 @@
 // each subgroup starts at its own last contributor (subgroupMax), and every invocation of a
 // subgroup visits the same list position at the same step. Where no pixel of the subgroup meets the
 // Gaussian, the gradient code is skipped (a uniform branch); otherwise the per-Gaussian cotangents
-// are summed over the subgroup and one lane adds them to global memory: with float atomics when the
-// device has them (S4D_FLOAT_ATOMICS=1), else with a compare-and-swap loop. Skipped positions add
+// are summed over the subgroup and added to global memory by the subgroup's lanes in parallel, lane
+// i the values i, i + S, ...: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1),
+// else with a compare-and-swap loop. Skipped positions add
 // nothing, so the sums and their order are those of the full walk.
 // The style variant (S4D_STYLE=1) re-evaluates each pair's MLP (raster_pair.glsl): the colour
 // cotangent g_c = alpha T dL/dC goes to c_i unchanged, dL/do' = G dL/dalpha to the base opacity, the
@@ -65,6 +66,17 @@ void add_v_mlp(uint index, float value) {
 
 shared uint s_max_last;
 
+// The device's smallest subgroup size, set by the host (rasterizer.cpp); 1 is right on any device.
+// Round r of the lane-parallel adds below is needed while r x MIN_SUBGROUP < count: a constant
+// condition once specialised, so the unneeded rounds compile away. The rounds are written out, not
+// looped: llvmpipe counts every loop iteration against its cap, an unrolled one included.
+layout(constant_id = S4D_RBWD_SPEC_MIN_SUBGROUP) const uint MIN_SUBGROUP = 1u;
+bool rbwd_round_needed(uint r, uint count) { return r * MIN_SUBGROUP < count; }
+
+// Component c of v, c varying per lane. Selects, not v[c]: the atomics below pick their value by
+// lane, and llvmpipe runs a dynamically indexed local array through memory, lane by lane.
+float vec4_at(vec4 v, uint c) { return mix(mix(v.x, v.y, c == 1u), mix(v.z, v.w, c == 3u), c >= 2u); }
+
 // This pixel's backward state.
 uint last;
 vec3 vc;                    // dL/d rgb of the pixel
@@ -88,13 +100,32 @@ void mlp_bwd(uint j, StyleMlpEval m, vec4 dz) {
   v_w[8] = dz * m.h2.x, v_w[9] = dz * m.h2.y, v_w[10] = dz * m.h2.z, v_w[11] = dz * m.h2.w, v_w[12] = dz;
 }
 
-void add_v_mlp4(uint index, vec4 v) {
-  add_v_mlp(index, v.x), add_v_mlp(index + 1u, v.y), add_v_mlp(index + 2u, v.z), add_v_mlp(index + 3u, v.w);
+// Round r of the lane-parallel adds of the weight cotangents: value k = lane + r S (the weights'
+// layout), if there is one.
+void add_mlp(uint w, uint lane, uint size, uint r) {
+  if (!rbwd_round_needed(r, S4D_STYLE_MLP_STRIDE)) return;
+  uint k = lane + r * size, i = k >> 2u;
+  vec4 v = v_w[0];
+  v = mix(v, v_w[1], bvec4(i == 1u)), v = mix(v, v_w[2], bvec4(i == 2u)), v = mix(v, v_w[3], bvec4(i == 3u));
+  v = mix(v, v_w[4], bvec4(i == 4u)), v = mix(v, v_w[5], bvec4(i == 5u)), v = mix(v, v_w[6], bvec4(i == 6u));
+  v = mix(v, v_w[7], bvec4(i == 7u)), v = mix(v, v_w[8], bvec4(i == 8u)), v = mix(v, v_w[9], bvec4(i == 9u));
+  v = mix(v, v_w[10], bvec4(i == 10u)), v = mix(v, v_w[11], bvec4(i == 11u)), v = mix(v, v_w[12], bvec4(i == 12u));
+  if (k < uint(S4D_STYLE_MLP_STRIDE)) add_v_mlp(w + k, vec4_at(v, k & 3u));
 }
 #endif
 
+vec4 v_g2d[3];  // the current pair's screen-space cotangents in grad2d's layout (S4D_G2D_*), padded
+
+// Round r of the lane-parallel adds of the screen-space cotangents: value k = lane + r S, if there is one.
+void add_g2d(uint base, uint lane, uint size, uint r) {
+  if (!rbwd_round_needed(r, S4D_G2D_STRIDE)) return;
+  uint k = lane + r * size, i = k >> 2u;
+  vec4 v = mix(mix(v_g2d[0], v_g2d[1], bvec4(i == 1u)), v_g2d[2], bvec4(i == 2u));
+  if (k < uint(S4D_G2D_STRIDE)) add_grad(base + k, vec4_at(v, k & 3u));
+}
+
 // The cotangents of entry j of the batch (list position `end - 1 - j`), reduced over the subgroup
-// and added to global memory by one lane. No loops inside: see S4D_RASTER_UNROLL.
+// and added to global memory by its lanes in parallel. No loops inside: see S4D_RASTER_UNROLL.
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
@@ -151,21 +182,33 @@ void accumulate(uint j, uint batch, uint end) {
   v_w[9] = subgroupAdd(v_w[9]), v_w[10] = subgroupAdd(v_w[10]), v_w[11] = subgroupAdd(v_w[11]);
   v_w[12] = subgroupAdd(v_w[12]);
 #endif
-  if (!subgroupElect()) return;
+  // Every lane holds the sums: lane i adds values i, i + S, ... (S the subgroup size), so one
+  // atomic instruction adds up to S values. llvmpipe runs each atomic instruction as a loop over
+  // all the subgroup's lanes however few are active: at S = 8 this is 2 such loops instead of 10
+  // (style: 9 instead of 62). Every lane is active here (the walk is uniform in the subgroup).
+  uint lane = gl_SubgroupInvocationID, size = gl_SubgroupSize;
+  v_g2d[0] = vec4(g_xy, g_conic.xy), v_g2d[1] = vec4(g_conic.z, g_opacity, g_rgb.rg);
+  v_g2d[2] = vec4(g_rgb.b, g_depth, 0.0, 0.0);
   uint base = s_id[j] * S4D_G2D_STRIDE;
-  add_grad(base + S4D_G2D_XY, g_xy.x), add_grad(base + S4D_G2D_XY + 1, g_xy.y);
-  add_grad(base + S4D_G2D_CONIC, g_conic.x), add_grad(base + S4D_G2D_CONIC + 1, g_conic.y);
-  add_grad(base + S4D_G2D_CONIC + 2, g_conic.z);
-  add_grad(base + S4D_G2D_OPACITY, g_opacity);
-  add_grad(base + S4D_G2D_RGB, g_rgb.r), add_grad(base + S4D_G2D_RGB + 1, g_rgb.g);
-  add_grad(base + S4D_G2D_RGB + 2, g_rgb.b);
-  add_grad(base + S4D_G2D_DEPTH, g_depth);
+  add_g2d(base, lane, size, 0u), add_g2d(base, lane, size, 1u), add_g2d(base, lane, size, 2u);
+  add_g2d(base, lane, size, 3u), add_g2d(base, lane, size, 4u), add_g2d(base, lane, size, 5u);
+  add_g2d(base, lane, size, 6u), add_g2d(base, lane, size, 7u), add_g2d(base, lane, size, 8u);
+  add_g2d(base, lane, size, 9u);
 #if S4D_STYLE
   uint w = s_id[j] * S4D_STYLE_MLP_STRIDE;
-  add_v_mlp4(w, v_w[0]), add_v_mlp4(w + 4u, v_w[1]), add_v_mlp4(w + 8u, v_w[2]), add_v_mlp4(w + 12u, v_w[3]);
-  add_v_mlp4(w + 16u, v_w[4]), add_v_mlp4(w + 20u, v_w[5]), add_v_mlp4(w + 24u, v_w[6]);
-  add_v_mlp4(w + 28u, v_w[7]), add_v_mlp4(w + 32u, v_w[8]), add_v_mlp4(w + 36u, v_w[9]);
-  add_v_mlp4(w + 40u, v_w[10]), add_v_mlp4(w + 44u, v_w[11]), add_v_mlp4(w + 48u, v_w[12]);
+  add_mlp(w, lane, size, 0u), add_mlp(w, lane, size, 1u), add_mlp(w, lane, size, 2u), add_mlp(w, lane, size, 3u);
+  add_mlp(w, lane, size, 4u), add_mlp(w, lane, size, 5u), add_mlp(w, lane, size, 6u), add_mlp(w, lane, size, 7u);
+  add_mlp(w, lane, size, 8u), add_mlp(w, lane, size, 9u), add_mlp(w, lane, size, 10u), add_mlp(w, lane, size, 11u);
+  add_mlp(w, lane, size, 12u), add_mlp(w, lane, size, 13u), add_mlp(w, lane, size, 14u), add_mlp(w, lane, size, 15u);
+  add_mlp(w, lane, size, 16u), add_mlp(w, lane, size, 17u), add_mlp(w, lane, size, 18u), add_mlp(w, lane, size, 19u);
+  add_mlp(w, lane, size, 20u), add_mlp(w, lane, size, 21u), add_mlp(w, lane, size, 22u), add_mlp(w, lane, size, 23u);
+  add_mlp(w, lane, size, 24u), add_mlp(w, lane, size, 25u), add_mlp(w, lane, size, 26u), add_mlp(w, lane, size, 27u);
+  add_mlp(w, lane, size, 28u), add_mlp(w, lane, size, 29u), add_mlp(w, lane, size, 30u), add_mlp(w, lane, size, 31u);
+  add_mlp(w, lane, size, 32u), add_mlp(w, lane, size, 33u), add_mlp(w, lane, size, 34u), add_mlp(w, lane, size, 35u);
+  add_mlp(w, lane, size, 36u), add_mlp(w, lane, size, 37u), add_mlp(w, lane, size, 38u), add_mlp(w, lane, size, 39u);
+  add_mlp(w, lane, size, 40u), add_mlp(w, lane, size, 41u), add_mlp(w, lane, size, 42u), add_mlp(w, lane, size, 43u);
+  add_mlp(w, lane, size, 44u), add_mlp(w, lane, size, 45u), add_mlp(w, lane, size, 46u), add_mlp(w, lane, size, 47u);
+  add_mlp(w, lane, size, 48u), add_mlp(w, lane, size, 49u), add_mlp(w, lane, size, 50u), add_mlp(w, lane, size, 51u);
 #endif
 }
 
