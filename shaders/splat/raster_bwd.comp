@@ -24,7 +24,14 @@
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
 
-layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE) in;
+// Each invocation takes RBWD_PIXELS pixels of a column (rows RBWD_PIXELS y ..): the per-pair
+// reductions and atomics, which cost llvmpipe a loop over the lanes each, are then shared by twice
+// the pixels.
+#define RBWD_PIXELS 2
+layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / RBWD_PIXELS) in;
+#if RBWD_PIXELS != 2
+#error "px0 and px1, and two raster_load_batch calls per batch"
+#endif
 layout(push_constant) uniform Push { RasterParams p; };
 #include "raster_batch.glsl"
 #include "raster_pair.glsl"
@@ -77,27 +84,45 @@ bool rbwd_round_needed(uint r, uint count) { return r * MIN_SUBGROUP < count; }
 // lane, and llvmpipe runs a dynamically indexed local array through memory, lane by lane.
 float vec4_at(vec4 v, uint c) { return mix(mix(v.x, v.y, c == 1u), mix(v.z, v.w, c == 3u), c >= 2u); }
 
-// This pixel's backward state.
-uint last;
-vec3 vc;                    // dL/d rgb of the pixel
-float v_pix_alpha, v_pix_depth, bg_dot, T_final;
-float T;                    // transmittance in front of the Gaussian after the current one
-vec3 behind = vec3(0.0);    // colour blended behind the current Gaussian, per unit of T after it
-float behind_depth = 0.0;
+// One pixel's backward state.
+struct Pixel {
+  vec2 centre;            // (i + 0.5, j + 0.5)
+  vec2 ray;               // camera-space ray at z = 1 (style)
+  uint last;
+  vec3 vc;                // dL/d rgb of the pixel
+  float v_pix_alpha, v_pix_depth, bg_dot, T_final;
+  float T;                // transmittance in front of the Gaussian after the current one
+  vec3 behind;            // colour blended behind the current Gaussian, per unit of T after it
+  float behind_depth;
+};
+Pixel px0, px1;  // this invocation's RBWD_PIXELS pixels
+
+// Points raster_pair.glsl's sampling at pixel q.
+void use_pixel(Pixel q) {
+  centre = q.centre;
+#if S4D_STYLE
+  ray = q.ray;
+#endif
+}
+
+// The current pair's cotangents, summed over this invocation's pixels.
+vec2 g_xy;
+vec3 g_conic, g_rgb;
+float g_opacity, g_depth;
 
 #if S4D_STYLE
 vec4 v_w[S4D_STYLE_MLP_VEC4S];  // the current pair's weight cotangents, in the weights' vec4 layout
 
-// Backward of style_mlp_fwd for output cotangent dz into v_w.
+// Backward of style_mlp_fwd for output cotangent dz, added to v_w.
 void mlp_bwd(uint j, StyleMlpEval m, vec4 dz) {
   uint w = uint(S4D_STYLE_MLP_VEC4S) * j;
   vec4 dh2 = vec4(dot(s_mlp[w + 8u], dz), dot(s_mlp[w + 9u], dz), dot(s_mlp[w + 10u], dz), dot(s_mlp[w + 11u], dz));
   vec4 da2 = dh2 * m.h2 * (1.0 - m.h2);
   vec4 dh1 = vec4(dot(s_mlp[w + 3u], da2), dot(s_mlp[w + 4u], da2), dot(s_mlp[w + 5u], da2), dot(s_mlp[w + 6u], da2));
   vec4 da1 = dh1 * m.h1 * (1.0 - m.h1);
-  v_w[0] = da1 * m.x.x, v_w[1] = da1 * m.x.y, v_w[2] = da1;
-  v_w[3] = da2 * m.h1.x, v_w[4] = da2 * m.h1.y, v_w[5] = da2 * m.h1.z, v_w[6] = da2 * m.h1.w, v_w[7] = da2;
-  v_w[8] = dz * m.h2.x, v_w[9] = dz * m.h2.y, v_w[10] = dz * m.h2.z, v_w[11] = dz * m.h2.w, v_w[12] = dz;
+  v_w[0] += da1 * m.x.x, v_w[1] += da1 * m.x.y, v_w[2] += da1;
+  v_w[3] += da2 * m.h1.x, v_w[4] += da2 * m.h1.y, v_w[5] += da2 * m.h1.z, v_w[6] += da2 * m.h1.w, v_w[7] += da2;
+  v_w[8] += dz * m.h2.x, v_w[9] += dz * m.h2.y, v_w[10] += dz * m.h2.z, v_w[11] += dz * m.h2.w, v_w[12] += dz;
 }
 
 // Round r of the lane-parallel adds of the weight cotangents: value k = lane + r S (the weights'
@@ -124,52 +149,57 @@ void add_g2d(uint base, uint lane, uint size, uint r) {
   if (k < uint(S4D_G2D_STRIDE)) add_grad(base + k, vec4_at(v, k & 3u));
 }
 
+// Adds pixel q's cotangents of entry j (sample s, which q meets in front of its last contributor)
+// to the pair's sums, and steps q's state past the entry.
+void pixel_pair(uint j, PairSample s, inout Pixel q) {
+  vec4 cd = s_color_depth[j];
+  vec3 c = pair_color(j, s);
+  float alpha = s.b.alpha;
+  float T_i = q.T / (1.0 - alpha);
+  float v_alpha = T_i * dot(c - q.behind, q.vc) + T_i * (cd.w - q.behind_depth) * q.v_pix_depth +
+                  q.T_final / (1.0 - alpha) * (q.v_pix_alpha - q.bg_dot);
+  vec3 p_rgb = (alpha * T_i) * q.vc;
+  float p_opacity = 0.0;
+  g_rgb += p_rgb;
+  g_depth += alpha * T_i * q.v_pix_depth;
+  if (!s.b.clamped) {  // a capped alpha depends on neither the conic, the mean nor the opacity
+    p_opacity = s.b.G * v_alpha;
+    float v_power = s.opacity * s.b.G * v_alpha;
+    vec4 co = s_conic_opacity[j];
+    vec2 d = s.b.d;
+    g_opacity += p_opacity;
+    g_xy += -v_power * vec2(co.x * d.x + co.y * d.y, co.y * d.x + co.z * d.y);
+    g_conic += -v_power * vec3(0.5 * d.x * d.x, d.x * d.y, 0.5 * d.y * d.y);
+  }
+#if S4D_STYLE
+  mlp_bwd(j, s.m, s.m.s * (1.0 - s.m.s) * vec4(2.0 * p_rgb, p_opacity));
+#endif
+  q.behind = alpha * c + (1.0 - alpha) * q.behind;
+  q.behind_depth = alpha * cd.w + (1.0 - alpha) * q.behind_depth;
+  q.T = T_i;
+}
+
 // The cotangents of entry j of the batch (list position `end - 1 - j`), reduced over the subgroup
 // and added to global memory by its lanes in parallel. No loops inside: see S4D_RASTER_UNROLL.
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
-  PairSample s = pair_sample(j);
-  bool contributes = position < last && !s.b.skip;
+  use_pixel(px0);
+  PairSample s0 = pair_sample(j);
+  use_pixel(px1);
+  PairSample s1 = pair_sample(j);
+  bool c0 = position < px0.last && !s0.b.skip, c1 = position < px1.last && !s1.b.skip;
   // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
   // gradient code below is skipped instead of executed under an all-false mask, and the reductions
   // inside stay legal.
-  if (!subgroupAny(contributes)) return;
+  if (!subgroupAny(c0 || c1)) return;
+  g_xy = vec2(0.0), g_conic = vec3(0.0), g_rgb = vec3(0.0), g_opacity = 0.0, g_depth = 0.0;
 #if S4D_STYLE
-  StyleMlpEval m = StyleMlpEval(vec2(0.0), vec4(0.0), vec4(0.0), vec4(0.0));  // with dz = 0: zero cotangents
-  vec4 dz = vec4(0.0);
+  v_w = vec4[S4D_STYLE_MLP_VEC4S](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
+                                  vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
 #endif
-  vec2 g_xy = vec2(0.0);
-  vec3 g_conic = vec3(0.0), g_rgb = vec3(0.0);
-  float g_opacity = 0.0, g_depth = 0.0;
-  if (contributes) {
-    vec4 cd = s_color_depth[j];
-    vec3 c = pair_color(j, s);
-    float alpha = s.b.alpha;
-    float T_i = T / (1.0 - alpha);
-    float v_alpha = T_i * dot(c - behind, vc) + T_i * (cd.w - behind_depth) * v_pix_depth +
-                    T_final / (1.0 - alpha) * (v_pix_alpha - bg_dot);
-    g_rgb = (alpha * T_i) * vc;
-    g_depth = alpha * T_i * v_pix_depth;
-    if (!s.b.clamped) {  // a capped alpha depends on neither the conic, the mean nor the opacity
-      g_opacity = s.b.G * v_alpha;
-      float v_power = s.opacity * s.b.G * v_alpha;
-      vec4 co = s_conic_opacity[j];
-      vec2 d = s.b.d;
-      g_xy = -v_power * vec2(co.x * d.x + co.y * d.y, co.y * d.x + co.z * d.y);
-      g_conic = -v_power * vec3(0.5 * d.x * d.x, d.x * d.y, 0.5 * d.y * d.y);
-    }
-#if S4D_STYLE
-    m = s.m;
-    dz = m.s * (1.0 - m.s) * vec4(2.0 * g_rgb, g_opacity);
-#endif
-    behind = alpha * c + (1.0 - alpha) * behind;
-    behind_depth = alpha * cd.w + (1.0 - alpha) * behind_depth;
-    T = T_i;
-  }
-#if S4D_STYLE
-  mlp_bwd(j, m, dz);
-#endif
+  if (c0) pixel_pair(j, s0, px0);
+  if (c1) pixel_pair(j, s1, px1);
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);
@@ -215,10 +245,14 @@ void accumulate(uint j, uint batch, uint end) {
 #if S4D_STYLE
 #include "raster_walk.glsl"
 
-// Marks slot j in `bits` when it may meet this pixel in front of its last contributor.
+// Marks slot j in `bits` when it may meet one of this invocation's pixels in front of its last contributor.
 void accumulate_mark(uint j, uint batch, uint end, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
-  raster_walk_mark(bits, j, end - 1u - j < last && !pair_bound(j).b.skip);
+  uint position = end - 1u - j;
+  use_pixel(px0);
+  bool meets = position < px0.last && !pair_bound(j).b.skip;
+  use_pixel(px1);
+  raster_walk_mark(bits, j, meets || (position < px1.last && !pair_bound(j).b.skip));
 }
 
 // Accumulates the next marked slot, if any, and unmarks it.
@@ -228,26 +262,34 @@ void accumulate_next(inout uvec2 todo, uint batch, uint end) {
 }
 #endif
 
+// Pixel pix's state from the forward's outputs and the image cotangents; a pixel outside the
+// image has no contributor.
+Pixel load_pixel(uvec2 pix) {
+  Pixel q;
+  bool inside = pix.x < p.size.x && pix.y < p.size.y;
+  uint o = pix.y * p.size.x + pix.x;
+  q.centre = vec2(pix) + 0.5;
+  q.ray = (q.centre - p.intrinsics.zw) / p.intrinsics.xy;
+  q.last = inside ? last_buf[o] : 0u;
+  q.T_final = inside ? final_t[o] : 1.0;
+  q.vc = inside ? vec3(v_rgb[3u * o], v_rgb[3u * o + 1u], v_rgb[3u * o + 2u]) : vec3(0.0);
+  q.v_pix_alpha = inside && (p.flags & S4D_RASTER_HAS_V_ALPHA) != 0u ? v_alpha_img[o] : 0.0;
+  q.v_pix_depth = inside && (p.flags & S4D_RASTER_HAS_V_DEPTH) != 0u ? v_depth_img[o] : 0.0;
+  q.bg_dot = dot(p.background.rgb, q.vc);
+  q.T = q.T_final;
+  q.behind = vec3(0.0), q.behind_depth = 0.0;
+  return q;
+}
+
 void main() {
   uint tile = flat_group_id();
   if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: barriers stay uniform
   uint lid = gl_LocalInvocationIndex;
-  uvec2 pix = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE + gl_LocalInvocationID.xy;
-  bool inside = pix.x < p.size.x && pix.y < p.size.y;
-  centre = vec2(pix) + 0.5;
-#if S4D_STYLE
-  ray = (centre - p.intrinsics.zw) / p.intrinsics.xy;
-#endif
-  uint o = pix.y * p.size.x + pix.x;
+  uvec2 origin = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE;
+  uvec2 local = uvec2(gl_LocalInvocationID.x, RBWD_PIXELS * gl_LocalInvocationID.y);
+  px0 = load_pixel(origin + local), px1 = load_pixel(origin + local + uvec2(0u, 1u));
   uint range_begin = ranges[tile].x;
-
-  last = inside ? last_buf[o] : 0u;
-  T_final = inside ? final_t[o] : 1.0;
-  vc = inside ? vec3(v_rgb[3u * o], v_rgb[3u * o + 1u], v_rgb[3u * o + 2u]) : vec3(0.0);
-  v_pix_alpha = inside && (p.flags & S4D_RASTER_HAS_V_ALPHA) != 0u ? v_alpha_img[o] : 0.0;
-  v_pix_depth = inside && (p.flags & S4D_RASTER_HAS_V_DEPTH) != 0u ? v_depth_img[o] : 0.0;
-  bg_dot = dot(p.background.rgb, vc);
-  T = T_final;
+  uint last = max(px0.last, px1.last);
 
   if (lid == 0u) s_max_last = 0u;
   barrier();
@@ -259,7 +301,9 @@ void main() {
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_RASTER_BATCH))) {
     uint batch = min(end, uint(S4D_RASTER_BATCH));
     barrier();
-    raster_load_batch(lid, range_begin + end - 1u, true, batch);  // slot j: list position end - 1 - j
+    // Slot j: list position end - 1 - j. Two loads per invocation: half the forward's invocations.
+    raster_load_batch(lid, range_begin + end - 1u, true, batch);
+    raster_load_batch(lid + uint(S4D_TILE_PIXELS / RBWD_PIXELS), range_begin + end - 1u, true, batch);
     barrier();
     // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
     uint first = end - min(end, subgroup_last);
