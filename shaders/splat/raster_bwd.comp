@@ -27,10 +27,10 @@
 // Each invocation takes RBWD_PIXELS pixels of a column (rows RBWD_PIXELS y ..): the per-pair
 // reductions and atomics, which cost llvmpipe a loop over the lanes each, are then shared by twice
 // the pixels.
-#define RBWD_PIXELS 2
+#define RBWD_PIXELS 4
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / RBWD_PIXELS) in;
-#if RBWD_PIXELS != 2
-#error "px0 and px1, and two raster_load_batch calls per batch"
+#if RBWD_PIXELS != 4
+#error "px0 .. px3, and four raster_load_batch calls per batch"
 #endif
 layout(push_constant) uniform Push { RasterParams p; };
 #include "raster_batch.glsl"
@@ -95,7 +95,7 @@ struct Pixel {
   vec3 behind;            // colour blended behind the current Gaussian, per unit of T after it
   float behind_depth;
 };
-Pixel px0, px1;  // this invocation's RBWD_PIXELS pixels
+Pixel px0, px1, px2, px3;  // this invocation's RBWD_PIXELS pixels
 
 // Points raster_pair.glsl's sampling at pixel q.
 void use_pixel(Pixel q) {
@@ -188,11 +188,16 @@ void accumulate(uint j, uint batch, uint end) {
   PairSample s0 = pair_sample(j);
   use_pixel(px1);
   PairSample s1 = pair_sample(j);
+  use_pixel(px2);
+  PairSample s2 = pair_sample(j);
+  use_pixel(px3);
+  PairSample s3 = pair_sample(j);
   bool c0 = position < px0.last && !s0.b.skip, c1 = position < px1.last && !s1.b.skip;
+  bool c2 = position < px2.last && !s2.b.skip, c3 = position < px3.last && !s3.b.skip;
   // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
   // gradient code below is skipped instead of executed under an all-false mask, and the reductions
   // inside stay legal.
-  if (!subgroupAny(c0 || c1)) return;
+  if (!subgroupAny(c0 || c1 || c2 || c3)) return;
   g_xy = vec2(0.0), g_conic = vec3(0.0), g_rgb = vec3(0.0), g_opacity = 0.0, g_depth = 0.0;
 #if S4D_STYLE
   v_w = vec4[S4D_STYLE_MLP_VEC4S](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
@@ -200,6 +205,8 @@ void accumulate(uint j, uint batch, uint end) {
 #endif
   if (c0) pixel_pair(j, s0, px0);
   if (c1) pixel_pair(j, s1, px1);
+  if (c2) pixel_pair(j, s2, px2);
+  if (c3) pixel_pair(j, s3, px3);
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);
@@ -252,7 +259,11 @@ void accumulate_mark(uint j, uint batch, uint end, inout uvec2 bits) {
   use_pixel(px0);
   bool meets = position < px0.last && !pair_bound(j).b.skip;
   use_pixel(px1);
-  raster_walk_mark(bits, j, meets || (position < px1.last && !pair_bound(j).b.skip));
+  meets = meets || (position < px1.last && !pair_bound(j).b.skip);
+  use_pixel(px2);
+  meets = meets || (position < px2.last && !pair_bound(j).b.skip);
+  use_pixel(px3);
+  raster_walk_mark(bits, j, meets || (position < px3.last && !pair_bound(j).b.skip));
 }
 
 // Accumulates the next marked slot, if any, and unmarks it.
@@ -288,8 +299,9 @@ void main() {
   uvec2 origin = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE;
   uvec2 local = uvec2(gl_LocalInvocationID.x, RBWD_PIXELS * gl_LocalInvocationID.y);
   px0 = load_pixel(origin + local), px1 = load_pixel(origin + local + uvec2(0u, 1u));
+  px2 = load_pixel(origin + local + uvec2(0u, 2u)), px3 = load_pixel(origin + local + uvec2(0u, 3u));
   uint range_begin = ranges[tile].x;
-  uint last = max(px0.last, px1.last);
+  uint last = max(max(px0.last, px1.last), max(px2.last, px3.last));
 
   if (lid == 0u) s_max_last = 0u;
   barrier();
@@ -301,9 +313,13 @@ void main() {
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_RASTER_BATCH))) {
     uint batch = min(end, uint(S4D_RASTER_BATCH));
     barrier();
-    // Slot j: list position end - 1 - j. Two loads per invocation: half the forward's invocations.
+    // Slot j: list position end - 1 - j. RBWD_PIXELS loads per invocation: a fraction of the
+    // forward's invocations.
+    const uint wg = uint(S4D_TILE_PIXELS / RBWD_PIXELS);
     raster_load_batch(lid, range_begin + end - 1u, true, batch);
-    raster_load_batch(lid + uint(S4D_TILE_PIXELS / RBWD_PIXELS), range_begin + end - 1u, true, batch);
+    raster_load_batch(lid + wg, range_begin + end - 1u, true, batch);
+    raster_load_batch(lid + 2u * wg, range_begin + end - 1u, true, batch);
+    raster_load_batch(lid + 3u * wg, range_begin + end - 1u, true, batch);
     barrier();
     // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
     uint first = end - min(end, subgroup_last);
