@@ -1,13 +1,13 @@
 // raster_bwd: same tiling as raster_fwd. Each pixel walks its tile's list back to front from its
 // last contributor, recovering T_i = T_{i+1} / (1 - alpha_i) from the stored final transmittance
-// (ALGORITHMS.md 1.6). The workgroup loads the list in batches up to the tile's last contributor;
-// each subgroup starts at its own last contributor (subgroupMax), and every invocation of a
-// subgroup visits the same list position at the same step. Where no pixel of the subgroup meets the
-// Gaussian, the gradient code is skipped (a uniform branch); otherwise the per-Gaussian cotangents
-// are summed over the subgroup and added to global memory by the subgroup's lanes in parallel, lane
-// i the values i, i + S, ...: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1),
-// else with a compare-and-swap loop. Skipped positions add
-// nothing, so the sums and their order are those of the full walk.
+// (ALGORITHMS.md 1.6). An invocation takes RBWD_PIXELS pixels of a column. The workgroup loads the
+// list in batches up to the tile's last contributor; each subgroup starts at its own last
+// contributor (subgroupMax), and every invocation of a subgroup visits the same list position at
+// the same step. Where no pixel of the subgroup meets the Gaussian, the gradient code is skipped (a
+// uniform branch); otherwise the per-Gaussian cotangents are summed over the invocation's pixels,
+// then over the subgroup, and added to global memory by the subgroup's lanes in parallel, lane i
+// the values i, i + S, ...: with float atomics when the device has them (S4D_FLOAT_ATOMICS=1), else
+// with a compare-and-swap loop. Skipped positions add nothing.
 // The style variant (S4D_STYLE=1) re-evaluates each pair's MLP (raster_pair.glsl): the colour
 // cotangent g_c = alpha T dL/dC goes to c_i unchanged, dL/do' = G dL/dalpha to the base opacity, the
 // mean and conic cotangents use o' in place of o, and dL/dz = sigmoid'(z) (2 g_c, dL/do') flows back
@@ -25,12 +25,18 @@
 #include "flat_group.glsl"
 
 // Each invocation takes RBWD_PIXELS pixels of a column (rows RBWD_PIXELS y ..): the per-pair
-// reductions and atomics, which cost llvmpipe a loop over the lanes each, are then shared by twice
-// the pixels.
-#define RBWD_PIXELS 4
+// subgroup reductions and atomics, which cost llvmpipe a loop over the lanes each, then serve
+// RBWD_PIXELS times as many pixels (issue 21: 8 pixels beat 4, which beat 2, which beat 1, on
+// lavapipe; docs/rasterizer.md). The per-pixel sums over an invocation's pixels come first.
+#define RBWD_PIXELS 8
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / RBWD_PIXELS) in;
-#if RBWD_PIXELS != 4
-#error "px0 .. px3, and four raster_load_batch calls per batch"
+// RBWD_EACH(F): F(k) for each of the invocation's pixels, written out (llvmpipe's loop cap).
+#if RBWD_PIXELS == 4
+#define RBWD_EACH(F) F(0) F(1) F(2) F(3)
+#elif RBWD_PIXELS == 8
+#define RBWD_EACH(F) F(0) F(1) F(2) F(3) F(4) F(5) F(6) F(7)
+#else
+#error "RBWD_PIXELS is 4 or 8"
 #endif
 layout(push_constant) uniform Push { RasterParams p; };
 #include "raster_batch.glsl"
@@ -95,7 +101,7 @@ struct Pixel {
   vec3 behind;            // colour blended behind the current Gaussian, per unit of T after it
   float behind_depth;
 };
-Pixel px0, px1, px2, px3;  // this invocation's RBWD_PIXELS pixels
+Pixel px[RBWD_PIXELS];  // this invocation's pixels, a column
 
 // Points raster_pair.glsl's sampling at pixel q.
 void use_pixel(Pixel q) {
@@ -184,29 +190,18 @@ void pixel_pair(uint j, PairSample s, inout Pixel q) {
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
-  use_pixel(px0);
-  PairSample s0 = pair_sample(j);
-  use_pixel(px1);
-  PairSample s1 = pair_sample(j);
-  use_pixel(px2);
-  PairSample s2 = pair_sample(j);
-  use_pixel(px3);
-  PairSample s3 = pair_sample(j);
-  bool c0 = position < px0.last && !s0.b.skip, c1 = position < px1.last && !s1.b.skip;
-  bool c2 = position < px2.last && !s2.b.skip, c3 = position < px3.last && !s3.b.skip;
-  // Uniform within the subgroup: where no pixel of it meets this Gaussian (most listed pairs), the
-  // gradient code below is skipped instead of executed under an all-false mask, and the reductions
-  // inside stay legal.
-  if (!subgroupAny(c0 || c1 || c2 || c3)) return;
+#define RBWD_SAMPLE(k) use_pixel(px[k]); PairSample s##k = pair_sample(j); \
+  bool c##k = position < px[k].last && !s##k.b.skip; any_pixel = any_pixel || c##k;
+  bool any_pixel = false;
+  RBWD_EACH(RBWD_SAMPLE)
+  if (!subgroupAny(any_pixel)) return;
   g_xy = vec2(0.0), g_conic = vec3(0.0), g_rgb = vec3(0.0), g_opacity = 0.0, g_depth = 0.0;
 #if S4D_STYLE
   v_w = vec4[S4D_STYLE_MLP_VEC4S](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
                                   vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
 #endif
-  if (c0) pixel_pair(j, s0, px0);
-  if (c1) pixel_pair(j, s1, px1);
-  if (c2) pixel_pair(j, s2, px2);
-  if (c3) pixel_pair(j, s3, px3);
+#define RBWD_PAIR(k) if (c##k) pixel_pair(j, s##k, px[k]);
+  RBWD_EACH(RBWD_PAIR)
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);
@@ -256,14 +251,10 @@ void accumulate(uint j, uint batch, uint end) {
 void accumulate_mark(uint j, uint batch, uint end, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
-  use_pixel(px0);
-  bool meets = position < px0.last && !pair_bound(j).b.skip;
-  use_pixel(px1);
-  meets = meets || (position < px1.last && !pair_bound(j).b.skip);
-  use_pixel(px2);
-  meets = meets || (position < px2.last && !pair_bound(j).b.skip);
-  use_pixel(px3);
-  raster_walk_mark(bits, j, meets || (position < px3.last && !pair_bound(j).b.skip));
+  bool meets = false;
+#define RBWD_BOUND(k) use_pixel(px[k]); meets = meets || (position < px[k].last && !pair_bound(j).b.skip);
+  RBWD_EACH(RBWD_BOUND)
+  raster_walk_mark(bits, j, meets);
 }
 
 // Accumulates the next marked slot, if any, and unmarks it.
@@ -298,10 +289,10 @@ void main() {
   uint lid = gl_LocalInvocationIndex;
   uvec2 origin = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE;
   uvec2 local = uvec2(gl_LocalInvocationID.x, RBWD_PIXELS * gl_LocalInvocationID.y);
-  px0 = load_pixel(origin + local), px1 = load_pixel(origin + local + uvec2(0u, 1u));
-  px2 = load_pixel(origin + local + uvec2(0u, 2u)), px3 = load_pixel(origin + local + uvec2(0u, 3u));
+  uint last = 0u;
+#define RBWD_LOAD(k) px[k] = load_pixel(origin + local + uvec2(0u, k)); last = max(last, px[k].last);
+  RBWD_EACH(RBWD_LOAD)
   uint range_begin = ranges[tile].x;
-  uint last = max(max(px0.last, px1.last), max(px2.last, px3.last));
 
   if (lid == 0u) s_max_last = 0u;
   barrier();
@@ -316,10 +307,8 @@ void main() {
     // Slot j: list position end - 1 - j. RBWD_PIXELS loads per invocation: a fraction of the
     // forward's invocations.
     const uint wg = uint(S4D_TILE_PIXELS / RBWD_PIXELS);
-    raster_load_batch(lid, range_begin + end - 1u, true, batch);
-    raster_load_batch(lid + wg, range_begin + end - 1u, true, batch);
-    raster_load_batch(lid + 2u * wg, range_begin + end - 1u, true, batch);
-    raster_load_batch(lid + 3u * wg, range_begin + end - 1u, true, batch);
+#define RBWD_BATCH(k) raster_load_batch(lid + k * wg, range_begin + end - 1u, true, batch);
+    RBWD_EACH(RBWD_BATCH)
     barrier();
     // Entries at list positions >= subgroup_last meet no pixel of this subgroup: start past them.
     uint first = end - min(end, subgroup_last);
