@@ -31,12 +31,9 @@
 #define RBWD_PIXELS 8
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / RBWD_PIXELS) in;
 // RBWD_EACH(F): F(k) for each of the invocation's pixels, written out (llvmpipe's loop cap).
-#if RBWD_PIXELS == 4
-#define RBWD_EACH(F) F(0) F(1) F(2) F(3)
-#elif RBWD_PIXELS == 8
 #define RBWD_EACH(F) F(0) F(1) F(2) F(3) F(4) F(5) F(6) F(7)
-#else
-#error "RBWD_PIXELS is 4 or 8"
+#if RBWD_PIXELS != 8
+#error "RBWD_EACH writes out 8 pixels"
 #endif
 layout(push_constant) uniform Push { RasterParams p; };
 #include "raster_batch.glsl"
