@@ -1,6 +1,6 @@
 // raster_bwd: same tiling as raster_fwd. Each pixel walks its tile's list back to front from its
 // last contributor, recovering T_i = T_{i+1} / (1 - alpha_i) from the stored final transmittance
-// (ALGORITHMS.md 1.6). An invocation takes RBWD_PIXELS pixels of a column. The workgroup loads the
+// (ALGORITHMS.md 1.6). An invocation takes S4D_RBWD_PIXELS pixels of a column. The workgroup loads the
 // list in batches up to the tile's last contributor; each subgroup starts at its own last
 // contributor (subgroupMax), and every invocation of a subgroup visits the same list position at
 // the same step. Where no pixel of the subgroup meets the Gaussian, the gradient code is skipped (a
@@ -24,15 +24,14 @@
 #include "s4d_style_splat.h"
 #include "flat_group.glsl"
 
-// Each invocation takes RBWD_PIXELS pixels of a column (rows RBWD_PIXELS y ..): the per-pair
+// Each invocation takes S4D_RBWD_PIXELS pixels of a column (rows S4D_RBWD_PIXELS y ..): the per-pair
 // subgroup reductions and atomics, which cost llvmpipe a loop over the lanes each, then serve
-// RBWD_PIXELS times as many pixels (issue 21: 8 pixels beat 4, which beat 2, which beat 1, on
+// S4D_RBWD_PIXELS times as many pixels (issue 21: 8 pixels beat 4, which beat 2, which beat 1, on
 // lavapipe; docs/rasterizer.md). The per-pixel sums over an invocation's pixels come first.
-#define RBWD_PIXELS 8
-layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / RBWD_PIXELS) in;
+layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / S4D_RBWD_PIXELS) in;  // S4D_RBWD_INVOCATIONS
 // RBWD_EACH(F): F(k) for each of the invocation's pixels, written out (llvmpipe's loop cap).
 #define RBWD_EACH(F) F(0) F(1) F(2) F(3) F(4) F(5) F(6) F(7)
-#if RBWD_PIXELS != 8
+#if S4D_RBWD_PIXELS != 8
 #error "RBWD_EACH writes out 8 pixels"
 #endif
 layout(push_constant) uniform Push { RasterParams p; };
@@ -76,7 +75,8 @@ void add_v_mlp(uint index, float value) {
 
 shared uint s_max_last;
 
-// The device's smallest subgroup size, set by the host (rasterizer.cpp); 1 is right on any device.
+// The fewest lanes a subgroup of this kernel has, set by the host (rasterizer.cpp, S4D_RBWD_SPEC_MIN_SUBGROUP);
+// 1 is right on any device.
 // Round r of the lane-parallel adds below is needed while r x MIN_SUBGROUP < count: a constant
 // condition once specialised, so the unneeded rounds compile away. The rounds are written out, not
 // looped: llvmpipe counts every loop iteration against its cap, an unrolled one included.
@@ -98,7 +98,7 @@ struct Pixel {
   vec3 behind;            // colour blended behind the current Gaussian, per unit of T after it
   float behind_depth;
 };
-Pixel px[RBWD_PIXELS];  // this invocation's pixels, a column
+Pixel px[S4D_RBWD_PIXELS];  // this invocation's pixels, a column
 
 // Points raster_pair.glsl's sampling at pixel q.
 void use_pixel(Pixel q) {
@@ -215,7 +215,8 @@ void accumulate(uint j, uint batch, uint end) {
   // atomic instruction adds up to S values. llvmpipe runs each atomic instruction as a loop over
   // all the subgroup's lanes however few are active: at S = 8 this is 2 such loops instead of 10
   // (style: 9 instead of 62). Every lane is active here (the walk is uniform in the subgroup).
-  uint lane = gl_SubgroupInvocationID, size = gl_SubgroupSize;
+  // A subgroup wider than the workgroup (64 lanes, 32 invocations) is partial: lanes 0 .. 31.
+  uint lane = gl_SubgroupInvocationID, size = min(gl_SubgroupSize, uint(S4D_RBWD_INVOCATIONS));
   v_g2d[0] = vec4(g_xy, g_conic.xy), v_g2d[1] = vec4(g_conic.z, g_opacity, g_rgb.rg);
   v_g2d[2] = vec4(g_rgb.b, g_depth, 0.0, 0.0);
   uint base = s_id[j] * S4D_G2D_STRIDE;
@@ -285,7 +286,7 @@ void main() {
   if (tile >= p.size.z * p.size.w) return;  // whole workgroups only: barriers stay uniform
   uint lid = gl_LocalInvocationIndex;
   uvec2 origin = uvec2(tile % p.size.z, tile / p.size.z) * S4D_TILE_SIZE;
-  uvec2 local = uvec2(gl_LocalInvocationID.x, RBWD_PIXELS * gl_LocalInvocationID.y);
+  uvec2 local = uvec2(gl_LocalInvocationID.x, S4D_RBWD_PIXELS * gl_LocalInvocationID.y);
   uint last = 0u;
 #define RBWD_LOAD(k) px[k] = load_pixel(origin + local + uvec2(0u, k)); last = max(last, px[k].last);
   RBWD_EACH(RBWD_LOAD)
@@ -301,9 +302,9 @@ void main() {
   for (uint end = entries; end > 0u; end -= min(end, uint(S4D_RASTER_BATCH))) {
     uint batch = min(end, uint(S4D_RASTER_BATCH));
     barrier();
-    // Slot j: list position end - 1 - j. RBWD_PIXELS loads per invocation: a fraction of the
+    // Slot j: list position end - 1 - j. S4D_RBWD_PIXELS loads per invocation: a fraction of the
     // forward's invocations.
-    const uint wg = uint(S4D_TILE_PIXELS / RBWD_PIXELS);
+    const uint wg = uint(S4D_RBWD_INVOCATIONS);
 #define RBWD_BATCH(k) raster_load_batch(lid + k * wg, range_begin + end - 1u, true, batch);
     RBWD_EACH(RBWD_BATCH)
     barrier();

@@ -279,10 +279,7 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
       bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
     const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
     const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
-    const shaders::Entry& e = shaders::get(id);
-  const engine::Pipeline& pipe =
-      ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, std::max(1u, ctx_->info().min_subgroup_size)}});
-  rec.dispatch_raw(pipe, bind, &raster, sizeof raster, num_tiles);
+    rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
     ctx_->run(std::move(rec));
   }
   RenderStats stats{.instances = instances, .longest_tile_list = 0};
@@ -345,10 +342,11 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
                              ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
                              : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
   const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
+  // Specialised to the fewest lanes a subgroup of raster_bwd can have (its lane-parallel adds' rounds).
   const shaders::Entry& e = shaders::get(id);
-  const engine::Pipeline& pipe =
-      ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, std::max(1u, ctx_->info().min_subgroup_size)}});
-  rec.dispatch_raw(pipe, bind, &raster, sizeof raster, num_tiles);
+  const uint32_t min_lanes = std::clamp(ctx_->info().min_subgroup_size, 1u, uint32_t{S4D_RBWD_INVOCATIONS});
+  rec.dispatch_raw(ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, min_lanes}}), bind, &raster,
+                   sizeof raster, num_tiles);
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
                {S4D_BIND(PBWD_MEANS, *g[Attr::means]), S4D_BIND(PBWD_LOG_SCALES, *g[Attr::log_scales]),
