@@ -195,6 +195,8 @@ def main():
         for _ in range(args.repeats):
             start = time.perf_counter()
             run()
+            if args.device.startswith("cuda"):
+                torch.cuda.synchronize()  # the work queued on the device counts
             times.append((time.perf_counter() - start) * 1000.0)
         print(json.dumps({"bench": "peer_torch_splatting", "pass": name, "n_gaussians": scene.count,
                           "width": camera.image_width, "height": camera.image_height, "camera": args.camera,

@@ -101,4 +101,9 @@ set(S4D_SHADER_VARIANTS
   "nn_avgpool3_bwd|nn/nn_avgpool3.comp|S4D_NN_AVGPOOL_BWD=1"
   "nn_channel_max|nn/nn_channel_max.comp"
   "nn_selfsim_bwd|nn/nn_selfsim_bwd.comp"
+  "nn_ccpl_gather|nn/nn_ccpl_gather.comp|S4D_NN_CCPL_BWD=0"
+  "nn_ccpl_gather_bwd|nn/nn_ccpl_gather.comp|S4D_NN_CCPL_BWD=1"
+  "nn_l2norm_cols|nn/nn_l2norm_cols.comp|S4D_NN_L2NORM_BWD=0"
+  "nn_l2norm_cols_bwd|nn/nn_l2norm_cols.comp|S4D_NN_L2NORM_BWD=1"
+  "nn_patchnce|nn/nn_patchnce.comp"
 )

@@ -112,6 +112,13 @@
 #define S4D_B_RBWD_V_ALPHA 8        // [H*W], read only with S4D_RASTER_HAS_V_ALPHA
 #define S4D_B_RBWD_V_DEPTH 9        // [H*W], read only with S4D_RASTER_HAS_V_DEPTH
 #define S4D_B_RBWD_GRAD2D 10        // [N*S4D_G2D_STRIDE], accumulated with atomics (zero it first)
+// raster_bwd: pixels per invocation (a column of the tile), so S4D_RBWD_INVOCATIONS a workgroup.
+#define S4D_RBWD_PIXELS 8
+#define S4D_RBWD_INVOCATIONS (S4D_TILE_PIXELS / S4D_RBWD_PIXELS)
+// Specialization constant of raster_bwd: the smallest number of lanes a subgroup of it can have,
+// min(device's smallest subgroup size, S4D_RBWD_INVOCATIONS), which fixes how many rounds of
+// lane-parallel atomics each pair's cotangents take (ceil(values / lanes)).
+#define S4D_RBWD_SPEC_MIN_SUBGROUP 0
 
 #define S4D_B_PBWD_MEANS 0
 #define S4D_B_PBWD_LOG_SCALES 1

@@ -44,6 +44,7 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
   REQUIRE(test::run_style4d("train-stylizer", common + " --out " + (dir / "w").string() + " --steps 3 --batch 2 --save-every 2 --resize 48 --crop 40", log) == 0);
   const std::string text = test::read_text(log);
   CHECK(text.find("step 3 loss") != std::string::npos);
+  CHECK(text.find(" ccpl ") != std::string::npos);  // every term logged, LCL included
   CHECK(text.find("trained 3 steps") != std::string::npos);
   for (const char* f : {"decoder.safetensors", "mcc_module.safetensors", "vgg_normalised.safetensors"})
     CHECK(std::filesystem::exists(dir / "w" / f));
@@ -54,8 +55,12 @@ TEST_CASE("train-stylizer writes a weights folder and refuses wrong settings") {
   CHECK(test::read_text(log).find("was trained with --losses full; pass --restart") != std::string::npos);
   REQUIRE(test::run_style4d("train-stylizer", again + " --steps 1 --losses mccnet --restart", log) == 0);
   CHECK(test::read_text(log).find("trained 1 steps") != std::string::npos);
-  CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --losses lcl", log) != 0);
-  CHECK(test::read_text(log).find("--losses: expected one of mccnet, content, full, got 'lcl'") != std::string::npos);
+  REQUIRE(test::run_style4d("train-stylizer", again + " --steps 1 --losses ccpl --restart", log) == 0);
+  CHECK(test::read_text(log).find("trained 1 steps") != std::string::npos);
+  CHECK(test::run_style4d("train-stylizer", again + " --steps 2 --losses lcl", log) != 0);
+  CHECK(test::read_text(log).find("was trained with --losses ccpl; pass --restart") != std::string::npos);
+  CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --losses cbam", log) != 0);
+  CHECK(test::read_text(log).find("--losses: expected one of mccnet, ccpl, content, lcl, full, got 'cbam'") != std::string::npos);
 
   CHECK(test::run_style4d("train-stylizer", common + " --out " + (dir / "x").string() + " --crop 36", log) != 0);
   CHECK(test::read_text(log).find("--crop: expected a multiple of 8") != std::string::npos);

@@ -72,8 +72,27 @@ TEST_CASE("the --losses sets switch HGST's terms and levels, and the loss follow
     CHECK(set.levels.style == std::vector<int>{1, 2, 3, 4, 5});
     CHECK(set.weights.tv == 0.0f);
     CHECK(set.weights.selfsim == 0.0f);
+    CHECK(set.weights.ccpl == 0.0f);
     CHECK(set.weights.content == hgst.content);
     CHECK(set.weights.noise == hgst.noise);
+  }
+  // ccpl: MCCNet's + CCPL's own (relu2_1..relu4_1, 8 anchors, no jitter, heads trained, weight 5);
+  // lcl: content + HGST's (relu3_1, relu4_1, 16 anchors, jitter, heads fixed, weight 4).
+  const auto ccpl = loss_set("ccpl"), lcl = loss_set("lcl"), full = loss_set("full");
+  CHECK(ccpl.levels.content == std::vector<int>{4, 5});
+  CHECK(ccpl.weights.ccpl == 5.0f);
+  CHECK(ccpl.ccpl.levels == std::vector<int>{2, 3, 4});
+  CHECK(ccpl.ccpl.anchors == 8);
+  CHECK(!ccpl.ccpl.jitter);
+  CHECK(ccpl.ccpl.train_heads);
+  CHECK(lcl.levels.content == std::vector<int>{3, 4, 5});
+  CHECK(lcl.weights.tv == 0.0f);
+  for (const auto* set : {&lcl, &full}) {
+    CHECK(set->weights.ccpl == 4.0f);
+    CHECK(set->ccpl.levels == std::vector<int>{3, 4});
+    CHECK(set->ccpl.anchors == 16);
+    CHECK(set->ccpl.jitter);
+    CHECK(!set->ccpl.train_heads);
   }
   CHECK(loss_set("mccnet").levels.content == std::vector<int>{4, 5});
   CHECK(loss_set("content").levels.content == std::vector<int>{3, 4, 5});
@@ -81,25 +100,48 @@ TEST_CASE("the --losses sets switch HGST's terms and levels, and the loss follow
   CHECK(loss_set("full").levels.style == std::vector<int>{5, 2, 3, 4, 5});
   CHECK(loss_set("full").weights.tv == hgst.tv);
   CHECK(loss_set("full").weights.selfsim == hgst.selfsim);
-  CHECK_THROWS_WITH(loss_set("lcl"), "--losses: expected one of mccnet, content, full, got 'lcl'");
+  CHECK_THROWS_WITH(loss_set("cbam"), "--losses: expected one of mccnet, ccpl, content, lcl, full, got 'cbam'");
 
   // One step of each: the off terms are still measured but left out of the total.
   Fixture f;
   f.s.steps = 1;
-  for (const std::string name : {"mccnet", "full"}) {
+  for (const std::string name : {"mccnet", "ccpl", "lcl", "full"}) {
     f.s.losses = name;
     f.s.out = f.dir / name;
     const nn::MccLossValues v = f.train().at(0);
     CHECK(v.tv > 0);
     CHECK(v.selfsim > 0);
+    CHECK(v.ccpl > 0);
     const nn::MccLossWeights w = loss_set(name).weights;
     const double on = w.content * v.content + w.style * v.style + w.identity1 * v.identity1 + w.identity2 * v.identity2 +
-                      w.noise * v.noise;
+                      w.noise * v.noise + w.ccpl * v.ccpl;
     // v.tv is the pairs' mean, the total has HGST's sum over the batch.
     const double off = double(hgst.tv) * f.s.batch * v.tv + hgst.selfsim * v.selfsim;
     // The total sums the two pairs' totals, the terms are their means: equal up to rounding.
     CHECK(v.total == doctest::Approx(name == "full" ? on + off : on).epsilon(1e-9));
   }
+}
+
+TEST_CASE("a ccpl run, whose heads Adam trains, continues its checkpoint step for step") {
+  Fixture f;
+  f.s.losses = "ccpl";
+  f.s.batch = 1;
+  f.s.steps = 4;
+  f.s.out = f.dir / "whole";
+  const auto whole = f.train();
+  f.s.out = f.dir / "parts";
+  f.s.steps = 2;
+  f.train();
+  f.s.steps = 4;
+  const auto second = f.train();
+  REQUIRE(second.size() == 2);
+  for (size_t i = 0; i < 2; ++i) {
+    CHECK(second[i].ccpl == whole[i + 2].ccpl);
+    CHECK(second[i].total == whole[i + 2].total);
+  }
+  // The checkpoint holds the heads and their moments, so it is byte-identical too.
+  for (const char* file : {"decoder.safetensors", "mcc_module.safetensors", "checkpoint.safetensors"})
+    CHECK_MESSAGE(read_bytes(f.dir / "whole" / file) == read_bytes(f.dir / "parts" / file), file);
 }
 
 TEST_CASE("train-stylizer continues its checkpoint step for step and never starts over silently") {
@@ -130,6 +172,12 @@ TEST_CASE("train-stylizer continues its checkpoint step for step and never start
   f.s.losses = "mccnet";
   CHECK(refusal(f) == "--losses mccnet: " + checkpoint + " was trained with --losses full; pass --restart to start over");
   f.s.losses = "full";
+  f.s.batch = 3;  // every setting a continued run must repeat is refused by name; one stands for them
+  CHECK(refusal(f) == "--batch 3: " + checkpoint + " was trained with --batch 2; pass --restart to start over");
+  f.s.batch = 2;
+  f.s.lr = 1.5e-3;
+  CHECK(refusal(f) == "--lr 0.0015: " + checkpoint + " was trained with --lr 0.001; pass --restart to start over");
+  f.s.lr = 1e-3;
   f.s.init = f.dir / "whole";
   CHECK(refusal(f).find("--init: --out " + f.s.out.string() + " continues from its checkpoint") == 0);
   f.s.init.clear();

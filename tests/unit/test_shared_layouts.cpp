@@ -16,6 +16,7 @@
 #include "s4d_flow.h"
 #include "s4d_loss.h"
 #include "s4d_nn.h"
+#include "s4d_nn_ccpl.h"
 #include "s4d_nn_grad.h"
 #include "s4d_optim.h"
 #include "s4d_primitives.h"
@@ -61,6 +62,7 @@ static_assert(sizeof(NnAttnParams) == 32);
 static_assert(sizeof(NnGroupNormParams) == 48);
 static_assert(sizeof(NnWgradParams) == 32 && sizeof(NnWgradReduceParams) == 16);
 static_assert(sizeof(NnStatsBwdParams) == 16 && sizeof(NnMseParams) == 16 && sizeof(NnTvL1Params) == 16 && sizeof(NnSelfsimParams) == 16);
+static_assert(sizeof(NnCcplParams) == 16 && sizeof(NnPatchNceParams) == 16);
 static_assert(sizeof(RasterParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 
 // The style MLP's blocks tile its 52 floats in SuperGaussians' order, each on a vec4 boundary (the
@@ -202,6 +204,8 @@ std::vector<CppStructLayout> shared_structs() {
       S4D_STRUCT(NnMseParams, S4D_MEMBER(NnMseParams, n), S4D_MEMBER(NnMseParams, scale), S4D_MEMBER(NnMseParams, _pad0), S4D_MEMBER(NnMseParams, _pad1)),
       S4D_STRUCT(NnTvL1Params, S4D_MEMBER(NnTvL1Params, channels), S4D_MEMBER(NnTvL1Params, height), S4D_MEMBER(NnTvL1Params, width), S4D_MEMBER(NnTvL1Params, weight)),
       S4D_STRUCT(NnSelfsimParams, S4D_MEMBER(NnSelfsimParams, channels), S4D_MEMBER(NnSelfsimParams, count), S4D_MEMBER(NnSelfsimParams, weight), S4D_MEMBER(NnSelfsimParams, _pad0)),
+      S4D_STRUCT(NnCcplParams, S4D_MEMBER(NnCcplParams, channels), S4D_MEMBER(NnCcplParams, plane), S4D_MEMBER(NnCcplParams, samples), S4D_MEMBER(NnCcplParams, _pad0)),
+      S4D_STRUCT(NnPatchNceParams, S4D_MEMBER(NnPatchNceParams, samples), S4D_MEMBER(NnPatchNceParams, inv_tau), S4D_MEMBER(NnPatchNceParams, scale), S4D_MEMBER(NnPatchNceParams, _pad0)),
   };
 }
 

@@ -1,5 +1,5 @@
 // style4d train-stylizer --content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N]
-// [--batch N] [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|content|full]
+// [--batch N] [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|ccpl|content|lcl|full]
 // [--restart]: trains the MCCNet/HGST decoder and MCC module with the VGG-19 encoder fixed
 // (s4d_stylizer_train) and writes a weights folder for --stylizer hgst; an --out with a checkpoint
 // continues.
@@ -30,19 +30,19 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
       {"crop", "then randomly cropped to N x N, a multiple of 8, at least 40 (default 256)", true, "N"},
       {"lr", "Adam's learning rate (default 1e-4)", true, "X"},
       {"seed", "seed of the initialisation, the pairs and the crops (default 0)", true, "N"},
-      {"losses", "the loss terms and levels: full (default, HGST's), content or mccnet (docs/stylization.md)", true,
-       "mccnet|content|full"},
+      {"losses", "the loss terms and levels: full (default, HGST's), lcl, content, ccpl or mccnet (docs/stylization.md)", true,
+       "mccnet|ccpl|content|lcl|full"},
       {"restart", "start over where --out already holds files or a checkpoint (default: continue a checkpoint)", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("train-stylizer",
                        "--content DIR --styles DIR --vgg FILE --out DIR [--init DIR] [--steps N] [--batch N]\n"
-                       "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|content|full]\n"
+                       "    [--save-every N] [--resize N] [--crop N] [--lr X] [--seed N] [--losses mccnet|ccpl|content|lcl|full]\n"
                        "    [--restart]",
                        "Trains the MCCNet/HGST decoder and MCC module on the GPU, the VGG-19 encoder fixed, with\n"
-                       "HGST's loss (--losses full) without its CCPL term (content, style, identity 1 and 2,\n"
-                       "noise, TV, self-similarity; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
+                       "HGST's loss (--losses full: content, style, identity 1 and 2, noise, TV, self-similarity\n"
+                       "and the jittered CCPL \"LCL\"; docs/stylization.md, \"Training HGST: status\"). --out is then a\n"
                        "--weights folder for the hgst and mccnet stylizers. An --out holding checkpoint.safetensors\n"
                        "continues to --steps (the same --losses only); any other non-empty --out needs --restart.",
                        specs);
@@ -76,8 +76,8 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   const auto start = std::chrono::steady_clock::now();
   const auto losses = stylizer_train::train_stylizer(ctx, s, [&](int step, const nn::MccLossValues& l) {
     if (step == 1 || step % 10 == 0 || step == s.steps)
-      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g tv %.4g selfsim %.4g)\n",
-                  step, l.total, l.content, l.style, l.identity1, l.identity2, l.noise, l.tv, l.selfsim);
+      std::printf("step %d loss %.6g (content %.4g style %.4g identity1 %.4g identity2 %.4g noise %.4g tv %.4g selfsim %.4g ccpl %.4g)\n",
+                  step, l.total, l.content, l.style, l.identity1, l.identity2, l.noise, l.tv, l.selfsim, l.ccpl);
   });
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "trained " << losses.size() << " steps in " << seconds << " s; weights in " << s.out.string() << "\n";

@@ -38,11 +38,12 @@ void MccLossRecord::add(Term term, engine::Buffer partials, double factor) {
 }
 
 MccLossValues MccLossRecord::values(engine::Context& ctx, const MccLossWeights& weights) const {
-  std::array<double, 7> sums{};
+  std::array<double, 8> sums{};
   for (const Part& p : parts_) sums[p.term] += p.factor * squared_error_value(ctx, p.partials);
-  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], sums[tv], sums[selfsim], 0};
+  MccLossValues v{sums[content], sums[style], sums[identity1], sums[identity2], sums[noise], sums[tv], sums[selfsim], sums[ccpl], 0};
   v.total = weights.content * v.content + weights.style * v.style + weights.identity1 * v.identity1 +
-            weights.identity2 * v.identity2 + weights.noise * v.noise + weights.tv * v.tv + weights.selfsim * v.selfsim;
+            weights.identity2 * v.identity2 + weights.noise * v.noise + weights.tv * v.tv + weights.selfsim * v.selfsim +
+            weights.ccpl * v.ccpl;
   return v;
 }
 
@@ -55,7 +56,7 @@ MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net) {
 
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
                               const Tensor& content_noise, const MccLossLevels& levels, const MccLossWeights& weights,
-                              MccGrads& grads) {
+                              const MccCcplInputs& ccpl, MccGrads& grads) {
   const VggEncoder& enc = net.encoder;
   if (enc.levels() != 5) throw std::invalid_argument("mcc loss: the encoder needs 5 levels, has " + std::to_string(enc.levels()));
   for (const std::vector<int>* list : {&levels.content, &levels.style})
@@ -66,6 +67,13 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
   for (const Tensor* t : {&content, &style})
     if (t->c != 3 || t->h % 8 != 0 || t->w % 8 != 0 || t->h < 40 || t->w < 40)
       throw std::invalid_argument("mcc loss: images must be [3, H, W] with H, W multiples of 8 and at least 40, got " + t->shape());
+  if (ccpl.heads != nullptr) {
+    const size_t n = ccpl.config.levels.size();
+    if (ccpl.heads->size() != n || ccpl.samples.size() != n || (ccpl.head_grads != nullptr && ccpl.head_grads->size() != 2 * n))
+      throw std::invalid_argument("mcc loss: " + std::to_string(n) + " CCPL levels need as many heads and sample sets (and twice as many head gradients)");
+    for (const int l : ccpl.config.levels)
+      if (l < 1 || l > 5) throw std::invalid_argument("mcc loss: CCPL level " + std::to_string(l) + " is not 1..5");
+  }
   MccLossRecord record;
   const std::vector<Tensor> fc = enc.forward_tape(rec, content), fs = enc.forward_tape(rec, style);
   auto level = [&](const std::vector<Tensor>& tape, int l) -> const Tensor& { return tape[enc.level_step(l)]; };
@@ -103,6 +111,14 @@ MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, cons
                  squared_error(rec, si, ss, dstats.buffer, 2 * size_t{xi.c}, static_cast<float>(2.0 * weights.style / n)),
                  1.0 / n);
       mean_std_backward(rec, xi, si, dstats.buffer, dlevels[l - 1]);
+    }
+    for (size_t i = 0; ccpl.heads != nullptr && i < ccpl.config.levels.size(); ++i) {
+      const int l = ccpl.config.levels[i];
+      ConvGrads* head_grads = ccpl.head_grads != nullptr ? &(*ccpl.head_grads)[2 * i] : nullptr;
+      record.add(MccLossRecord::ccpl,
+                 record_ccpl_level(rec, (*ccpl.heads)[i], level(fi, l), level(fc, l), ccpl.samples[i], ccpl.config.tau,
+                                   weights.ccpl, dlevels[l - 1], head_grads),
+                 1.0 / static_cast<double>(ccpl.samples[i].anchor.size()));
     }
     {
       const Tensor pooled = avgpool3(rec, level(fi, 5));

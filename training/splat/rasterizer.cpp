@@ -381,7 +381,11 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
                              ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
                              : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
   const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
-  rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
+  // Specialised to the fewest lanes a subgroup of raster_bwd can have (its lane-parallel adds' rounds).
+  const shaders::Entry& e = shaders::get(id);
+  const uint32_t min_lanes = std::clamp(ctx_->info().min_subgroup_size, 1u, uint32_t{S4D_RBWD_INVOCATIONS});
+  rec.dispatch_raw(ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, min_lanes}}), bind, &raster,
+                   sizeof raster, num_tiles);
   rec.barrier();
   rec.dispatch(shader_pipeline(*ctx_, shaders::Id::project_bwd),
                {S4D_BIND(PBWD_MEANS, *g[Attr::means]), S4D_BIND(PBWD_LOG_SCALES, *g[Attr::log_scales]),

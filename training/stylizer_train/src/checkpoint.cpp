@@ -25,37 +25,58 @@ int parse_step(const fs::path& path, const std::string& text) {
   return step;
 }
 
+std::vector<float> read_flat(const io::SafetensorsFile& file, const std::string& name, const engine::Buffer& buffer) {
+  return file.read(name, {static_cast<int64_t>(buffer.size() / sizeof(float))});
+}
+
 }  // namespace
 
 void write_checkpoint(engine::Context& ctx, const fs::path& path, const CheckpointState& state,
-                      const std::vector<MomentBuffers>& moments) {
+                      const std::vector<MomentBuffers>& moments, const std::vector<CheckpointTensor>& kept) {
   std::vector<io::NamedTensor> tensors;
+  for (const CheckpointTensor& t : kept) {
+    const size_t n = t.buffer->size() / sizeof(float);
+    tensors.push_back({t.name, {static_cast<int64_t>(n)}, ctx.download<float>(*t.buffer, n)});
+  }
   for (const MomentBuffers& b : moments)
     for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
       const size_t n = buffer->size() / sizeof(float);
       tensors.push_back({b.name + suffix, {static_cast<int64_t>(n)}, ctx.download<float>(*buffer, n)});
     }
   const fs::path tmp = path.string() + ".tmp";
-  io::write_safetensors(tmp, tensors, io::TensorDtype::f32, {{"step", std::to_string(state.step)}, {"losses", state.losses}});
+  std::map<std::string, std::string> meta{{"step", std::to_string(state.step)}, {"losses", state.losses}};
+  for (const auto& [key, value] : state.settings) meta[key] = value;
+  io::write_safetensors(tmp, tensors, io::TensorDtype::f32, meta);
   fs::rename(tmp, path);
 }
 
-CheckpointState read_checkpoint_state(const fs::path& path) {
+CheckpointState read_checkpoint_state(const fs::path& path, const std::vector<std::string>& keys) {
   const io::SafetensorsFile file(path);
   const std::map<std::string, std::string>& meta = file.metadata();
-  for (const char* key : {"step", "losses"})
+  std::vector<std::string> wanted = {"step", "losses"};
+  wanted.insert(wanted.end(), keys.begin(), keys.end());
+  for (const std::string& key : wanted)
     if (!meta.count(key)) throw std::runtime_error(path.string() + ": metadata has no " + key);
-  return {parse_step(path, meta.at("step")), meta.at("losses")};
+  CheckpointState state{parse_step(path, meta.at("step")), meta.at("losses"), {}};
+  for (const std::string& key : keys) state.settings.emplace_back(key, meta.at(key));
+  return state;
 }
 
 void read_checkpoint_moments(engine::Context& ctx, const fs::path& path, const std::vector<MomentBuffers>& moments) {
   const io::SafetensorsFile file(path);
   for (const MomentBuffers& b : moments)
     for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
-      const auto n = static_cast<int64_t>(buffer->size() / sizeof(float));
-      const std::vector<float> values = file.read(b.name + suffix, {n});
+      const std::vector<float> values = read_flat(file, b.name + suffix, *buffer);
       ctx.upload(*buffer, std::span<const float>(values));
     }
+}
+
+void read_checkpoint_tensors(engine::Context& ctx, const fs::path& path, const std::vector<CheckpointTensor>& tensors) {
+  const io::SafetensorsFile file(path);
+  for (const CheckpointTensor& t : tensors) {
+    const std::vector<float> values = read_flat(file, t.name, *t.buffer);
+    ctx.upload(*t.buffer, std::span<const float>(values));
+  }
 }
 
 int weights_step(const fs::path& path) {

@@ -1,6 +1,8 @@
 #include "s4d/stylizer_train/stylizer_trainer.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -73,6 +75,27 @@ void write_random_init(const fs::path& dir, const nn::VggWidths& widths, uint64_
   io::write_safetensors(dir / "mcc_module.safetensors", mcc);
 }
 
+// CCPL's projection heads, one per level: Linear(C, C), ReLU, Linear(C, C / 4) at PyTorch's default
+// initialisation from the seed, named as CCPL's Sequential ("ccpl_heads.<level>.0", ".2").
+std::vector<nn::CcplHead> random_heads(engine::Context& ctx, const nn::CcplConfig& config, const nn::VggWidths& widths,
+                                       uint64_t seed) {
+  std::mt19937_64 rng(seed ^ 0xcc91ULL);
+  std::vector<nn::CcplHead> heads;
+  for (const int l : config.levels) {
+    const uint32_t c = widths.level[l - 1];
+    if (c < 4)
+      throw std::invalid_argument("--vgg: relu" + std::to_string(l) + "_1 has " + std::to_string(c) +
+                                  " channels; a CCPL head Linear(C, C / 4) needs at least 4");
+    std::vector<io::NamedTensor> t;
+    const std::string prefix = "ccpl_heads." + std::to_string(l);
+    add_random(t, prefix + ".0", c, c, 1, true, rng);
+    add_random(t, prefix + ".2", c, c / 4, 1, true, rng);
+    heads.push_back({nn::upload_conv(ctx, prefix + ".0", c, c, 1, t[0].values, t[1].values),
+                     nn::upload_conv(ctx, prefix + ".2", c, c / 4, 1, t[2].values, t[3].values)});
+  }
+  return heads;
+}
+
 void save(engine::Context& ctx, const fs::path& path, int step,
           const std::vector<std::pair<std::string, const nn::ConvWeights*>>& params, const std::vector<bool>& linear) {
   std::vector<io::NamedTensor> out;
@@ -113,6 +136,15 @@ bool same_bytes(const fs::path& a, const fs::path& b) {
                     std::istreambuf_iterator<char>(fb));
 }
 
+// The options a continued run must repeat, as the checkpoint's metadata records them.
+std::vector<std::pair<std::string, std::string>> kept_settings(const StylizerTrainSettings& s) {
+  char lr[32];  // the shortest of 15 or 17 digits that reads back as the same double
+  std::snprintf(lr, sizeof lr, "%.15g", s.lr);
+  if (std::strtod(lr, nullptr) != s.lr) std::snprintf(lr, sizeof lr, "%.17g", s.lr);
+  return {{"batch", std::to_string(s.batch)}, {"crop", std::to_string(s.crop)}, {"resize", std::to_string(s.resize)},
+          {"lr", lr}, {"seed", std::to_string(s.seed)}};
+}
+
 // The steps out's checkpoint has done, after checking that it may be continued; 0 for a fresh start.
 int steps_done(const StylizerTrainSettings& s) {
   const fs::path checkpoint = s.out / "checkpoint.safetensors";
@@ -120,10 +152,18 @@ int steps_done(const StylizerTrainSettings& s) {
   if (s.restart || !fs::exists(s.out) || fs::is_empty(s.out)) return 0;
   if (!fs::exists(checkpoint))
     throw std::invalid_argument("--out " + s.out.string() + " holds files but no checkpoint.safetensors to continue; pass --restart to train it from the start");
-  const CheckpointState state = read_checkpoint_state(checkpoint);
+  const std::vector<std::pair<std::string, std::string>> settings = kept_settings(s);
+  std::vector<std::string> keys;
+  for (const auto& kv : settings) keys.push_back(kv.first);
+  const CheckpointState state = read_checkpoint_state(checkpoint, keys);
   if (state.losses != s.losses)
     throw std::invalid_argument("--losses " + s.losses + ": " + checkpoint.string() + " was trained with --losses " + state.losses +
                                 "; pass --restart to start over");
+  for (size_t i = 0; i < settings.size(); ++i)
+    if (state.settings[i].second != settings[i].second)
+      throw std::invalid_argument("--" + settings[i].first + " " + settings[i].second + ": " + checkpoint.string() +
+                                  " was trained with --" + settings[i].first + " " + state.settings[i].second +
+                                  "; pass --restart to start over");
   if (!s.init.empty())
     throw std::invalid_argument("--init: --out " + s.out.string() + " continues from its checkpoint; pass --restart to start over from --init");
   if (state.step >= s.steps)
@@ -173,6 +213,12 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   if (fs::absolute(s.vgg) != fs::absolute(s.out / "vgg_normalised.safetensors"))
     fs::copy_file(s.vgg, s.out / "vgg_normalised.safetensors", fs::copy_options::overwrite_existing);
   const nn::MccTrainee net{encoder, decoder, mcc};
+  std::vector<nn::CcplHead> heads = random_heads(ctx, loss.ccpl, widths, s.seed);
+  std::vector<CheckpointTensor> head_tensors;
+  for (nn::CcplHead& h : heads)
+    for (nn::ConvWeights* w : {&h.first, &h.second})
+      head_tensors.insert(head_tensors.end(), {{w->name + ".weight", &w->weight}, {w->name + ".bias", &w->bias}});
+  if (done > 0) read_checkpoint_tensors(ctx, checkpoint, head_tensors);  // trained or not, as the run saved them
 
   // Every parameter tensor (weights, then biases) with its Adam moments, named as in the weights files.
   std::vector<const engine::Buffer*> params;
@@ -183,6 +229,12 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   };
   for (const auto& [name, w] : decoder.parameters()) add_params("decoder", name, *w);
   for (const auto& [name, w] : mcc.parameters()) add_params("mcc_module", name, *w);
+  if (loss.ccpl.train_heads)  // CCPL's optimiser holds its heads; HGST's does not
+    for (const nn::CcplHead& h : heads)
+      for (const nn::ConvWeights* w : {&h.first, &h.second}) {
+        params.insert(params.end(), {&w->weight, &w->bias});
+        names.insert(names.end(), {w->name + ".weight", w->name + ".bias"});
+      }
   std::vector<engine::Buffer> moments;
   moments.reserve(2 * params.size());
   {
@@ -203,7 +255,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   auto save_all = [&](int step) {
     save(ctx, s.out / "decoder.safetensors", step, decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
     save(ctx, s.out / "mcc_module.safetensors", step, mcc_params, {false, false, false, true});
-    write_checkpoint(ctx, checkpoint, {step, s.losses}, moment_buffers);
+    write_checkpoint(ctx, checkpoint, {step, s.losses, kept_settings(s)}, moment_buffers, head_tensors);
   };
   optim::Adam adam(ctx, 1, "stylizer adam");
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
@@ -211,7 +263,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
   // A batch's loss is the mean over its pairs of every term but TV, which HGST sums.
   nn::MccLossWeights per_pair = loss.weights;
   for (float* w : {&per_pair.content, &per_pair.style, &per_pair.identity1, &per_pair.identity2, &per_pair.noise,
-                   &per_pair.selfsim})
+                   &per_pair.selfsim, &per_pair.ccpl})
     *w /= static_cast<float>(s.batch);
   const auto crop = static_cast<uint32_t>(s.crop);
   for (int step = done + 1; step <= s.steps; ++step) {
@@ -219,9 +271,13 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     std::seed_seq seeds{static_cast<uint32_t>(s.seed), static_cast<uint32_t>(s.seed >> 32), static_cast<uint32_t>(step)};
     std::mt19937_64 rng(seeds);
     nn::MccGrads grads;
+    std::vector<nn::ConvGrads> head_grads;
     {
       engine::Recorder rec(ctx, "stylizer gradients");
       grads = nn::zero_mcc_grads(rec, net);
+      if (loss.ccpl.train_heads)
+        for (const nn::CcplHead& h : heads)
+          for (const nn::ConvWeights* w : {&h.first, &h.second}) head_grads.push_back(nn::zero_conv_grads(rec, *w));
       ctx.run(std::move(rec));
     }
     // MCCNet's and HGST's noise: sigma ~ U(0.01, 0.02) per batch, then N(0, sigma^2) per value, not clamped.
@@ -232,22 +288,32 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
       const std::vector<float> st = sample(styles[pick_style(rng)], s.crop, rng);
       std::vector<float> noisy = c;
       for (float& v : noisy) v += noise(rng);
+      // CCPL's anchors on each level (relu<l>_1 is crop / 2^(l - 1) square); a level with fewer
+      // interior positions than anchors (crops under 48 for HGST's 16 on relu4_1) takes them all.
+      nn::MccCcplInputs ccpl{loss.ccpl, &heads, {}, loss.ccpl.train_heads ? &head_grads : nullptr};
+      for (const int l : loss.ccpl.levels) {
+        const uint32_t size = crop >> (l - 1);
+        const int interior = static_cast<int>((size - 2) * (size - 2));
+        ccpl.samples.push_back(nn::draw_ccpl_samples(size, size, std::min(loss.ccpl.anchors, interior), loss.ccpl.jitter, rng));
+      }
       const nn::Tensor content = nn::upload_tensor(ctx, "content", 3, crop, crop, c);
       const nn::Tensor content_noise = nn::upload_tensor(ctx, "content + noise", 3, crop, crop, noisy);
       const nn::Tensor style = nn::upload_tensor(ctx, "style", 3, crop, crop, st);
       engine::Recorder rec(ctx, "stylizer step " + std::to_string(step));
-      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, loss.levels, per_pair, grads);
+      const nn::MccLossRecord record = nn::record_mcc_loss(rec, net, content, style, content_noise, loss.levels, per_pair, ccpl, grads);
       ctx.run(std::move(rec));
       const nn::MccLossValues v = record.values(ctx, per_pair);
       const double share = 1.0 / s.batch;  // the terms' means over the batch, the batch's total
       step_loss.content += share * v.content, step_loss.style += share * v.style;
       step_loss.identity1 += share * v.identity1, step_loss.identity2 += share * v.identity2;
       step_loss.noise += share * v.noise, step_loss.tv += share * v.tv, step_loss.selfsim += share * v.selfsim;
+      step_loss.ccpl += share * v.ccpl;
       step_loss.total += v.total;
     }
     std::vector<const engine::Buffer*> g;
     for (const nn::ConvGrads& cg : grads.decoder) g.insert(g.end(), {&cg.weight, &cg.bias});
     for (const nn::ConvGrads& cg : grads.mcc) g.insert(g.end(), {&cg.weight, &cg.bias});
+    for (const nn::ConvGrads& cg : head_grads) g.insert(g.end(), {&cg.weight, &cg.bias});
     adam.set_group(0, {.lr = hgst_learning_rate(s.lr, step), .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
     adam.upload();
     engine::Recorder rec(ctx, "stylizer adam " + std::to_string(step));

@@ -10,12 +10,15 @@
 //   tv        = sum |Ics[.., y, x] - Ics[.., y, x + 1]| + |Ics[.., y, x] - Ics[.., y + 1, x]| (a sum)
 //   selfsim   = HGST's "Iins" on v = avgpool3(F_5(Ics)): the mean over channels of
 //               mean_i min_j (1 - v_i v_j / |v|^2) (s4d_nn_grad.h)
-// total = the weighted sum. HGST's CCPL term (ALGORITHMS.md 4.5) is not here yet.
+//   ccpl      = sum over the CCPL levels l of CCPL(F_l(Ics), F_l(content)) (ccpl.h: CCPL's or HGST's
+//               jittered "LCL" variant, the content side fixed)
+// total = the weighted sum.
 #pragma once
 #include <array>
 #include <vector>
 
 #include "s4d/engine/recorder.h"
+#include "s4d/nn/ccpl.h"
 #include "s4d/nn/layers_grad.h"
 #include "s4d/nn/mcc_module.h"
 #include "s4d/nn/vgg.h"
@@ -33,18 +36,19 @@ struct MccLossLevels {
 
 // HGST's weights (ALGORITHMS.md 4.5).
 struct MccLossWeights {
-  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f, selfsim = 1.0f;
+  float content = 3.0f, style = 18.0f, identity1 = 70.0f, identity2 = 1.0f, noise = 3000.0f, tv = 1e-4f, selfsim = 1.0f,
+        ccpl = 4.0f;
 };
 
 // The terms' values, unweighted, and the weighted total.
 struct MccLossValues {
-  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, tv = 0, selfsim = 0, total = 0;
+  double content = 0, style = 0, identity1 = 0, identity2 = 0, noise = 0, tv = 0, selfsim = 0, ccpl = 0, total = 0;
 };
 
 // Recorded loss terms: partial sums (squared errors, TV) with the factor that turns each into its term.
 class MccLossRecord {
  public:
-  enum Term { content, style, identity1, identity2, noise, tv, selfsim };
+  enum Term { content, style, identity1, identity2, noise, tv, selfsim, ccpl };
   void add(Term term, engine::Buffer partials, double factor);
   // After the recording ran.
   MccLossValues values(engine::Context& ctx, const MccLossWeights& weights) const;
@@ -70,6 +74,16 @@ struct MccGrads {
   std::vector<ConvGrads> mcc;  // f, g, out_conv, fc
 };
 
+// The CCPL term's inputs for one pair: the variant, one head per level of config.levels, the
+// samples drawn on each level (the caller's seeded generator: draw_ccpl_samples), and where the
+// heads are trained their gradients (first, second per level), added to. No heads: no term (0).
+struct MccCcplInputs {
+  CcplConfig config;
+  const std::vector<CcplHead>* heads = nullptr;
+  std::vector<CcplSamples> samples;
+  std::vector<ConvGrads>* head_grads = nullptr;
+};
+
 // Zeroed gradients for the trainee's parameters.
 MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
 
@@ -78,6 +92,6 @@ MccGrads zero_mcc_grads(engine::Recorder& rec, const MccTrainee& net);
 // and HGST draw sigma ~ U(0.01, 0.02) per step), the same size.
 MccLossRecord record_mcc_loss(engine::Recorder& rec, const MccTrainee& net, const Tensor& content, const Tensor& style,
                               const Tensor& content_noise, const MccLossLevels& levels, const MccLossWeights& weights,
-                              MccGrads& grads);
+                              const MccCcplInputs& ccpl, MccGrads& grads);
 
 }  // namespace s4d::nn

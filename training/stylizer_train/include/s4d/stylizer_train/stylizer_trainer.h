@@ -3,7 +3,7 @@
 // not kept, as HGST) and randomly cropped to crop x crop, the loss of s4d/nn/mcc_loss.h and its
 // gradients on the GPU, and one Adam step over the decoder and MCC parameters. The result is a
 // weights folder the hgst and mccnet stylizers read (decoder, mcc_module and vgg_normalised
-// .safetensors). HGST's CCPL term is not here yet. An --out folder holding a checkpoint
+// .safetensors); the CCPL heads stay in the checkpoint. An --out folder holding a checkpoint
 // (checkpoint.h) continues from it, step for step as if never interrupted; any other non-empty
 // folder is refused unless restart.
 #pragma once
@@ -43,8 +43,8 @@ using StepFn = std::function<void(int step, const nn::MccLossValues& loss)>;
 // Runs the training to settings.steps and writes settings.out; returns the loss of every step this
 // call ran (the terms' means over the batch, the batch's total; on a resumed folder the steps after
 // its checkpoint's). Throws std::invalid_argument naming the setting or file that is wrong: a
-// non-empty out without a checkpoint, a checkpoint of other --losses or already at settings.steps,
-// --init with a checkpoint (each unless restart).
+// non-empty out without a checkpoint, a checkpoint of other --losses, --batch, --crop, --resize,
+// --lr or --seed, or already at settings.steps, --init with a checkpoint (each unless restart).
 std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const StylizerTrainSettings& settings,
                                               const StepFn& on_step = {});
 
