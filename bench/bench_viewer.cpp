@@ -14,11 +14,12 @@
 // while the camera moves: at AdaptiveResolution's scale under the frame budget ("adaptive"), and at
 // full resolution ("full"). Each repeat runs both orbits back to back, each after one still
 // full-resolution frame (which the policy measures, as in the window). One JSON line per orbit
-// with its fps and mean scale, then the median fps of each mode and their ratio.
+// with its fps, mean scale, process CPU ms, submissions and host waits per frame, then the median fps of each mode and their ratio.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <memory>
 #include <cstdio>
 #include <iostream>
@@ -104,9 +105,7 @@ s4d::bench::Timing time_frames(s4d::engine::Context& ctx, const Point& pt, int r
   std::vector<double> ms;
   for (int r = -1; r < repeats; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    s4d::engine::Recorder rec(ctx, "bench viewer frame");
-    renderer.render(source, cam, 0.0, s4d::viewer::PixelOrder::bgra, rec);
-    ctx.run(std::move(rec));
+    renderer.render_now(source, cam, 0.0, s4d::viewer::PixelOrder::bgra);
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (r >= 0) ms.push_back(t);
   }
@@ -115,7 +114,11 @@ s4d::bench::Timing time_frames(s4d::engine::Context& ctx, const Point& pt, int r
 
 struct Orbit {
   double fps = 0, mean_scale = 0, ms_p50 = 0;
+  double cpu_ms_per_frame = 0;                         // process CPU time (all threads, lavapipe's included)
+  double submissions_per_frame = 0, waits_per_frame = 0;  // engine::Context counters
 };
+
+double process_cpu_ms() { return 1000.0 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // One orbit of the moving camera at `budget_ms` (0: full resolution), after a still full-resolution
 // frame that the policy measures.
@@ -123,24 +126,30 @@ Orbit orbit(s4d::engine::Context& ctx, s4d::scene::SceneSource& source, s4d::vie
             s4d::viewer::CameraControl control, const Options& o, double budget_ms) {
   s4d::viewer::AdaptiveResolution resolution({.budget_ms = budget_ms});
   std::vector<double> ms;
-  double total_ms = 0, total_scale = 0;
+  double total_ms = 0, total_scale = 0, cpu_ms = 0;
+  uint64_t submissions = 0, waits = 0;
   for (int f = -1; f < o.orbit_frames; ++f) {
     const bool moving = f >= 0;
     if (moving) control.orbit(2 * std::acos(-1.0) / o.orbit_frames, 0);
     const double scale = resolution.scale(moving);
+    const uint64_t s0 = ctx.submissions(), w0 = ctx.host_waits();
+    const double c0 = process_cpu_ms();
     const auto t0 = std::chrono::steady_clock::now();
-    s4d::engine::Recorder rec(ctx, "bench viewer orbit frame");
-    renderer.render(source, control.camera(o.width, o.height), 0.0, s4d::viewer::PixelOrder::bgra, rec, scale);
-    ctx.run(std::move(rec));
+    renderer.render_now(source, control.camera(o.width, o.height), 0.0, s4d::viewer::PixelOrder::bgra, scale);
     const double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     resolution.measured(t, scale);
     if (!moving) continue;
     ms.push_back(t);
-    total_ms += t, total_scale += scale;
+    total_ms += t, total_scale += scale, cpu_ms += process_cpu_ms() - c0;
+    submissions += ctx.submissions() - s0, waits += ctx.host_waits() - w0;
   }
-  return {.fps = 1000.0 * o.orbit_frames / total_ms,
-          .mean_scale = total_scale / o.orbit_frames,
-          .ms_p50 = s4d::bench::summarise_ms(ms).ms_p50};
+  const double frames = o.orbit_frames;
+  return {.fps = 1000.0 * frames / total_ms,
+          .mean_scale = total_scale / frames,
+          .ms_p50 = s4d::bench::summarise_ms(ms).ms_p50,
+          .cpu_ms_per_frame = cpu_ms / frames,
+          .submissions_per_frame = static_cast<double>(submissions) / frames,
+          .waits_per_frame = static_cast<double>(waits) / frames};
 }
 
 int bench_orbit(s4d::engine::Context& ctx, const Options& o) {
@@ -154,9 +163,9 @@ int bench_orbit(s4d::engine::Context& ctx, const Options& o) {
   s4d::viewer::CameraControl control(s4d::viewer::estimate_up(cameras), 1.0);
   control.snap(cameras[0], depth);
   const auto& info = ctx.info();
-  std::fprintf(stderr, "device: %s (%s)\n%s: %u Gaussians, %d-frame orbit at %ux%u, budget %.0f ms\n%-9s %7s %9s %6s\n",
+  std::fprintf(stderr, "device: %s (%s)\n%s: %u Gaussians, %d-frame orbit at %ux%u, budget %.0f ms\n%-9s %7s %9s %6s %8s %6s %6s\n",
                info.name.c_str(), info.driver_info.c_str(), o.run.c_str(), source->size(), o.orbit_frames, o.width,
-               o.height, o.budget_ms, "mode", "fps", "ms p50", "scale");
+               o.height, o.budget_ms, "mode", "fps", "ms p50", "scale", "cpu ms", "subm", "waits");
   std::vector<double> fps_full, fps_adaptive;
   for (int r = 0; r < o.repeats; ++r) {
     for (const bool adaptive : {false, true}) {
@@ -174,10 +183,14 @@ int bench_orbit(s4d::engine::Context& ctx, const Options& o) {
                          {"budget_ms", adaptive ? o.budget_ms : 0},
                          {"fps", result.fps},
                          {"ms_p50", result.ms_p50},
-                         {"mean_scale", result.mean_scale}};
+                         {"mean_scale", result.mean_scale},
+                         {"cpu_ms_per_frame", result.cpu_ms_per_frame},
+                         {"submissions_per_frame", result.submissions_per_frame},
+                         {"host_waits_per_frame", result.waits_per_frame}};
       std::cout << line.dump() << std::endl;
-      std::fprintf(stderr, "%-9s %7.2f %9.1f %6.3f\n", adaptive ? "adaptive" : "full", result.fps, result.ms_p50,
-                   result.mean_scale);
+      std::fprintf(stderr, "%-9s %7.2f %9.1f %6.3f %8.1f %6.2f %6.2f\n", adaptive ? "adaptive" : "full", result.fps,
+                   result.ms_p50, result.mean_scale, result.cpu_ms_per_frame, result.submissions_per_frame,
+                   result.waits_per_frame);
     }
   }
   std::sort(fps_full.begin(), fps_full.end());

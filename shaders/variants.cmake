@@ -4,13 +4,18 @@ set(S4D_SHADER_VARIANTS
   "iota|util/iota.comp"
   "scan_reduce|scan/scan_reduce.comp"
   "scan_downsweep|scan/scan_downsweep.comp"
-  "radix_count|sort/radix_count.comp"
-  "radix_scatter|sort/radix_scatter.comp"
+  # The radix sort with n from the push constants, and with a live count read on the device (at
+  # most the push constant's n, the bound the histogram layout is sized for).
+  "radix_count|sort/radix_count.comp|S4D_RADIX_LIVE=0"
+  "radix_scatter|sort/radix_scatter.comp|S4D_RADIX_LIVE=0"
+  "radix_count_live|sort/radix_count.comp|S4D_RADIX_LIVE=1"
+  "radix_scatter_live|sort/radix_scatter.comp|S4D_RADIX_LIVE=1"
   "project_fwd|splat/project_fwd.comp"
   "count_tiles|splat/count_tiles.comp"
   "emit_instances|splat/emit_instances.comp"
   "tile_ranges|splat/tile_ranges.comp"
   "tile_list_stats|splat/tile_list_stats.comp"
+  "instance_args|splat/instance_args.comp"
   # The rasterizer family: plain and Style Gaussians variants of one source per pass.
   "raster_fwd|splat/raster_fwd.comp|S4D_STYLE=0"
   "raster_bwd|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=1"

@@ -29,8 +29,11 @@ RadixSortScratch::RadixSortScratch(engine::Context& ctx, uint32_t cap, const std
   scan_scratch = engine::Buffer(ctx, name + " scan scratch", r.scan_scratch_bytes);
 }
 
-void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values, uint32_t n,
-                    uint32_t key_bits, const RadixSortScratch& scratch) {
+namespace {
+
+// Both forms: n is the count (live == nullptr) or the bound of the live count.
+void record_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values, uint32_t n,
+                 const LiveCount* live, uint32_t key_bits, const RadixSortScratch& scratch) {
   if (key_bits == 0 || key_bits > 32)
     throw std::invalid_argument("radix sort: key_bits must be 1..32, got " + std::to_string(key_bits));
   if (n > scratch.capacity)
@@ -42,8 +45,10 @@ void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const eng
   if (n <= 1) return;
 
   engine::Context& ctx = rec.context();
-  const engine::Pipeline& count = shader_pipeline(ctx, shaders::Id::radix_count);
-  const engine::Pipeline& scatter = shader_pipeline(ctx, shaders::Id::radix_scatter);
+  const engine::Pipeline& count =
+      shader_pipeline(ctx, live ? shaders::Id::radix_count_live : shaders::Id::radix_count);
+  const engine::Pipeline& scatter =
+      shader_pipeline(ctx, live ? shaders::Id::radix_scatter_live : shaders::Id::radix_scatter);
   const uint32_t blocks = ceil_div(n, S4D_RADIX_BLOCK);
   const uint32_t passes = ceil_div(key_bits, S4D_RADIX_BITS);
   const uint32_t hist_entries = blocks * S4D_RADIX_BINS;
@@ -56,24 +61,52 @@ void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const eng
     const uint32_t shift = pass * S4D_RADIX_BITS;
     const uint32_t digit_bits = std::min<uint32_t>(S4D_RADIX_BITS, key_bits - shift);
     const gpu::RadixParams params{.n = n, .shift = shift, .num_blocks = blocks, .digit_mask = (1u << digit_bits) - 1};
-    rec.dispatch(count, {S4D_BIND(RADIX_COUNT_KEYS, *src_k), S4D_BIND(RADIX_COUNT_HIST, scratch.histogram)}, params,
-                 blocks);
+    if (live) {  // blocks past the live ones are not run: their histogram entries must read zero
+      rec.fill(scratch.histogram, 0, size_t{hist_entries} * 4);
+      rec.barrier();
+      rec.dispatch_indirect(count,
+                            {S4D_BIND(RADIX_COUNT_KEYS, *src_k), S4D_BIND(RADIX_COUNT_HIST, scratch.histogram),
+                             S4D_BIND(RADIX_COUNT_LIVE, live->count)},
+                            params, live->groups, live->groups_offset);
+    } else {
+      rec.dispatch(count, {S4D_BIND(RADIX_COUNT_KEYS, *src_k), S4D_BIND(RADIX_COUNT_HIST, scratch.histogram)}, params,
+                   blocks);
+    }
     rec.barrier();
     cmd_exclusive_scan(rec, scratch.histogram, hist_entries, scratch.scan_scratch);
     rec.barrier();
-    rec.dispatch(
-        scatter,
-        {S4D_BIND(RADIX_KEYS_IN, *src_k), S4D_BIND(RADIX_VALUES_IN, *src_v), S4D_BIND(RADIX_HIST, scratch.histogram),
-         S4D_BIND(RADIX_KEYS_OUT, *dst_k), S4D_BIND(RADIX_VALUES_OUT, *dst_v)},
-        params, blocks);
+    if (live)
+      rec.dispatch_indirect(
+          scatter,
+          {S4D_BIND(RADIX_KEYS_IN, *src_k), S4D_BIND(RADIX_VALUES_IN, *src_v), S4D_BIND(RADIX_HIST, scratch.histogram),
+           S4D_BIND(RADIX_KEYS_OUT, *dst_k), S4D_BIND(RADIX_VALUES_OUT, *dst_v), S4D_BIND(RADIX_LIVE, live->count)},
+          params, live->groups, live->groups_offset);
+    else
+      rec.dispatch(
+          scatter,
+          {S4D_BIND(RADIX_KEYS_IN, *src_k), S4D_BIND(RADIX_VALUES_IN, *src_v), S4D_BIND(RADIX_HIST, scratch.histogram),
+           S4D_BIND(RADIX_KEYS_OUT, *dst_k), S4D_BIND(RADIX_VALUES_OUT, *dst_v)},
+          params, blocks);
     rec.barrier();
     std::swap(src_k, dst_k);
     std::swap(src_v, dst_v);
   }
-  if (src_k != &keys) {
+  if (src_k != &keys) {  // the bound: the live count is not known here
     rec.copy(*src_k, keys, size_t{n} * 4);
     rec.copy(*src_v, values, size_t{n} * 4);
   }
+}
+
+}  // namespace
+
+void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values, uint32_t n,
+                    uint32_t key_bits, const RadixSortScratch& scratch) {
+  record_sort(rec, keys, values, n, nullptr, key_bits, scratch);
+}
+
+void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values,
+                    const LiveCount& live, uint32_t key_bits, const RadixSortScratch& scratch) {
+  record_sort(rec, keys, values, live.bound, &live, key_bits, scratch);
 }
 
 }  // namespace s4d::primitives

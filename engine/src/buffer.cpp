@@ -27,7 +27,8 @@ Buffer::Buffer(Context& ctx, std::string name, size_t bytes, BufferKind kind)
   const VkDeviceSize alloc_bytes = bytes == 0 ? 16 : bytes;
   const VkBufferUsageFlags usage =
       kind == BufferKind::storage
-          ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT
+          ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT  // kernels may write dispatch arguments (Recorder::dispatch_indirect)
           : VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   VkBufferCreateInfo bci{.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
                          .size = alloc_bytes,

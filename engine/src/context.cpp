@@ -313,6 +313,7 @@ void Context::wait(uint64_t value) {
     throw std::logic_error("wait for submission " + std::to_string(value) + ", but only " + std::to_string(submitted_) +
                            " were submitted");
   if (value > completed_) {
+    ++host_waits_;
     VkSemaphoreWaitInfo wi{.sType = VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO,
                            .semaphoreCount = 1,
                            .pSemaphores = &timeline_,

@@ -114,6 +114,16 @@ std::vector<const Binding*> by_binding(const Pipeline& pipeline, std::span<const
   return slots;
 }
 
+// by_binding, and the push-constant size checked against the shader's.
+std::vector<const Binding*> checked_slots(const Pipeline& pipeline, std::span<const Binding> bindings,
+                                          size_t params_bytes) {
+  std::vector<const Binding*> slots = by_binding(pipeline, bindings);
+  if (params_bytes != pipeline.push_constant_bytes())
+    throw std::invalid_argument("dispatch of '" + pipeline.name() + "': push constants are " + std::to_string(params_bytes) +
+                                " bytes, the shader declares " + std::to_string(pipeline.push_constant_bytes()));
+  return slots;
+}
+
 }  // namespace
 
 bool binding_name_agrees(std::string_view id_name, std::string_view block) {
@@ -131,15 +141,9 @@ bool binding_name_agrees(std::string_view id_name, std::string_view block) {
   return folded(id_name).find(folded(block)) != std::string::npos;
 }
 
-void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
-                            size_t params_bytes, uint32_t flat_groups) {
-  const std::vector<const Binding*> slots = by_binding(pipeline, bindings);
-  if (params_bytes != pipeline.push_constant_bytes())
-    throw std::invalid_argument("dispatch of '" + pipeline.name() + "': push constants are " + std::to_string(params_bytes) +
-                                " bytes, the shader declares " + std::to_string(pipeline.push_constant_bytes()));
-  if (flat_groups == 0) return;
-  const Groups g = split_groups(flat_groups);
-
+void Recorder::bind(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                    size_t params_bytes) {
+  const std::vector<const Binding*> slots = checked_slots(pipeline, bindings, params_bytes);
   std::vector<VkDescriptorBufferInfo> infos(slots.size());
   std::vector<VkWriteDescriptorSet> writes(slots.size());
   for (size_t i = 0; i < slots.size(); ++i) {
@@ -174,7 +178,31 @@ void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> b
                                     static_cast<uint32_t>(writes.size()), writes.data());
   if (params_bytes)
     vkCmdPushConstants(cmd_, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<uint32_t>(params_bytes), params);
+}
+
+void Recorder::dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                            size_t params_bytes, uint32_t flat_groups) {
+  if (flat_groups == 0) {  // still checked: a wrong binding should not hide behind an empty dispatch
+    (void)checked_slots(pipeline, bindings, params_bytes);
+    return;
+  }
+  const Groups g = split_groups(flat_groups);
+  bind(pipeline, bindings, params, params_bytes);
   vkCmdDispatch(cmd_, g.x, g.y, g.z);
+  end_label();
+  ctx_->note_op(pipeline.name());
+}
+
+void Recorder::dispatch_indirect_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                                     size_t params_bytes, const Buffer& args, size_t offset) {
+  if (!args.valid() || args.kind() != BufferKind::storage)
+    throw std::invalid_argument("indirect dispatch of '" + pipeline.name() + "': argument buffer '" + args.name() +
+                                "' must be a device (storage) buffer");
+  if (offset % 4 != 0 || offset > args.size() || args.size() - offset < sizeof(VkDispatchIndirectCommand))
+    throw std::invalid_argument("indirect dispatch of '" + pipeline.name() + "': arguments at offset " +
+                                std::to_string(offset) + " must be 4-byte aligned and inside buffer '" + args.name() + "'");
+  bind(pipeline, bindings, params, params_bytes);
+  vkCmdDispatchIndirect(cmd_, args.handle(), offset);
   end_label();
   ctx_->note_op(pipeline.name());
 }
@@ -184,9 +212,10 @@ void Recorder::barrier() {
   VkMemoryBarrier mb{.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
                      .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                      .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+                                      VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                                      VK_ACCESS_INDIRECT_COMMAND_READ_BIT};
   const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-  vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  vkCmdPipelineBarrier(cmd_, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
 void Recorder::copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t src_offset, size_t dst_offset) {

@@ -33,6 +33,8 @@ S4D_NAMESPACE_BEGIN
 #define S4D_B_RADIX_HIST 2       // [S4D_RADIX_BINS * num_blocks] u32, digit-major
 #define S4D_B_RADIX_KEYS_OUT 3   // [n] u32
 #define S4D_B_RADIX_VALUES_OUT 4 // [n] u32
+#define S4D_B_RADIX_COUNT_LIVE 2 // [1] u32 live key count (radix_count_live)
+#define S4D_B_RADIX_LIVE 5       // [1] u32 live key count (radix_scatter_live)
 #define S4D_B_IOTA_OUT 0         // [n] u32
 
 // Push constants of scan_reduce, scan_downsweep.
@@ -43,9 +45,10 @@ struct ScanParams {
   uint _pad1;
 };
 
-// Push constants of radix_count, radix_scatter.
+// Push constants of radix_count, radix_scatter (and their _live variants, which sort
+// min(n, live count) keys but keep the histogram laid out for n).
 struct RadixParams {
-  uint n;           // keys to sort
+  uint n;           // keys to sort (_live: their bound)
   uint shift;       // bit offset of this pass's digit
   uint num_blocks;  // ceil(n / S4D_RADIX_BLOCK)
   uint digit_mask;  // bins of this pass minus one: S4D_RADIX_BINS - 1, less on a last partial digit

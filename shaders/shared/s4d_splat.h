@@ -80,6 +80,10 @@
 
 #define S4D_B_RANGES_TILE_KEYS 0    // [instances] tile ids, sorted
 #define S4D_B_RANGES_OUT 1          // [tiles] uvec2 (begin, end) into the sorted instances
+#define S4D_B_RANGES_LIVE 2         // InstanceArgs: its first word is the live instance count
+
+#define S4D_B_ARGS_OFFSETS 0        // [N + 1] scanned; [N] is the instance count (mod 2^32)
+#define S4D_B_ARGS_OUT 1            // InstanceArgs
 
 #define S4D_B_LIST_STATS_RANGES 0   // [tiles] uvec2
 #define S4D_B_LIST_STATS_OUT 1      // [1] u32 longest tile list (atomic max; zero it first)
@@ -155,11 +159,33 @@ struct ProjectParams {
 
 // Push constants of count_tiles, emit_instances and tile_ranges.
 struct BinningParams {
-  uint n;          // Gaussians (count_tiles, emit_instances) or instances (tile_ranges)
+  uint n;          // Gaussians (count_tiles, emit_instances) or the instance capacity (tile_ranges)
   uint tiles_x;
-  uint _pad0;
+  uint capacity;   // emit_instances: instances it may write; those past it are dropped
   uint _pad1;
 };
+
+// Push constants of instance_args.
+struct InstanceArgsParams {
+  uint n;             // Gaussians: offsets[n] holds the instance count
+  uint capacity;      // instances the buffers hold
+  uint max_groups_x;  // the device's 1-D workgroup limit; larger dispatches split into 2-D rows
+  uint _pad0;
+};
+
+// Written by instance_args on the device, so one submission renders a frame without the host
+// reading the instance count first: the live count and the indirect dispatches over it
+// (VkDispatchIndirectCommand x, y, z; the fourth word pads to 16 bytes).
+struct InstanceArgs {
+  uint live;  // min(instances, capacity): what emit_instances wrote and the sort and tile_ranges read
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+  uvec4 ranges_groups;  // tile_ranges: ceil(live / S4D_SPLAT_WG) workgroups
+  uvec4 sort_groups;    // radix sort blocks: ceil(live / S4D_RADIX_BLOCK) workgroups
+};
+#define S4D_INSTANCE_ARGS_RANGES_OFFSET 16  // bytes, InstanceArgs::ranges_groups
+#define S4D_INSTANCE_ARGS_SORT_OFFSET 32    // bytes, InstanceArgs::sort_groups
 
 // Push constants of raster_fwd and raster_bwd, plain and style variants. The last four fields
 // and `intrinsics` drive the style variants only (s4d_style_splat.h).

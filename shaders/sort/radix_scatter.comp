@@ -24,6 +24,9 @@ layout(std430, binding = S4D_B_RADIX_VALUES_IN) readonly buffer ValuesIn { uint 
 layout(std430, binding = S4D_B_RADIX_HIST) readonly buffer Hist { uint hist[]; };  // [16 * num_blocks], scanned
 layout(std430, binding = S4D_B_RADIX_KEYS_OUT) writeonly buffer KeysOut { uint keys_out[]; };      // [n]
 layout(std430, binding = S4D_B_RADIX_VALUES_OUT) writeonly buffer ValuesOut { uint values_out[]; };  // [n]
+#if S4D_RADIX_LIVE
+layout(std430, binding = S4D_B_RADIX_LIVE) readonly buffer Live { uint live[]; };  // the live count
+#endif
 
 shared uint block_base[S4D_RADIX_BINS];
 
@@ -36,6 +39,11 @@ uint packed_get(uvec4 lo, uvec4 hi, uint d) {
 void main() {
   uint g = flat_group_id();
   if (g >= p.num_blocks) return;
+#if S4D_RADIX_LIVE
+  uint n = min(p.n, live[0]);
+#else
+  uint n = p.n;
+#endif
   uint rank = wg_rank();
   if (rank < S4D_RADIX_BINS) block_base[rank] = hist[rank * p.num_blocks + g];
 
@@ -44,8 +52,8 @@ void main() {
   uvec4 lo = uvec4(0), hi = uvec4(0);
   for (uint k = 0; k < S4D_RADIX_ITEMS; ++k) {
     uint i = first + k;
-    keys[k] = i < p.n ? keys_in[i] : 0;
-    if (i < p.n) {
+    keys[k] = i < n ? keys_in[i] : 0;
+    if (i < n) {
       uint d = (keys[k] >> p.shift) & p.digit_mask;
       uint inc = 1u << (16 * (d & 1));
       if (d < 8) lo[(d >> 1) & 3] += inc; else hi[(d >> 1) & 3] += inc;
@@ -56,7 +64,7 @@ void main() {
 
   for (uint k = 0; k < S4D_RADIX_ITEMS; ++k) {
     uint i = first + k;
-    if (i >= p.n) break;
+    if (i >= n) break;
     uint d = (keys[k] >> p.shift) & p.digit_mask;
     uint earlier = 0;  // equal digits among this invocation's own earlier keys
     for (uint j = 0; j < k; ++j) earlier += ((keys[j] >> p.shift) & p.digit_mask) == d ? 1u : 0u;

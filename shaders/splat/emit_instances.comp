@@ -1,6 +1,8 @@
 // emit_instances: one invocation per Gaussian in depth order writes a (tile id, Gaussian id) pair
 // for every tile of its rectangle at its scanned offset. Instances therefore leave this kernel in
 // depth order, and the stable sort by tile id that follows keeps that order within each tile.
+// Instances at or past p.capacity are dropped: the host sees the count exceed it after the frame,
+// grows the buffers and renders the frame again.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_splat.h"
@@ -23,6 +25,7 @@ void main() {
   uint out_i = offsets[k];
   for (uint ty = y0; ty < y1; ++ty)
     for (uint tx = x0; tx < x1; ++tx) {
+      if (out_i >= p.capacity) return;
       tile_keys[out_i] = ty * p.tiles_x + tx;
       gaussian_ids[out_i] = g;
       ++out_i;

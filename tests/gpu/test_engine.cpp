@@ -11,6 +11,7 @@
 
 #include "expect_equal.h"
 #include "s4d/engine/buffer.h"
+#include "s4d/engine/buffer_from.h"
 #include "s4d/engine/pipeline.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/engine/timestamps.h"
@@ -89,6 +90,33 @@ TEST_CASE("the dispatch choke point refuses wrong push-constant sizes and ranges
   if (ctx.info().min_storage_buffer_offset_alignment > 4)
     CHECK_THROWS_WITH_AS(rec.dispatch(iota_pipeline(), {S4D_BIND(IOTA_OUT, a, 4, 16)}, params, 1),
                          doctest::Contains("minStorageBufferOffsetAlignment"), std::invalid_argument);
+}
+
+TEST_CASE("an indirect dispatch reads its group counts from a buffer, with the choke point's checks") {
+  auto& ctx = test::context();
+  const uint32_t n = 3 * S4D_IOTA_WG;
+  Buffer out = engine::buffer_from(ctx, "iota indirect", std::vector<uint32_t>(n, 7));
+  // Two groups of three: the third group's elements keep their 7. Offset 4: any 4-byte multiple.
+  Buffer args = engine::buffer_from(ctx, "indirect args", std::vector<uint32_t>{0, 2, 1, 1});
+  const gpu::IotaParams params{.n = n, .first = 100, ._pad0 = 0, ._pad1 = 0};
+  const uint64_t submissions = ctx.submissions(), waits = ctx.host_waits();
+  Recorder rec(ctx, "iota indirect");
+  rec.dispatch_indirect(iota_pipeline(), {S4D_BIND(IOTA_OUT, out)}, params, args, 4);
+  ctx.run(std::move(rec));
+  CHECK(ctx.submissions() - submissions == 1);
+  CHECK(ctx.host_waits() - waits == 1);
+  const auto got = ctx.download<uint32_t>(out, n);
+  size_t bad = 0;
+  for (uint32_t i = 0; i < n; ++i) bad += got[i] != (i < 2 * S4D_IOTA_WG ? 100 + i : 7u);
+  CHECK(bad == 0);
+  Recorder bad_rec(ctx, "bad indirect");
+  CHECK_THROWS_WITH_AS(bad_rec.dispatch_indirect(iota_pipeline(), {S4D_BIND(IOTA_OUT, out)}, params, args, 6),
+                       doctest::Contains("4-byte aligned"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(bad_rec.dispatch_indirect(iota_pipeline(), {S4D_BIND(IOTA_OUT, out)}, params, args, 8),
+                       doctest::Contains("inside buffer 'indirect args'"), std::invalid_argument);
+  const uint32_t too_small = 3;
+  CHECK_THROWS_WITH_AS(bad_rec.dispatch_indirect(iota_pipeline(), {S4D_BIND(IOTA_OUT, out)}, too_small, args, 0),
+                       doctest::Contains("push constants are 4 bytes"), std::invalid_argument);
 }
 
 TEST_CASE("buffers bind by their ids in any order") {

@@ -12,6 +12,7 @@
 
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/recorder.h"
+#include "s4d/scene/static_scene.h"
 #include "s4d/viewer/frame_renderer.h"
 #include "s4d/viewer/present_pack_ref.h"
 #include "test_context.h"
@@ -109,4 +110,38 @@ TEST_CASE("pack taps align pixel centres: every source pixel lands where it shou
     CHECK((same.i0 == x && same.num == 0));
   }
   CHECK_THROWS_AS(viewer::present_pack_ref(std::vector<float>(3 * 8 * 8), 8, 8, 4, 4, false), std::invalid_argument);
+}
+
+// The viewer's frame: the scene source, the rasterizer and the pack in one submission with one
+// host wait, once the rasterizer's buffers fit (the first frame sizes them); the pixels are those
+// of the same frame rendered again.
+TEST_CASE("a viewer frame is one submission") {
+  engine::Context& ctx = test::context();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1, 1);
+  io::GaussianCloud cloud;
+  for (int i = 0; i < 300; ++i) {
+    for (float m : {u(rng), u(rng), 4 + u(rng)}) cloud.means.push_back(m);
+    for (int k = 0; k < 3; ++k) cloud.log_scales.push_back(-2.5f + 0.5f * u(rng));
+    for (float q : {1.0f, 0.1f * u(rng), 0.1f * u(rng), 0.1f * u(rng)}) cloud.quats.push_back(q);
+    cloud.opacity_logits.push_back(u(rng));
+    for (int ch = 0; ch < 3; ++ch) cloud.sh.push_back(u(rng));
+  }
+  scene::StaticScene source(ctx, cloud);
+  splat::Camera cam;
+  cam.world_to_cam = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  cam.width = 120, cam.height = 90, cam.fx = cam.fy = 100, cam.cx = 60, cam.cy = 45;
+  viewer::FrameRenderer renderer(ctx, {0, 0, 0});
+  renderer.render_now(source, cam, 0.0, viewer::PixelOrder::bgra);
+  const std::vector<uint32_t> first = ctx.download<uint32_t>(renderer.pixels(), size_t{120} * 90);
+  for (const double scale : {1.0, 0.5}) {
+    CAPTURE(scale);
+    const uint64_t submissions = ctx.submissions(), waits = ctx.host_waits();
+    const splat::RenderStats stats = renderer.render_now(source, cam, 0.0, viewer::PixelOrder::bgra, scale);
+    CHECK(stats.instances > 0);
+    CHECK(ctx.submissions() - submissions == 1);
+    CHECK(ctx.host_waits() - waits == 1);
+  }
+  renderer.render_now(source, cam, 0.0, viewer::PixelOrder::bgra);
+  CHECK(ctx.download<uint32_t>(renderer.pixels(), size_t{120} * 90) == first);
 }

@@ -11,7 +11,9 @@
 
 #include "expect_equal.h"
 #include "s4d/primitives/iota.h"
+#include "s4d/engine/buffer_from.h"
 #include "s4d/primitives/radix_sort.h"
+#include "s4d_primitives.h"
 #include "s4d/ref/radix_sort_ref.h"
 #include "test_context.h"
 
@@ -89,4 +91,34 @@ TEST_CASE("radix sort refuses more pairs than its scratch holds") {
                        std::invalid_argument);
   CHECK_THROWS_WITH_AS(primitives::cmd_radix_sort(rec, k, v, 10, 0, scratch), doctest::Contains("key_bits"),
                        std::invalid_argument);
+}
+
+// The live form: the count comes from the device and only its blocks run; the pairs are those of
+// a sort of exactly that many, bit for bit, whatever the bound (the buffers' size) beyond it.
+TEST_CASE("radix sort of a device-side live count matches the sort of that many pairs") {
+  auto& ctx = test::context();
+  const uint32_t bound = 3 * S4D_RADIX_BLOCK + 100;
+  const std::vector<uint32_t> keys = random_keys(bound, 41);
+  for (const uint32_t live : {0u, 1u, 5u, uint32_t{S4D_RADIX_BLOCK}, uint32_t{S4D_RADIX_BLOCK} + 1, bound - 7, bound,
+                              bound + 500}) {
+    CAPTURE(live);
+    const uint32_t n = std::min(live, bound);
+    engine::Buffer k(ctx, "live keys", size_t{bound} * 4), v(ctx, "live values", size_t{bound} * 4);
+    ctx.upload(k, std::span<const uint32_t>(keys));
+    primitives::RadixSortScratch scratch(ctx, bound, "live sort");
+    engine::Recorder rec(ctx, "live sort");
+    const engine::Groups g = rec.split_groups((n + S4D_RADIX_BLOCK - 1) / S4D_RADIX_BLOCK);
+    engine::Buffer count = engine::buffer_from(ctx, "live count", std::vector<uint32_t>{live, 0, 0, 0, g.x, g.y, g.z, 0});
+    primitives::cmd_iota(rec, v, bound);
+    rec.barrier();
+    primitives::cmd_radix_sort(rec, k, v, primitives::LiveCount{.count = count, .groups = count, .groups_offset = 16,
+                                                                 .bound = bound},
+                               13, scratch);
+    ctx.run(std::move(rec));
+    std::vector<uint32_t> want_keys(keys.begin(), keys.begin() + n), want_values(n);
+    std::iota(want_values.begin(), want_values.end(), 0u);
+    if (n > 0) ref::radix_sort(want_keys, want_values, 13);
+    test::expect_equal_arrays(ctx.download<uint32_t>(k, n), want_keys, "live keys");
+    test::expect_equal_arrays(ctx.download<uint32_t>(v, n), want_values, "live values");
+  }
 }

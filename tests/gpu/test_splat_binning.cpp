@@ -75,7 +75,7 @@ TEST_CASE("count_tiles gathers tiles touched in depth order and counts instances
     rec.dispatch(primitives::shader_pipeline(test::context(), shaders::Id::count_tiles),
                  {S4D_BIND(COUNT_SORTED_IDS, bids), S4D_BIND(COUNT_TILES_TOUCHED, btouched),
                   S4D_BIND(COUNT_OFFSETS, offsets), S4D_BIND(COUNT_TOTALS, totals)},
-                 gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = 1, ._pad0 = 0, ._pad1 = 0},
+                 gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = 1, .capacity = 0, ._pad1 = 0},
                  groups(n + 1));
     test::context().run(std::move(rec));
     const ref::CountTiles want = ref::count_tiles(ids, touched);
@@ -102,16 +102,29 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   engine::Buffer bids = engine::buffer_from(test::context(), "ids", ids), boffsets = engine::buffer_from(test::context(), "offsets", offsets), binfo = engine::buffer_from(test::context(), "info", info);
   engine::Buffer keys = engine::buffer_from(test::context(), "keys", std::vector<uint32_t>(instances, 0xDEAD));
   engine::Buffer values = engine::buffer_from(test::context(), "values", std::vector<uint32_t>(instances, 0xDEAD));
-  engine::Recorder rec(ctx, "emit_instances");
-  rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::emit_instances),
-               {S4D_BIND(EMIT_SORTED_IDS, bids), S4D_BIND(EMIT_OFFSETS, boffsets), S4D_BIND(EMIT_INFO, binfo),
-                S4D_BIND(EMIT_TILE_KEYS, keys), S4D_BIND(EMIT_GAUSSIAN_IDS, values)},
-               gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0},
-               groups(n));
-  ctx.run(std::move(rec));
+  // capacity: every instance, then a third of them (the rasterizer's overflow path drops the rest).
+  const auto emit = [&](uint32_t capacity) {
+    engine::Recorder rec(ctx, "emit_instances");
+    rec.fill(keys, 0xDEAD);
+    rec.fill(values, 0xDEAD);
+    rec.barrier();
+    rec.dispatch(primitives::shader_pipeline(ctx, shaders::Id::emit_instances),
+                 {S4D_BIND(EMIT_SORTED_IDS, bids), S4D_BIND(EMIT_OFFSETS, boffsets), S4D_BIND(EMIT_INFO, binfo),
+                  S4D_BIND(EMIT_TILE_KEYS, keys), S4D_BIND(EMIT_GAUSSIAN_IDS, values)},
+                 gpu::BinningParams{.n = static_cast<uint32_t>(n), .tiles_x = tiles_x, .capacity = capacity, ._pad1 = 0},
+                 groups(n));
+    ctx.run(std::move(rec));
+  };
+  const uint32_t third = instances / 3;
+  emit(third);
+  const auto capped_keys = ctx.download<uint32_t>(keys, instances);
+  emit(instances);
   const ref::Instances want = ref::emit_instances(ids, offsets, info, tiles_x);
   test::expect_equal_arrays(ctx.download<uint32_t>(keys, instances), want.tile_keys, "tile keys");
   test::expect_equal_arrays(ctx.download<uint32_t>(values, instances), want.gaussian_ids, "Gaussian ids");
+  std::vector<uint32_t> want_capped(want.tile_keys.begin(), want.tile_keys.begin() + third);
+  want_capped.resize(instances, 0xDEAD);
+  test::expect_equal_arrays(capped_keys, want_capped, "tile keys below a capacity of a third");
 
   // tile_ranges over keys sorted stably by tile (the engine's radix sort is tested on its own).
   std::vector<uint32_t> order(instances);
@@ -123,14 +136,16 @@ TEST_CASE("emit_instances, tile_ranges and tile_list_stats match their twins exa
   engine::Buffer bsorted = engine::buffer_from(test::context(), "sorted keys", sorted_keys), ranges = engine::buffer_from(test::context(), "ranges", std::vector<uint32_t>(2 * tiles, 0));
   engine::Buffer longest = engine::buffer_from(test::context(), "longest", std::vector<uint32_t>{0});
   const uint32_t m = static_cast<uint32_t>(sorted_keys.size());
+  // The live count comes from the device (InstanceArgs::live); the push constant is only its bound.
+  engine::Buffer live = engine::buffer_from(ctx, "live", std::vector<uint32_t>{m, 0, 0, 0});
   engine::Recorder rec2(ctx, "tile_ranges");
   rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_ranges),
-                {S4D_BIND(RANGES_TILE_KEYS, bsorted), S4D_BIND(RANGES_OUT, ranges)},
-                gpu::BinningParams{.n = m, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(m));
+                {S4D_BIND(RANGES_TILE_KEYS, bsorted), S4D_BIND(RANGES_OUT, ranges), S4D_BIND(RANGES_LIVE, live)},
+                gpu::BinningParams{.n = m + 300, .tiles_x = tiles_x, .capacity = 0, ._pad1 = 0}, groups(m + 300));
   rec2.barrier();
   rec2.dispatch(primitives::shader_pipeline(ctx, shaders::Id::tile_list_stats),
                 {S4D_BIND(LIST_STATS_RANGES, ranges), S4D_BIND(LIST_STATS_OUT, longest)},
-                gpu::BinningParams{.n = tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0}, groups(tiles));
+                gpu::BinningParams{.n = tiles, .tiles_x = tiles_x, .capacity = 0, ._pad1 = 0}, groups(tiles));
   ctx.run(std::move(rec2));
   const std::vector<uint32_t> want_ranges = ref::tile_ranges(sorted_keys, tiles);
   test::expect_equal_arrays(ctx.download<uint32_t>(ranges, 2 * tiles), want_ranges, "tile ranges");

@@ -40,6 +40,9 @@ static_assert(sizeof(IotaParams) == 16 && sizeof(IotaParams) <= S4D_MAX_PUSH_CON
 static_assert(sizeof(SplatCamera) == 80);
 static_assert(sizeof(ProjectParams) == 96 && sizeof(ProjectParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
 static_assert(sizeof(BinningParams) == 16 && sizeof(RasterParams) == 64);
+static_assert(sizeof(InstanceArgsParams) == 16 && sizeof(InstanceArgs) == 48);
+static_assert(offsetof(InstanceArgs, ranges_groups) == S4D_INSTANCE_ARGS_RANGES_OFFSET &&
+              offsetof(InstanceArgs, sort_groups) == S4D_INSTANCE_ARGS_SORT_OFFSET);
 static_assert(sizeof(LossParams) == 32 && sizeof(TvParams) == 32 && sizeof(AdamParams) == 32 && sizeof(AdamGroup) == 32);
 static_assert(sizeof(AddParams) == 16 && sizeof(MaskParams) == 16);
 static_assert(sizeof(BlendCeilingParams) == 48 && sizeof(BlendCeilingParams) <= S4D_MAX_PUSH_CONSTANT_BYTES);
@@ -101,7 +104,12 @@ std::vector<CppStructLayout> shared_structs() {
                  S4D_MEMBER(ProjectParams, sh_degree), S4D_MEMBER(ProjectParams, sh_coeffs),
                  S4D_MEMBER(ProjectParams, flags)),
       S4D_STRUCT(BinningParams, S4D_MEMBER(BinningParams, n), S4D_MEMBER(BinningParams, tiles_x),
-                 S4D_MEMBER(BinningParams, _pad0), S4D_MEMBER(BinningParams, _pad1)),
+                 S4D_MEMBER(BinningParams, capacity), S4D_MEMBER(BinningParams, _pad1)),
+      S4D_STRUCT(InstanceArgsParams, S4D_MEMBER(InstanceArgsParams, n), S4D_MEMBER(InstanceArgsParams, capacity),
+                 S4D_MEMBER(InstanceArgsParams, max_groups_x), S4D_MEMBER(InstanceArgsParams, _pad0)),
+      S4D_STRUCT(InstanceArgs, S4D_MEMBER(InstanceArgs, live), S4D_MEMBER(InstanceArgs, _pad0),
+                 S4D_MEMBER(InstanceArgs, _pad1), S4D_MEMBER(InstanceArgs, _pad2),
+                 S4D_MEMBER(InstanceArgs, ranges_groups), S4D_MEMBER(InstanceArgs, sort_groups)),
       S4D_STRUCT(RasterParams, S4D_MEMBER(RasterParams, size), S4D_MEMBER(RasterParams, background),
                  S4D_MEMBER(RasterParams, intrinsics), S4D_MEMBER(RasterParams, flags),
                  S4D_MEMBER(RasterParams, depth_mode), S4D_MEMBER(RasterParams, time),

@@ -88,7 +88,8 @@ int cmd_view(const std::vector<std::string>& argv) {
   const viewer::ViewerSummary summary = viewer::run_viewer(run, options);
   std::cout << "presented " << summary.frames << " frames on " << summary.device << ", mean frame "
             << summary.mean_frame_ms << " ms; rasterized " << summary.rasterized << " at mean scale "
-            << summary.mean_scale << ", " << summary.mean_rasterized_ms << " ms each\n";
+            << summary.mean_scale << ", " << summary.mean_rasterized_ms << " ms each, " << summary.rerendered
+            << " again after the instance buffers grew\n";
   return 0;
 #else
   throw std::runtime_error("this build has no viewer window (configured with S4D_BUILD_VIEWER=OFF); "

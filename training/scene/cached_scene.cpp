@@ -12,14 +12,18 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
   const splat::Camera unused{};
   for (double t : times) {
     if (cache_.count(t)) continue;
-    const splat::GaussianParams g = base_->at(t, unused);
+    engine::Recorder rec(ctx, "cache scene");  // the base's work and the copies: one submission
+    const splat::GaussianParams g = base_->record(rec, t, unused);
     const size_t n = g.count;
     size_t bytes = 0;
     for (splat::Attr a : splat::kCloudAttrs) bytes += n * splat::attr_floats(a, g.sh_coeffs) * 4;
-    if (used + bytes > max_bytes) break;
+    if (used + bytes > max_bytes) {
+      ctx.run(std::move(rec));  // a source may already count the recorded work as done
+      break;
+    }
     used += bytes;
+    rec.barrier();
     Copy& c = cache_[t];  // map nodes stay put, so params may point into c
-    engine::Recorder rec(ctx, "cache scene");
     c.params = g;
     for (splat::Attr a : splat::kCloudAttrs) {
       const size_t floats = n * splat::attr_floats(a, g.sh_coeffs);
@@ -29,6 +33,11 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     }
     ctx.run(std::move(rec));
   }
+}
+
+splat::GaussianParams CachedScene::record(engine::Recorder& rec, double time, const splat::Camera& camera) {
+  const auto it = cache_.find(time);
+  return it == cache_.end() ? base_->record(rec, time, camera) : it->second.params;
 }
 
 splat::GaussianParams CachedScene::at(double time, const splat::Camera& camera) {

@@ -37,10 +37,14 @@ DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& cano
   }
 }
 
-splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
+splat::GaussianParams DeformedScene::at(double time, const splat::Camera& camera) {
+  if (last_ && last_->first == time) return last_->second;  // no submission for nothing to do
+  return record_and_run(*ctx_, time, camera);
+}
+
+splat::GaussianParams DeformedScene::record(engine::Recorder& rec, double time, const splat::Camera&) {
   if (last_ && last_->first == time) return last_->second;  // nothing else writes the deformed buffers
   const splat::GaussianParams canonical = canonical_.params(sh_degree_);
-  engine::Recorder rec(*ctx_, "deform to time");
   const splat::GaussianParams p = deformed_.record(rec, field_, canonical, still_count_, static_cast<float>(time));
   if (!still_runs_.empty()) {  // the old mask: still Gaussians get their canonical values back
     rec.barrier();
@@ -51,7 +55,6 @@ splat::GaussianParams DeformedScene::at(double time, const splat::Camera&) {
         if (out[a]) rec.copy(*canonical[a], *out[a], (end - first) * width * 4, first * width * 4, first * width * 4);
     }
   }
-  ctx_->run(std::move(rec));
   last_.emplace(time, p);
   return p;
 }

@@ -62,13 +62,16 @@ void StyledScene::restyle(const run::StyleFile& style) {
 }
 
 splat::GaussianParams StyledScene::at(double time, const splat::Camera& camera) {
-  const splat::GaussianParams g = base_->at(time, camera);
+  return record_and_run(*ctx_, time, camera);
+}
+
+splat::GaussianParams StyledScene::record(engine::Recorder& rec, double time, const splat::Camera& camera) {
+  const splat::GaussianParams g = base_->record(rec, time, camera);
   if (g.sh_coeffs != sh_coeffs_)
     throw std::invalid_argument("style " + name_ + " stores " + std::to_string(sh_coeffs_) +
                                 " SH coefficients per channel; the run renders with " + std::to_string(g.sh_coeffs));
-  engine::Recorder rec(*ctx_, "style " + name_);
+  rec.barrier();  // the base's work, if any, before the copies read it
   splat::GaussianParams out = record_style_deltas(rec, g, sh_delta_, opacity_delta_, sh_, opacity_);
-  ctx_->run(std::move(rec));
   if (method_ == run::StyleMethod::full) {
     mlp_desc_ = style_mlp(time, depth_, depth_scale_, input_sigmoid_);
     out.style = &mlp_desc_;

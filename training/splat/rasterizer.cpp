@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -99,10 +101,12 @@ void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool st
 Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions options)
     : ctx_(&ctx), name_(std::move(name)), options_(options) {
   reserve_gaussians(1);
-  reserve_instances(1);
+  allocate_instances(std::max(1u, options.initial_instance_capacity));
   reserve_pixels(1, 1);
   list_stats_ = buffer("tile list stats", 4);
   totals_ = buffer("instance totals", 12);
+  args_ = buffer("instance args", sizeof(gpu::InstanceArgs));
+  readback_ = engine::Buffer(ctx, name_ + " readback", sizeof(Readback), engine::BufferKind::staging);
 }
 
 size_t Rasterizer::device_bytes() const {
@@ -110,7 +114,7 @@ size_t Rasterizer::device_bytes() const {
   for (const engine::Buffer* b : {&xy_, &conic_opacity_, &color_depth_, &info_, &depth_keys_, &tiles_touched_,
                                   &sorted_ids_, &offsets_, &tile_keys_, &gaussian_ids_, &ranges_, &rgb_, &alpha_,
                                   &depth_, &count_, &last_, &final_t_, &grad2d_, &scan_scratch_, &list_stats_,
-                                  &quadric_})
+                                  &quadric_, &args_})
     total += b->size();
   for (const primitives::RadixSortScratch* s : {&depth_sort_, &tile_sort_})
     total += s->temp_keys.size() + s->temp_values.size() + s->histogram.size() + s->scan_scratch.size();
@@ -154,7 +158,10 @@ void Rasterizer::reserve_instances(uint32_t n) {
     throw std::invalid_argument("rasterizer: " + std::to_string(n) + " tile instances exceed what one buffer of " +
                                 ctx_->info().name + " can hold (" + std::to_string(limit) +
                                 "); lower the resolution or the number of Gaussians");
-  const uint32_t cap = static_cast<uint32_t>(std::min<uint64_t>(grown(n), limit));
+  allocate_instances(static_cast<uint32_t>(std::min<uint64_t>(grown(n), limit)));
+}
+
+void Rasterizer::allocate_instances(uint32_t cap) {
   tile_keys_ = buffer("tile keys", size_t{cap} * 4);
   gaussian_ids_ = buffer("instance ids", size_t{cap} * 4);
   tile_sort_ = primitives::RadixSortScratch(*ctx_, cap, name_ + " tile sort");
@@ -177,8 +184,10 @@ void Rasterizer::reserve_pixels(uint32_t width, uint32_t height) {
   tile_capacity_ = static_cast<uint32_t>(t);
 }
 
-RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
-  have_forward_ = false;  // until this one completes: a failed forward leaves nothing to differentiate
+void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, const Camera& cam,
+                                const std::array<float, 3>& background) {
+  have_forward_ = false;  // until finish_forward: a failed forward leaves nothing to differentiate
+  pending_ = false;
   check_params(g);
   check_camera(cam);
   if (g.style != nullptr) check_style(*g.style);
@@ -193,98 +202,88 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   const uint32_t tiles_x = pp.cam.size.z, num_tiles = pp.cam.size.z * pp.cam.size.w;
   const engine::Buffer& colors = g[Attr::colors] != nullptr ? *g[Attr::colors] : *g[Attr::sh];
 
-  // Submission 1: project, sort by depth, count tiles in depth order, scan to offsets.
-  {
-    engine::Recorder rec(*ctx_, name_ + " project");
-    std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
-    rec.dispatch(
-        shader_pipeline(*ctx_, shaders::Id::project_fwd),
-        {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]),
-         S4D_BIND(PROJ_QUATS, *g[Attr::quats]), S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]),
-         S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
-         S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
-         S4D_BIND(PROJ_COLOR_DEPTH, color_depth_), S4D_BIND(PROJ_INFO, info_), S4D_BIND(PROJ_DEPTH_KEYS, depth_keys_),
-         S4D_BIND(PROJ_TILES_TOUCHED, tiles_touched_)},
-        pp, ceil_div(n, S4D_SPLAT_WG));
-    if (g.style != nullptr)
-      rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric),
-                   {S4D_BIND(SQUAD_MEANS, *g[Attr::means]), S4D_BIND(SQUAD_LOG_SCALES, *g[Attr::log_scales]),
-                    S4D_BIND(SQUAD_QUATS, *g[Attr::quats]), S4D_BIND(SQUAD_QUADRIC, quadric_)},
-                   pp, ceil_div(n, S4D_SPLAT_WG));
-    stage.emplace(*ctx_, "sort");
-    primitives::cmd_iota(rec, sorted_ids_, n);
-    rec.barrier();
-    primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
-    rec.fill(totals_, 0);
-    rec.barrier();
-    const gpu::BinningParams bp{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles),
-                 {S4D_BIND(COUNT_SORTED_IDS, sorted_ids_), S4D_BIND(COUNT_TILES_TOUCHED, tiles_touched_),
-                  S4D_BIND(COUNT_OFFSETS, offsets_), S4D_BIND(COUNT_TOTALS, totals_)},
-                 bp, ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
-    rec.barrier();
-    primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
-    ctx_->run(std::move(rec));
-  }
-  // totals = (instances mod 2^32, carries, largest rectangle); without carries the first is
-  // offsets[n], the scan's total.
-  uint32_t totals[3] = {0, 0, 0};
-  ctx_->download(totals_, totals, sizeof(totals));
-  const uint32_t instances = totals[0];
-  if (totals[1] != 0)
-    throw std::invalid_argument("rasterizer: the Gaussians cover more than 2^32 tile instances in this view; lower the "
-                                "resolution or the number or size of the Gaussians");
-  // emit_instances loops over one Gaussian's rectangle: keep it inside llvmpipe's loop cap.
-  if (ctx_->info().driver_name == "llvmpipe" && uint64_t{totals[2]} + pp.cam.size.w > 65000)
-    throw std::invalid_argument("rasterizer: one Gaussian covers " + std::to_string(totals[2]) +
-                                " tiles, more than lavapipe's 65535-iteration shader loops can emit");
-  reserve_instances(instances);
+  // Project, sort by depth, count tiles in depth order, scan to offsets.
+  std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
+  rec.dispatch(
+      shader_pipeline(*ctx_, shaders::Id::project_fwd),
+      {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]), S4D_BIND(PROJ_QUATS, *g[Attr::quats]),
+       S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]), S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
+       S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
+       S4D_BIND(PROJ_COLOR_DEPTH, color_depth_), S4D_BIND(PROJ_INFO, info_), S4D_BIND(PROJ_DEPTH_KEYS, depth_keys_),
+       S4D_BIND(PROJ_TILES_TOUCHED, tiles_touched_)},
+      pp, ceil_div(n, S4D_SPLAT_WG));
+  if (g.style != nullptr)
+    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::style_quadric),
+                 {S4D_BIND(SQUAD_MEANS, *g[Attr::means]), S4D_BIND(SQUAD_LOG_SCALES, *g[Attr::log_scales]),
+                  S4D_BIND(SQUAD_QUATS, *g[Attr::quats]), S4D_BIND(SQUAD_QUADRIC, quadric_)},
+                 pp, ceil_div(n, S4D_SPLAT_WG));
+  stage.emplace(*ctx_, "sort");
+  primitives::cmd_iota(rec, sorted_ids_, n);
+  rec.barrier();
+  primitives::cmd_radix_sort(rec, depth_keys_, sorted_ids_, n, 32, depth_sort_);
+  rec.fill(totals_, 0);
+  rec.barrier();
+  const gpu::BinningParams bp{.n = n, .tiles_x = tiles_x, .capacity = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::count_tiles),
+               {S4D_BIND(COUNT_SORTED_IDS, sorted_ids_), S4D_BIND(COUNT_TILES_TOUCHED, tiles_touched_),
+                S4D_BIND(COUNT_OFFSETS, offsets_), S4D_BIND(COUNT_TOTALS, totals_)},
+               bp, ceil_div(uint64_t{n} + 1, S4D_SPLAT_WG));
+  rec.barrier();
+  primitives::cmd_exclusive_scan(rec, offsets_, n + 1, scan_scratch_);
+  rec.barrier();
 
-  // Submission 2: emit instances, sort them by tile (stable: depth order survives), find each
-  // tile's range, blend.
-  {
-    engine::Recorder rec(*ctx_, name_ + " raster");
-    std::optional<engine::StageScope> stage(std::in_place, *ctx_, "sort");
-    rec.fill(ranges_, 0, size_t{num_tiles} * 8);
-    const gpu::BinningParams ep{.n = n, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::emit_instances),
-                 {S4D_BIND(EMIT_SORTED_IDS, sorted_ids_), S4D_BIND(EMIT_OFFSETS, offsets_), S4D_BIND(EMIT_INFO, info_),
-                  S4D_BIND(EMIT_TILE_KEYS, tile_keys_), S4D_BIND(EMIT_GAUSSIAN_IDS, gaussian_ids_)},
-                 ep, ceil_div(n, S4D_SPLAT_WG));
-    rec.barrier();
-    const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(num_tiles - 1)));
-    primitives::cmd_radix_sort(rec, tile_keys_, gaussian_ids_, instances, tile_bits,
-                               tile_sort_);
-    rec.barrier();
-    const gpu::BinningParams rp{.n = instances, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_ranges),
-                 {S4D_BIND(RANGES_TILE_KEYS, tile_keys_), S4D_BIND(RANGES_OUT, ranges_)}, rp,
-                 ceil_div(instances, S4D_SPLAT_WG));
-    rec.barrier();
-    rec.fill(list_stats_, 0);
-    rec.barrier();
-    const gpu::BinningParams sp{.n = num_tiles, .tiles_x = tiles_x, ._pad0 = 0, ._pad1 = 0};
-    rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats),
-                 {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
-                 ceil_div(num_tiles, S4D_SPLAT_WG));
-    stage.emplace(*ctx_, "raster");
-    std::vector<engine::Binding> bind = {
-        S4D_BIND(RASTER_RANGES, ranges_),      S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_),
-        S4D_BIND(RASTER_XY, xy_),              S4D_BIND(RASTER_CONIC_OPACITY, conic_opacity_),
-        S4D_BIND(RASTER_COLOR_DEPTH, color_depth_), S4D_BIND(RASTER_RGB, rgb_),
-        S4D_BIND(RASTER_ALPHA, alpha_),        S4D_BIND(RASTER_DEPTH, depth_),
-        S4D_BIND(RASTER_COUNT, count_),        S4D_BIND(RASTER_LAST, last_),
-        S4D_BIND(RASTER_FINAL_T, final_t_)};
-    if (g.style != nullptr)
-      bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
-    const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
-    const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
-    rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
-    ctx_->run(std::move(rec));
-  }
-  RenderStats stats{.instances = instances, .longest_tile_list = 0};
-  ctx_->download(list_stats_, &stats.longest_tile_list, 4);
-  check_list_length(ctx_->info(), stats.longest_tile_list, g.style != nullptr, false, "blend");
+  // The instance count stays on the device: instance_args turns it into the live count (at most
+  // the capacity) and the indirect dispatches over it; finish_forward reads it after the frame.
+  const uint32_t cap = instance_capacity_;
+  const uint32_t max_x = ctx_->max_groups_x() ? std::min(ctx_->max_groups_x(), ctx_->info().max_workgroup_count[0])
+                                              : ctx_->info().max_workgroup_count[0];
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::instance_args),
+               {S4D_BIND(ARGS_OFFSETS, offsets_), S4D_BIND(ARGS_OUT, args_)},
+               gpu::InstanceArgsParams{.n = n, .capacity = cap, .max_groups_x = max_x, ._pad0 = 0}, 1);
+  // Emit instances, sort them by tile (stable: depth order survives), find each tile's range, blend.
+  rec.fill(ranges_, 0, size_t{num_tiles} * 8);
+  const gpu::BinningParams ep{.n = n, .tiles_x = tiles_x, .capacity = cap, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::emit_instances),
+               {S4D_BIND(EMIT_SORTED_IDS, sorted_ids_), S4D_BIND(EMIT_OFFSETS, offsets_), S4D_BIND(EMIT_INFO, info_),
+                S4D_BIND(EMIT_TILE_KEYS, tile_keys_), S4D_BIND(EMIT_GAUSSIAN_IDS, gaussian_ids_)},
+               ep, ceil_div(n, S4D_SPLAT_WG));
+  rec.barrier();
+  const uint32_t tile_bits = std::max(1u, static_cast<uint32_t>(std::bit_width(num_tiles - 1)));
+  primitives::cmd_radix_sort(
+      rec, tile_keys_, gaussian_ids_,
+      primitives::LiveCount{.count = args_, .groups = args_, .groups_offset = S4D_INSTANCE_ARGS_SORT_OFFSET, .bound = cap},
+      tile_bits, tile_sort_);
+  rec.barrier();
+  const gpu::BinningParams rp{.n = cap, .tiles_x = tiles_x, .capacity = 0, ._pad1 = 0};
+  rec.dispatch_indirect(shader_pipeline(*ctx_, shaders::Id::tile_ranges),
+                        {S4D_BIND(RANGES_TILE_KEYS, tile_keys_), S4D_BIND(RANGES_OUT, ranges_),
+                         S4D_BIND(RANGES_LIVE, args_)},
+                        rp, args_, S4D_INSTANCE_ARGS_RANGES_OFFSET);
+  rec.barrier();
+  rec.fill(list_stats_, 0);
+  rec.barrier();
+  const gpu::BinningParams sp{.n = num_tiles, .tiles_x = tiles_x, .capacity = 0, ._pad1 = 0};
+  rec.dispatch(shader_pipeline(*ctx_, shaders::Id::tile_list_stats),
+               {S4D_BIND(LIST_STATS_RANGES, ranges_), S4D_BIND(LIST_STATS_OUT, list_stats_)}, sp,
+               ceil_div(num_tiles, S4D_SPLAT_WG));
+  rec.barrier();
+  // What finish_forward checks, into host-visible memory in this submission: no read-back of its own.
+  rec.copy(totals_, readback_, sizeof(Readback::totals), 0, offsetof(Readback, totals));
+  rec.copy(list_stats_, readback_, sizeof(Readback::longest), 0, offsetof(Readback, longest));
+  stage.emplace(*ctx_, "raster");
+  std::vector<engine::Binding> bind = {
+      S4D_BIND(RASTER_RANGES, ranges_),      S4D_BIND(RASTER_GAUSSIAN_IDS, gaussian_ids_),
+      S4D_BIND(RASTER_XY, xy_),              S4D_BIND(RASTER_CONIC_OPACITY, conic_opacity_),
+      S4D_BIND(RASTER_COLOR_DEPTH, color_depth_), S4D_BIND(RASTER_RGB, rgb_),
+      S4D_BIND(RASTER_ALPHA, alpha_),        S4D_BIND(RASTER_DEPTH, depth_),
+      S4D_BIND(RASTER_COUNT, count_),        S4D_BIND(RASTER_LAST, last_),
+      S4D_BIND(RASTER_FINAL_T, final_t_)};
+  if (g.style != nullptr)
+    bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
+  const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
+  const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
+  rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
+
   cam_ = cam;
   background_ = background;
   count_last_ = n;
@@ -293,12 +292,53 @@ RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, cons
   sh_coeffs_last_ = g.sh_coeffs;
   style_last_ = g.style != nullptr;
   if (style_last_) style_settings_last_ = *g.style;
+  pending_ = true;
+}
+
+std::optional<RenderStats> Rasterizer::finish_forward() {
+  if (!pending_) throw std::logic_error("rasterizer: finish_forward() without a recorded forward");
+  pending_ = false;
+  Readback back;
+  std::memcpy(&back, readback_.mapped(), sizeof back);
+  const uint32_t* totals = back.totals;
+  if (totals[1] != 0)
+    throw std::invalid_argument("rasterizer: the Gaussians cover more than 2^32 tile instances in this view; lower the "
+                                "resolution or the number or size of the Gaussians");
+  // emit_instances loops over one Gaussian's rectangle: keep it inside llvmpipe's loop cap.
+  if (ctx_->info().driver_name == "llvmpipe" &&
+      uint64_t{totals[2]} + ceil_div(cam_.height, S4D_TILE_SIZE) > 65000)
+    throw std::invalid_argument("rasterizer: one Gaussian covers " + std::to_string(totals[2]) +
+                                " tiles, more than lavapipe's 65535-iteration shader loops can emit");
+  const uint32_t instances = totals[0];
+  if (instances > instance_capacity_) {  // emit dropped the instances past the capacity
+    reserve_instances(instances);
+    ++overflows_;
+    return std::nullopt;
+  }
+  const RenderStats stats{.instances = instances, .longest_tile_list = back.longest};
+  check_list_length(ctx_->info(), stats.longest_tile_list, style_last_, false, "blend");
   longest_last_ = stats.longest_tile_list;
   have_forward_ = true;
   return stats;
 }
 
+RenderStats Rasterizer::forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background) {
+  for (;;) {  // twice at most: an overflow grows the instance buffers past the count it read
+    engine::Recorder rec(*ctx_, name_ + " forward");
+    record_forward(rec, g, cam, background);
+    ctx_->run(std::move(rec));
+    if (const std::optional<RenderStats> stats = finish_forward()) return *stats;
+  }
+}
+
 void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out) {
+  engine::Recorder rec(*ctx_, name_ + " backward");
+  record_backward(rec, g, v, out);
+  ctx_->run(std::move(rec));
+}
+
+void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g, const ImageCotangents& v,
+                                 const GaussianGrads& out) {
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
   check_params(g);
   if (g.count != count_last_ || (g[Attr::colors] != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
@@ -322,7 +362,6 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
   const engine::Buffer& colors = g[Attr::colors] ? *g[Attr::colors] : *g[Attr::sh];
   engine::Buffer& v_colors = colors_last_ ? *out[Attr::colors] : *out[Attr::sh];
 
-  engine::Recorder rec(*ctx_, name_ + " backward");
   const engine::StageScope stage(*ctx_, "backward");
   rec.fill(grad2d_, 0, size_t{n} * S4D_G2D_STRIDE * 4 + 4);
   if (style_last_ && n > 0) rec.fill(*out[Attr::style_mlp], 0, size_t{n} * S4D_STYLE_MLP_STRIDE * 4);
@@ -357,7 +396,6 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
                 S4D_BIND(PBWD_V_QUATS, *out[Attr::quats]), S4D_BIND(PBWD_V_OPACITY_LOGITS, *out[Attr::opacity_logits]),
                 S4D_BIND(PBWD_V_SH, out[Attr::sh] ? *out[Attr::sh] : v_colors), S4D_BIND(PBWD_V_COLORS, v_colors)},
                pp, ceil_div(n, S4D_SPLAT_WG));
-  ctx_->run(std::move(rec));
 }
 
 }  // namespace s4d::splat

@@ -218,7 +218,10 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageTimer::Window window(m.stage_timer);
     ++m.timed_steps;
     ++m.iteration;
+    const uint64_t submissions = m.ctx.submissions(), waits = m.ctx.host_waits();
     value = m.fine() ? m.fine_step() : m.static_step();
+    m.step_submissions += m.ctx.submissions() - submissions;
+    m.step_host_waits += m.ctx.host_waits() - waits;
     return value.loss;
   }
   void write_loss_row(std::ostream& log, double seconds) const override {

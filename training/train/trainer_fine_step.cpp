@@ -25,15 +25,18 @@ deform::CanonicalGaussians Trainer::Impl::canonical() const {
   return deform::canonical_of(gaussians->params(-1), still_count);
 }
 
-splat::GaussianParams Trainer::Impl::deform_to(double time) {
+splat::GaussianParams Trainer::Impl::record_deform(engine::Recorder& rec, double time) {
   size_stage2_buffers();
   const uint32_t n = gaussians->size();
   deform_evaluations += n - still_count;
   deform_evaluations_unmasked += n;
   const engine::StageScope timed(ctx, "field");
+  return deformed.record(rec, *field, gaussians->params(active_degree()), still_count, static_cast<float>(time));
+}
+
+splat::GaussianParams Trainer::Impl::deform_to(double time) {
   engine::Recorder rec(ctx, "deform");
-  const splat::GaussianParams p =
-      deformed.record(rec, *field, gaussians->params(active_degree()), still_count, static_cast<float>(time));
+  const splat::GaussianParams p = record_deform(rec, time);
   ctx.run(std::move(rec));
   return p;
 }
@@ -52,28 +55,29 @@ const data::View& Trainer::Impl::next_fine_view(bool front) {
 
 optim::LossValue Trainer::Impl::fine_step() {
   const uint32_t batch = std::max<uint32_t>(1, config.fine_batch);
-  {
-    const engine::StageScope timed(ctx, "field");
-    engine::Recorder rec(ctx, "zero field gradients");
-    field->record_zero_grads(rec);
-    ctx.run(std::move(rec));
-  }
   optim::LossValue mean{};
   const bool stats = iteration < config.fine_densify_until;
   for (uint32_t b = 0; b < batch; ++b) {
     const data::View& view = next_fine_view(config.fine_time_front > 0 && (iteration * batch + b) % 2 == 0);
     const splat::Camera cam = load_target(view);
-    const splat::GaussianParams params = deform_to(view.time);
-    rast.forward(params, cam, dataset.background);
-    const optim::LossValue value = record_loss(cam, config.fine_ssim_weight);
+    // Per view two submissions: the deformation, forward and loss; then both backwards.
+    splat::GaussianParams params;
+    const optim::LossValue value = forward_loss(cam, config.fine_ssim_weight, [&](engine::Recorder& rec) {
+      if (b == 0) {
+        const engine::StageScope timed(ctx, "field");
+        field->record_zero_grads(rec);  // nothing reads them before this step's backward
+      }
+      return params = record_deform(rec, view.time);
+    });
     if (!std::isfinite(value.loss)) return value;
     mean.loss += value.loss / batch, mean.l1 += value.l1 / batch, mean.ssim += value.ssim / batch;
     // The first view's gradients land in the cloud's gradient buffers, later ones are added to them.
     splat::GaussianGrads grads = gaussians->grads();
     if (b > 0)
       for (splat::Attr a : splat::kCloudAttrs) grads[a] = &scratch_grad[a];
-    rast.backward(params, {.v_rgb = &v_rgb}, grads);
-    engine::Recorder rec(ctx, "field backward");
+    engine::Recorder rec(ctx, "backward");
+    rast.record_backward(rec, params, {.v_rgb = &v_rgb}, grads);
+    rec.barrier();
     std::optional<engine::StageScope> timed(std::in_place, ctx, "field");
     field->record_backward(rec, canonical(), static_cast<float>(view.time), grads);
     timed.emplace(ctx, "densify");

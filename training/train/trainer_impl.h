@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -72,6 +73,7 @@ struct Trainer::Impl {
   // Times the stages of this session's steps (train.json "stage_ms"); set while run() runs.
   engine::StageTimer* stage_timer = nullptr;
   uint64_t timed_steps = 0;
+  uint64_t step_submissions = 0, step_host_waits = 0;  // over the timed steps (engine::Context counters)
 
   run::Stage stage = run::Stage::coarse;
   uint32_t iteration = 0;  // within the stage
@@ -122,7 +124,11 @@ struct Trainer::Impl {
   void set_learning_rates(uint32_t step);
   // Uploads a view's target image; returns its camera.
   splat::Camera load_target(const data::View& view);
-  optim::LossValue record_loss(const splat::Camera& cam, float ssim_weight);
+  // One submission: the Gaussians that `params` records (nothing to record for stage 1's, the
+  // deformation for stage 2's), their forward and the loss against the target; the same again
+  // after the rasterizer's instance buffers grew. Returns the loss (maybe non-finite).
+  optim::LossValue forward_loss(const splat::Camera& cam, float ssim_weight,
+                                const std::function<splat::GaussianParams(engine::Recorder&)>& params);
   void record_adam(engine::Recorder& rec);
   // Stage 1: one view, the canonical Gaussians as they are. Returns the loss (maybe non-finite).
   optim::LossValue static_step();
@@ -130,7 +136,9 @@ struct Trainer::Impl {
   // ---- Stage 2: the deformation field over a batch of views (trainer_fine_step.cpp).
   void size_stage2_buffers();
   deform::CanonicalGaussians canonical() const;
-  // Deforms the canonical Gaussians to `time` and returns the rasterizer's view of the result.
+  // Deforms the canonical Gaussians to `time` and returns the rasterizer's view of the result:
+  // recorded into `rec`, or in a submission of its own, waited for.
+  splat::GaussianParams record_deform(engine::Recorder& rec, double time);
   splat::GaussianParams deform_to(double time);
   // The fine stage's next view. With fine_time_ramp > 0 the time window opens from the first frame
   // to the last over that fraction of the stage, so the field learns motion frame by frame: a large

@@ -66,7 +66,12 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"dataset", facts},
                       {"settings", run::to_json(config)}};
   // This session's step times; a session that trained no step (resuming a finished run) keeps the last.
-  if (stage_timer && timed_steps > 0) j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);
+  if (stage_timer && timed_steps > 0) {
+    j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);
+    const double steps = static_cast<double>(timed_steps);
+    j["stage_ms"]["submissions_per_step"] = static_cast<double>(step_submissions) / steps;
+    j["stage_ms"]["host_waits_per_step"] = static_cast<double>(step_host_waits) / steps;
+  }
   else if (const nlohmann::json last = previous_stage_ms(run.train_json()); !last.is_null()) j["stage_ms"] = last;
   util::write_file_atomic(run.train_json(), j.dump(2) + "\n");
 }

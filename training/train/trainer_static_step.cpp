@@ -36,12 +36,21 @@ splat::Camera Trainer::Impl::load_target(const data::View& view) {
   return cam;
 }
 
-optim::LossValue Trainer::Impl::record_loss(const splat::Camera& cam, float ssim_weight) {
-  const engine::StageScope timed(ctx, "loss");
-  engine::Recorder rec(ctx, "training loss");
-  loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, ssim_weight, v_rgb);
-  ctx.run(std::move(rec));
-  return loss.value();
+optim::LossValue Trainer::Impl::forward_loss(const splat::Camera& cam, float ssim_weight,
+                                             const std::function<splat::GaussianParams(engine::Recorder&)>& params) {
+  for (;;) {  // twice at most: an overflow grows the instance buffers past the count it read
+    engine::Recorder rec(ctx, "training forward and loss");
+    const splat::GaussianParams g = params(rec);
+    rec.barrier();
+    rast.record_forward(rec, g, cam, dataset.background);
+    rec.barrier();
+    {
+      const engine::StageScope timed(ctx, "loss");
+      loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, ssim_weight, v_rgb);
+    }
+    ctx.run(std::move(rec));
+    if (rast.finish_forward()) return loss.value();
+  }
 }
 
 void Trainer::Impl::record_adam(engine::Recorder& rec) {
@@ -62,12 +71,13 @@ void Trainer::Impl::record_adam(engine::Recorder& rec) {
 optim::LossValue Trainer::Impl::static_step() {
   const splat::Camera cam = load_target(*static_views[sampler.next()]);
   const splat::GaussianParams params = gaussians->params(active_degree());
-  rast.forward(params, cam, dataset.background);
-  const optim::LossValue value = record_loss(cam, config.ssim_weight);
+  const optim::LossValue value = forward_loss(cam, config.ssim_weight, [&](engine::Recorder&) { return params; });
   if (!std::isfinite(value.loss)) return value;
-  rast.backward(params, {.v_rgb = &v_rgb}, gaussians->grads());
   set_learning_rates(iteration);
+  // The backward, the densification statistics and Adam: the step's second and last submission.
   engine::Recorder rec(ctx, "training update");
+  rast.record_backward(rec, params, {.v_rgb = &v_rgb}, gaussians->grads());
+  rec.barrier();
   if (iteration < config.densify_until) {
     const engine::StageScope timed(ctx, "densify");
     densifier.record_accumulate(rec, *gaussians, rast);

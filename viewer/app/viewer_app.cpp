@@ -142,6 +142,7 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   double total_ms = 0, total_scale = 0, total_raster_ms = 0;
   uint64_t measured = 0;  // rasterized frames whose time was measured (all but a last one)
   uint64_t last_submit = 0;
+  bool rendered = false;  // the last submission rasterized a frame, which renderer.finish() checks
   AdaptiveResolution resolution({.budget_ms = options.frame_budget_ms});
   std::optional<FrameView> shown;  // what renderer.pixels() hold
   std::chrono::steady_clock::time_point changed_at;  // when the view last changed
@@ -197,6 +198,10 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
 
     // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
     if (last_submit) ctx.wait(last_submit);
+    // The last frame rasterized past the instance buffers' capacity (they grew, and it showed the
+    // nearest Gaussians only): render it again, below.
+    const bool overflowed = rendered && !renderer.finish();
+    rendered = false;
     if (measuring) {  // start of the render to its pixels on screen, the panel's work included
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count();
@@ -222,9 +227,14 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     const bool changed = !shown || !same_view(*shown, view);
     if (changed) changed_at = t0;
     const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at).count();
-    if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
+    if (overflowed && !changed) {  // the same view at the same scale, complete this time
+      renderer.render(styles.source(), view.camera, view.time, view.order, rec, renderer.scale());
+      rendered = true;
+      ++summary.rerendered;
+    } else if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
       const double scale = changed && !screenshot ? resolution.scale(true) : 1.0;
       renderer.render(styles.source(), view.camera, view.time, view.order, rec, scale);
+      rendered = true;
       shown = view;
       measuring.emplace(t0, scale);
       const splat::Camera small = scaled_camera(view.camera, scale);
@@ -244,6 +254,11 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
     if (recording) path.add(control, info.width, info.height, playback.time);
     if (screenshot) {
       ctx.wait(last_submit);
+      if (rendered && !renderer.finish()) {  // a complete frame to save (and to show from the next one)
+        renderer.render_now(styles.source(), view.camera, view.time, view.order, renderer.scale());
+        ++summary.rerendered;
+      }
+      rendered = false;
       fs::create_directories(out_dir);
       const fs::path file = next_free(out_dir, "screenshot", "png");
       io::write_png(file, renderer.read_rgb());

@@ -33,6 +33,9 @@ struct ViewerSummary {
   uint64_t rasterized = 0;      // frames rasterized (the others reused the last full-resolution pixels)
   double mean_scale = 0;        // mean render scale of the rasterized frames
   double mean_rasterized_ms = 0;  // mean time of a rasterized frame, from the render to its pixels on screen
+  // Views rasterized again because the rasterizer's instance buffers were too small for them (not
+  // in `rasterized`): the first frame of a session, and rarely a later one that needs more.
+  uint64_t rerendered = 0;
   std::string device;
 };
 

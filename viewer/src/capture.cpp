@@ -18,9 +18,7 @@ void capture(engine::Context& ctx, const scene::TrainedRun& run, const CaptureRe
     throw std::invalid_argument("--time " + std::to_string(request.time) + ": expected a time in [0, 1]");
   const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, request.style);
   FrameRenderer renderer(ctx, run.dataset.background);
-  engine::Recorder rec(ctx, "viewer capture");
-  renderer.render(*source, splat::to_splat_camera(cameras[request.camera]), request.time, PixelOrder::rgba, rec);
-  ctx.run(std::move(rec));
+  renderer.render_now(*source, splat::to_splat_camera(cameras[request.camera]), request.time, PixelOrder::rgba);
   io::write_png(request.png, renderer.read_rgb());
 }
 

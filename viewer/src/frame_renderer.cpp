@@ -50,15 +50,29 @@ void record_present_pack(engine::Context& ctx, engine::Recorder& rec, const engi
   rec.end_label();
 }
 
-splat::RenderStats FrameRenderer::render(scene::SceneSource& source, const splat::Camera& cam, double time,
-                                         PixelOrder order, engine::Recorder& rec, double scale) {
+void FrameRenderer::render(scene::SceneSource& source, const splat::Camera& cam, double time, PixelOrder order,
+                           engine::Recorder& rec, double scale) {
   const splat::Camera small = scaled_camera(cam, scale);
-  const splat::RenderStats stats = rasterizer_.forward(source.at(time, small), small, background_);
+  const splat::GaussianParams g = source.record(rec, time, small);
+  rec.barrier();
+  rasterizer_.record_forward(rec, g, small, background_);
+  rec.barrier();
   const size_t pixels = size_t{cam.width} * cam.height;
   if (pixels_.size() < pixels * 4) pixels_ = engine::Buffer(*ctx_, "viewer pixels", pixels * 4);
   width_ = cam.width, height_ = cam.height, order_ = order, scale_ = scale;
   record_present_pack(*ctx_, rec, rasterizer_.rgb(), small.width, small.height, pixels_, cam.width, cam.height, order);
-  return stats;
+}
+
+std::optional<splat::RenderStats> FrameRenderer::finish() { return rasterizer_.finish_forward(); }
+
+splat::RenderStats FrameRenderer::render_now(scene::SceneSource& source, const splat::Camera& cam, double time,
+                                             PixelOrder order, double scale) {
+  for (;;) {  // a second time only after an overflow, which grew the rasterizer's buffers
+    engine::Recorder rec(*ctx_, "viewer frame");
+    render(source, cam, time, order, rec, scale);
+    ctx_->run(std::move(rec));
+    if (const std::optional<splat::RenderStats> stats = finish()) return *stats;
+  }
 }
 
 io::ImageF FrameRenderer::read_rgb() const {

@@ -83,6 +83,10 @@ class Context {
   void run(Recorder&& recorder) { wait(submit(std::move(recorder))); }
   // Waits for every submission so far.
   void wait_idle();
+  // Submissions so far, and host waits that blocked on one not yet seen complete (uploads and
+  // downloads through staging count too): what a frame or training step costs in round trips.
+  uint64_t submissions() const { return submitted_; }
+  uint64_t host_waits() const { return host_waits_; }
 
   // Defers `destroy` until every submission made so far has completed (Granite-style retire list).
   void retire(std::function<void()> destroy);
@@ -177,6 +181,7 @@ class Context {
   uint64_t submitted_ = 0;
   uint32_t open_recorders_ = 0;
   uint64_t completed_ = 0;
+  uint64_t host_waits_ = 0;
   VkPhysicalDeviceMemoryProperties memory_props_{};
   bool unified_memory_ = false;
   uint64_t memory_in_use_ = 0, memory_peak_ = 0;

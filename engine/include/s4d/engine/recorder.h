@@ -78,10 +78,24 @@ class Recorder {
   void dispatch_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
                     size_t params_bytes, uint32_t flat_groups);
 
+  // Same checks as dispatch(), with the group counts read on the device from `args` at `offset`
+  // (VkDispatchIndirectCommand: three u32 x, y, z, each within the device's limits; a kernel that
+  // writes them splits large counts into 2-D as split_groups() does). A barrier() must separate
+  // the kernel that wrote them from this call.
+  template <class Params>
+  void dispatch_indirect(const Pipeline& pipeline, std::initializer_list<Binding> bindings, const Params& params,
+                         const Buffer& args, size_t offset) {
+    static_assert(std::is_trivially_copyable_v<Params>);
+    dispatch_indirect_raw(pipeline, std::span(bindings.begin(), bindings.size()), &params, sizeof(Params), args,
+                          offset);
+  }
+  void dispatch_indirect_raw(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params,
+                             size_t params_bytes, const Buffer& args, size_t offset);
+
   // The grid a flat group count is split into under the device's limits.
   Groups split_groups(uint32_t flat_groups) const;
 
-  // Full compute/transfer -> compute/transfer memory barrier between dependent commands.
+  // Full compute/transfer -> compute/transfer/indirect-argument memory barrier between dependent commands.
   void barrier();
   void copy(const Buffer& src, const Buffer& dst, size_t bytes, size_t src_offset = 0, size_t dst_offset = 0);
   void fill(const Buffer& dst, uint32_t value, size_t bytes = 0, size_t offset = 0);  // bytes 0: whole buffer
@@ -99,6 +113,8 @@ class Recorder {
   friend class Context;
   // Before each command: a timestamp where the stage timer's stage changes (nothing without a timer).
   void mark_stage();
+  // dispatch_raw's checks; binds the pipeline, its descriptors and push constants.
+  void bind(const Pipeline& pipeline, std::span<const Binding> bindings, const void* params, size_t params_bytes);
 
   Context* ctx_;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;

@@ -37,4 +37,20 @@ struct RadixSortScratch {
 void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values, uint32_t n,
                     uint32_t key_bits, const RadixSortScratch& scratch);
 
+// A count that only the device knows: live = min(bound, the u32 at the start of `count`), and the
+// workgroups of one pass, ceil(live / S4D_RADIX_BLOCK) split as Recorder::split_groups does, as a
+// VkDispatchIndirectCommand in `groups` at `groups_offset`. A kernel writes both before the call.
+struct LiveCount {
+  const engine::Buffer& count;
+  const engine::Buffer& groups;
+  size_t groups_offset;
+  uint32_t bound;
+};
+
+// As above for keys[0..live): buffers and scratch are sized for live.bound, the passes dispatch
+// only the live blocks (indirect), and the same pairs come out in the same order as
+// cmd_radix_sort(keys, values, live) would give. Entries from live to bound may change.
+void cmd_radix_sort(engine::Recorder& rec, const engine::Buffer& keys, const engine::Buffer& values,
+                    const LiveCount& live, uint32_t key_bits, const RadixSortScratch& scratch);
+
 }  // namespace s4d::primitives

@@ -3,10 +3,13 @@
 // A frame may be rasterized at a fraction of the window's size (the viewer does while the view
 // moves, adaptive_resolution.h); the pack upsamples it to the full size.
 // The window copies pixels() into its swapchain image; captures and screenshots read them back
-// once. Every path that shows or saves a frame goes through render().
+// once. Every path that shows or saves a frame goes through render(), which records the scene
+// source's work, the rasterizer and the pack into the caller's command buffer: with the window's
+// copy and panel, one submission per frame.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
@@ -23,11 +26,18 @@ class FrameRenderer {
  public:
   FrameRenderer(engine::Context& ctx, const std::array<float, 3>& background);
 
-  // Rasterizes source.at(time, scaled_camera(cam, scale)) (forward() submits and waits) and
-  // records the packing to cam's full size into `rec`; pixels() holds the frame once `rec` has run.
-  // At scale 1 the pixels are the unscaled render's, bit for bit.
-  splat::RenderStats render(scene::SceneSource& source, const splat::Camera& cam, double time, PixelOrder order,
-                            engine::Recorder& rec, double scale = 1);
+  // Records source.record(time, scaled_camera(cam, scale)), its rasterization and the packing to
+  // cam's full size into `rec`; pixels() holds the frame once `rec` has run and finish() returned
+  // stats. At scale 1 the pixels are the unscaled render's, bit for bit.
+  void render(scene::SceneSource& source, const splat::Camera& cam, double time, PixelOrder order,
+              engine::Recorder& rec, double scale = 1);
+  // After the rendered frame ran: its stats, or nullopt when the rasterizer's instance buffers
+  // overflowed (grown now; render the frame again).
+  std::optional<splat::RenderStats> finish();
+  // render() in a submission of its own, waited for and finished; again after an overflow.
+  splat::RenderStats render_now(scene::SceneSource& source, const splat::Camera& cam, double time, PixelOrder order,
+                                double scale = 1);
+  const splat::Rasterizer& rasterizer() const { return rasterizer_; }
 
   // [height * width] u32 of the last render, row-major, one byte per channel, alpha 255.
   const engine::Buffer& pixels() const { return pixels_; }

@@ -22,6 +22,9 @@ class BlendedScene final : public SceneSource {
   void set_alpha(float alpha);
   float alpha() const { return alpha_; }
 
+  splat::GaussianParams record(engine::Recorder& rec, double time, const splat::Camera& camera) override {
+    return styled_->record(rec, time, camera);
+  }
   splat::GaussianParams at(double time, const splat::Camera& camera) override { return styled_->at(time, camera); }
   uint32_t size() const override { return styled_->size(); }
   bool dynamic() const override { return styled_->dynamic(); }

@@ -20,6 +20,7 @@ class CachedScene final : public SceneSource {
   // the base is dynamic; a static base is passed through. The base must not read the camera.
   CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const std::vector<double>& times, size_t max_bytes);
 
+  splat::GaussianParams record(engine::Recorder& rec, double time, const splat::Camera& camera) override;
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return base_->size(); }
   bool dynamic() const override { return base_->dynamic(); }

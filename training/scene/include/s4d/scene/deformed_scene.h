@@ -30,6 +30,7 @@ class DeformedScene final : public SceneSource {
   // Runs the field's forward pass at `time` (the camera is not read) and waits for it; the same time
   // as the last call returns the last result without running it again (a viewer orbiting a paused
   // scene).
+  splat::GaussianParams record(engine::Recorder& rec, double time, const splat::Camera& camera) override;
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return canonical_.size(); }
   bool dynamic() const override { return true; }

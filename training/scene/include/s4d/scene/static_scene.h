@@ -16,6 +16,9 @@ class StaticScene final : public SceneSource {
   StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, int sh_degree = -1,
               const std::string& name = "static scene");
 
+  splat::GaussianParams record(engine::Recorder&, double time, const splat::Camera& camera) override {
+    return at(time, camera);  // nothing to compute
+  }
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return gaussians_.size(); }
   bool dynamic() const override { return false; }

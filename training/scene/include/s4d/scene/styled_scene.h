@@ -35,6 +35,7 @@ class StyledScene final : public SceneSource {
   // the work that reads the last at()'s buffers.
   void restyle(const run::StyleFile& style);
 
+  splat::GaussianParams record(engine::Recorder& rec, double time, const splat::Camera& camera) override;
   splat::GaussianParams at(double time, const splat::Camera& camera) override;
   uint32_t size() const override { return base_->size(); }
   bool dynamic() const override { return true; }  // the MLPs read the time even where nothing moves

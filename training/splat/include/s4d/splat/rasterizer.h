@@ -4,13 +4,19 @@
 // style MLPs (GaussianParams::style) it runs the fused style kernels instead, whose twin is
 // training/ref/include/s4d/ref/style_raster_ref.h.
 //
-// forward() runs in two submissions: projection, depth sort and tile counting first, then the
-// host reads the number of tile instances (4 bytes), sizes the instance buffers and records
-// binning, the tile sort and blending. Every intermediate buffer is owned here and grows on demand.
+// A forward is one command buffer with no host read in the middle: the number of tile instances
+// stays on the device (instance_args.comp writes the live count and the indirect dispatches of the
+// tile sort and tile_ranges), the instance buffers keep a capacity between frames, and after the
+// frame finish_forward() reads the count: past the capacity, emit_instances dropped the rest, so
+// the buffers grow and the frame must be recorded again (rare: the capacity grows by a quarter
+// past the largest count seen). record_forward() records into the caller's command buffer, so a
+// viewer frame or training step can put more work in the same submission; forward() records,
+// submits, waits and finishes. Every intermediate buffer is owned here and grows on demand.
 #pragma once
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "s4d/engine/buffer.h"
@@ -72,6 +78,9 @@ struct ImageCotangents {
 
 struct RasterizerOptions {
   bool force_cas_atomics = false;  // use the compare-and-swap gradient path even with float atomics
+  // Tile instances the buffers hold before the first frame (exactly; growth adds headroom). Tests
+  // set it tiny to force the overflow path.
+  uint32_t initial_instance_capacity = 1024;
 };
 
 struct RenderStats {
@@ -83,14 +92,32 @@ class Rasterizer {
  public:
   explicit Rasterizer(engine::Context& ctx, std::string name = "rasterizer", RasterizerOptions options = {});
 
-  // Renders and waits. Throws std::invalid_argument on inconsistent parameters or a camera the
-  // kernels cannot address, std::runtime_error when a tile list is longer than the device can blend.
+  // Renders and waits: record_forward, one submission (two after an overflow), finish_forward.
+  // Throws std::invalid_argument on inconsistent parameters or a camera the kernels cannot address,
+  // std::runtime_error when a tile list is longer than the device can blend.
   RenderStats forward(const GaussianParams& g, const Camera& cam, const std::array<float, 3>& background);
+
+  // Records a forward into `rec`. The outputs are valid once `rec` has run and finish_forward()
+  // returned stats; `g`'s buffers must hold their values when `rec` runs (a scene source may
+  // compute them earlier in the same command buffer, followed by a barrier).
+  void record_forward(engine::Recorder& rec, const GaussianParams& g, const Camera& cam,
+                      const std::array<float, 3>& background);
+  // After the recorded forward's submission completed (Context::wait): its stats, read from
+  // host-visible memory the frame wrote (no device work), or nullopt when the tile instances
+  // overflowed the buffers (grown now: record the frame again). Throws as forward() does.
+  std::optional<RenderStats> finish_forward();
+  // Frames recorded again because the instance buffers overflowed, and their capacity.
+  uint32_t overflows() const { return overflows_; }
+  uint32_t instance_capacity() const { return instance_capacity_; }
 
   // Backward of the last forward(), which must have used the same `g`. Waits. Gradients are assigned
   // (not accumulated): means, log_scales, quats and opacity_logits always; sh unless colours were
   // used, colors when they were, style_mlp when the forward used style MLPs.
   void backward(const GaussianParams& g, const ImageCotangents& v, const GaussianGrads& out);
+  // The same recorded into `rec` (after a barrier() behind whatever wrote the cotangents); the
+  // gradients hold once `rec` has run.
+  void record_backward(engine::Recorder& rec, const GaussianParams& g, const ImageCotangents& v,
+                       const GaussianGrads& out);
 
   // Outputs of the last forward, row-major [H, W(, 3)].
   const engine::Buffer& rgb() const { return rgb_; }              // float [H*W*3]
@@ -119,7 +146,8 @@ class Rasterizer {
  private:
   engine::Buffer buffer(const char* what, size_t bytes) const;  // named after this rasterizer
   void reserve_gaussians(uint32_t n);
-  void reserve_instances(uint32_t n);
+  void reserve_instances(uint32_t n);        // grows to at least n, with headroom
+  void allocate_instances(uint32_t capacity);  // exactly `capacity`
   void reserve_pixels(uint32_t width, uint32_t height);
   void reserve_quadrics(uint32_t n);
 
@@ -138,11 +166,21 @@ class Rasterizer {
   bool style_last_ = false;
   StyleMlp style_settings_last_{};  // the last forward's style settings
   bool have_forward_ = false;
+  bool pending_ = false;  // a forward was recorded and not yet finished
+  uint32_t overflows_ = 0;
 
   engine::Buffer xy_, conic_opacity_, color_depth_, info_, depth_keys_, tiles_touched_, sorted_ids_, offsets_;
   engine::Buffer tile_keys_, gaussian_ids_, ranges_;
   engine::Buffer rgb_, alpha_, depth_, count_, last_, final_t_;
   engine::Buffer grad2d_, scan_scratch_, list_stats_, totals_;
+  engine::Buffer args_;  // gpu::InstanceArgs of the last recorded forward
+  // Copied at the end of each forward for finish_forward: count_tiles' totals (instances mod 2^32,
+  // carries, largest rectangle) and the longest tile list.
+  struct Readback {
+    uint32_t totals[3];
+    uint32_t longest;
+  };
+  engine::Buffer readback_;  // staging, one Readback
   engine::Buffer quadric_;  // style MLP inputs, [N*S4D_STYLE_QUADRIC_STRIDE]; allocated on first use
   uint32_t quadric_capacity_ = 0;
   primitives::RadixSortScratch depth_sort_, tile_sort_;
