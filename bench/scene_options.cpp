@@ -20,7 +20,8 @@ bool parse_scene_option(int argc, char** argv, int& i, SceneOptions& o) {
   const std::string a = argv[i], value = i + 1 < argc ? argv[i + 1] : "";
   if (a == "--suite" && value == "peer") {
     o.peer_suite = true;
-  } else if (value.empty() || (a != "--sizes" && a != "--ply" && a != "--cameras" && a != "--camera")) {
+  } else if (value.empty() ||
+             (a != "--sizes" && a != "--ply" && a != "--cameras" && a != "--camera" && a != "--bwd-pixels")) {
     return false;
   } else if (a == "--sizes") {
     o.points.clear();
@@ -30,6 +31,8 @@ bool parse_scene_option(int argc, char** argv, int& i, SceneOptions& o) {
     o.ply = value;
   } else if (a == "--cameras") {
     o.cameras = value;
+  } else if (a == "--bwd-pixels") {
+    o.bwd_pixels = static_cast<uint32_t>(std::stoul(value));
   } else {
     o.camera = std::stoul(value);
   }

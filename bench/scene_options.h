@@ -1,7 +1,9 @@
 // The scene options the splat benches share (issue 21's like-for-like runs): --sizes WxH:N,...,
-// --ply F --cameras transforms.json [--camera K] (a standard 3DGS scene), --suite peer.
+// --ply F --cameras transforms.json [--camera K] (a standard 3DGS scene), --suite peer, and
+// --bwd-pixels 1|8 (the rasterizer backward's variant, RasterizerOptions::backward_pixels).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@ struct SceneOptions {
   std::string ply, cameras;
   size_t camera = 0;
   bool peer_suite = false;
+  uint32_t bwd_pixels = 0;  // --bwd-pixels 1|8: the backward kernel's variant (0: by device type)
 };
 
 // "WxH:N" -> point; throws std::invalid_argument on anything else.

@@ -75,7 +75,7 @@ PixelPairs count_pixel_pairs(engine::Context& ctx, const splat::Rasterizer& rast
 }
 
 SplatTiming bench_splat(engine::Context& ctx, const SplatScene& scene, int repeats, bool backward, bool check_twin,
-                        uint32_t seed) {
+                        uint32_t seed, const splat::RasterizerOptions& options) {
   const SplatPoint point{.width = static_cast<uint32_t>(scene.camera.width),
                          .height = static_cast<uint32_t>(scene.camera.height),
                          .gaussians = static_cast<uint32_t>(scene.gaussians.size())};
@@ -85,7 +85,8 @@ SplatTiming bench_splat(engine::Context& ctx, const SplatScene& scene, int repea
   const DeviceScene dev(ctx, scene.gaussians);
   std::optional<DeviceGrads> grads;
   if (backward) grads.emplace(ctx, dev.params, pixels, seed);
-  splat::Rasterizer raster(ctx, "bench rasterizer");
+  splat::Rasterizer raster(ctx, "bench rasterizer", options);
+  t.bwd_pixels = raster.backward_pixels();
 
   std::vector<double> fwd_ms, fwdbwd_ms;
   splat::RenderStats stats;

@@ -23,6 +23,7 @@ struct SplatTiming {
   // the same runs. fwdbwd is empty unless the backward was measured.
   Timing fwd, fwdbwd;
   uint32_t instances = 0, tiles = 0, longest_tile_list = 0;
+  uint32_t bwd_pixels = 0;  // the backward kernel's pixels per invocation (its variant)
   // (pixel, Gaussian) pairs the tile lists hold: instances * 256, every pixel of a tile counted up to
   // the end of its list. Early termination means fewer are actually visited.
   uint64_t pixel_pairs_listed = 0;
@@ -50,7 +51,7 @@ inline constexpr double kTwinTolerance = 1e-4;
 // `backward`) of `scene` on a fresh rasterizer. Throws what the rasterizer or the allocator throws
 // when the scene exceeds the device's memory or limits. `seed` draws the image cotangent.
 SplatTiming bench_splat(engine::Context& ctx, const SplatScene& scene, int repeats, bool backward, bool check_twin,
-                        uint32_t seed = 1);
+                        uint32_t seed = 1, const splat::RasterizerOptions& options = {});
 
 // Pixel-Gaussian pairs of the rasterizer's last forward at `pixels` pixels.
 struct PixelPairs {

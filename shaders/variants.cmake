@@ -18,13 +18,18 @@ set(S4D_SHADER_VARIANTS
   "instance_args|splat/instance_args.comp"
   # The rasterizer family: plain and Style Gaussians variants of one source per pass.
   "raster_fwd|splat/raster_fwd.comp|S4D_STYLE=0"
+  # raster_bwd: 8 pixels per invocation for CPU devices, 1 (the _px1 variants) for GPUs (s4d_splat.h).
   "raster_bwd|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=1"
   "raster_bwd_cas|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=0"
+  "raster_bwd_px1|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=1|S4D_RBWD_PIXELS=1"
+  "raster_bwd_cas_px1|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=0|S4D_RBWD_PIXELS=1"
   "project_bwd|splat/project_bwd.comp"
   "style_quadric|splat/style_quadric.comp"
   "style_raster_fwd|splat/raster_fwd.comp|S4D_STYLE=1"
   "style_raster_bwd|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1"
   "style_raster_bwd_cas|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=0"
+  "style_raster_bwd_px1|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1|S4D_RBWD_PIXELS=1"
+  "style_raster_bwd_cas_px1|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=0|S4D_RBWD_PIXELS=1"
   "ssim_hpass|loss/ssim_hpass.comp"
   "ssim_vpass|loss/ssim_vpass.comp"
   "loss_grad|loss/loss_grad.comp"

@@ -334,14 +334,20 @@ void Context::retire(std::function<void()> destroy) {
     destroy();  // nothing in flight or being recorded can use it
     return;
   }
-  // A recorder still open may reference the object: keep it until the next submission completes.
-  retired_.push_back({open_recorders_ > 0 ? submitted_ + 1 : submitted_, std::move(destroy)});
+  // A recorder still open may reference the object: keep it until every recorder open now has been
+  // submitted (or dropped) and that submission has completed. Not "the next submission": another
+  // one (an upload through staging, a second recorder) may come first and complete before.
+  retired_.push_back({open_recorders_ > 0 ? kAfterOpenRecorders : submitted_, std::move(destroy)});
 }
 
 void Context::collect_retired() {
   // Nothing in flight and no recorder open: what waited for a recorder that was dropped without
   // being submitted can go too (it would otherwise wait for a submission that never comes).
   const bool idle = completed_ >= submitted_ && open_recorders_ == 0;
+  // Every recorder is closed: what waited for them waits for the last submission made so far.
+  if (open_recorders_ == 0)
+    for (Retired& r : retired_)
+      if (r.after == kAfterOpenRecorders) r.after = submitted_;
   while (!retired_.empty() && (idle || retired_.front().after <= completed_)) {
     auto destroy = std::move(retired_.front().destroy);
     retired_.pop_front();

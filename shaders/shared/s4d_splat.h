@@ -113,10 +113,18 @@
 #define S4D_B_RBWD_V_DEPTH 9        // [H*W], read only with S4D_RASTER_HAS_V_DEPTH
 #define S4D_B_RBWD_GRAD2D 10        // [N*S4D_G2D_STRIDE], accumulated with atomics (zero it first)
 // raster_bwd: pixels per invocation (a column of the tile), so S4D_RBWD_INVOCATIONS a workgroup.
-#define S4D_RBWD_PIXELS 8
+// Two variants (variants.cmake): 8 for CPU devices, where every subgroup reduction and atomic is a
+// loop over the lanes (lavapipe: the 8-pixel kernel's backward is 0.11-0.26x the 1-pixel one's), and
+// 1 for GPUs, where those are parallel in hardware and the 8-pixel kernel's 32-invocation workgroups
+// and 8 pixels of state cost occupancy (NVIDIA H200: 2.5x slower plain, 5.7x slower style).
+#define S4D_RBWD_PIXELS_CPU 8
+#define S4D_RBWD_PIXELS_GPU 1
+#ifndef S4D_RBWD_PIXELS
+#define S4D_RBWD_PIXELS S4D_RBWD_PIXELS_CPU
+#endif
 #define S4D_RBWD_INVOCATIONS (S4D_TILE_PIXELS / S4D_RBWD_PIXELS)
 // Specialization constant of raster_bwd: the smallest number of lanes a subgroup of it can have,
-// min(device's smallest subgroup size, S4D_RBWD_INVOCATIONS), which fixes how many rounds of
+// min(device's smallest subgroup size, the variant's S4D_RBWD_INVOCATIONS, 32), which fixes how many rounds of
 // lane-parallel atomics each pair's cotangents take (ceil(values / lanes)).
 #define S4D_RBWD_SPEC_MIN_SUBGROUP 0
 

@@ -30,9 +30,12 @@
 // lavapipe; docs/rasterizer.md). The per-pixel sums over an invocation's pixels come first.
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / S4D_RBWD_PIXELS) in;  // S4D_RBWD_INVOCATIONS
 // RBWD_EACH(F): F(k) for each of the invocation's pixels, written out (llvmpipe's loop cap).
+#if S4D_RBWD_PIXELS == 8
 #define RBWD_EACH(F) F(0) F(1) F(2) F(3) F(4) F(5) F(6) F(7)
-#if S4D_RBWD_PIXELS != 8
-#error "RBWD_EACH writes out 8 pixels"
+#elif S4D_RBWD_PIXELS == 1
+#define RBWD_EACH(F) F(0)
+#else
+#error "RBWD_EACH writes out 1 or 8 pixels"
 #endif
 layout(push_constant) uniform Push { RasterParams p; };
 #include "raster_batch.glsl"

@@ -63,8 +63,13 @@ TEST_CASE("upload then download round-trips, at offsets too") {
 }
 
 TEST_CASE("dispatch past 65,535 workgroups runs as a 2-D grid and covers every element") {
-  auto& ctx = test::context();
-  const uint32_t max_x = ctx.info().max_workgroup_count[0];
+  // Capped at llvmpipe's limit, so a device with a far larger one (NVIDIA: 2^31 - 1, where the
+  // element count below would overflow) takes the same path.
+  engine::ContextOptions options = engine::ContextOptions::from_env();
+  options.validation = test::context().validation_enabled();
+  options.max_groups_x = 65535;
+  engine::Context ctx(options);
+  const uint32_t max_x = std::min(65535u, ctx.info().max_workgroup_count[0]);
   const uint32_t n = (max_x + 1000) * S4D_IOTA_WG + 17;
   Buffer out(ctx, "iota 2-D", size_t{n} * 4);
   Recorder rec(ctx, "iota 2-D");
@@ -230,6 +235,24 @@ TEST_CASE("a buffer dropped while a recorder that uses it is still open lives un
     Buffer transient(ctx, "dropped before submit", 1 << 12);
     primitives::cmd_iota(rec, transient, (1 << 12) / 4);
   }  // must be retired, not destroyed: the command buffer still references it
+  ctx.run(std::move(rec));
+  CHECK(ctx.take_validation_messages().empty());  // the layer reports use of a destroyed buffer
+}
+
+TEST_CASE("a buffer dropped while its recorder is open outlives another submission that completes first") {
+  // An upload through staging (a GPU's device-local memory) or another recorder may be submitted
+  // and waited for while the first recorder is still open; the buffer must survive it (found on an
+  // NVIDIA H200, where an nn test's temporary input was freed by an upload's wait and read as garbage).
+  auto& ctx = test::context();
+  Recorder rec(ctx, "records before the buffer is dropped");
+  {
+    Buffer transient(ctx, "dropped before another submission", 1 << 12);
+    primitives::cmd_iota(rec, transient, (1 << 12) / 4);
+  }  // retired while `rec` is open
+  Buffer other(ctx, "written by another submission", 64);
+  Recorder first(ctx, "submitted and completed first");
+  primitives::cmd_iota(first, other, 16);
+  ctx.run(std::move(first));  // completes before `rec` is submitted: `transient` must still live
   ctx.run(std::move(rec));
   CHECK(ctx.take_validation_messages().empty());  // the layer reports use of a destroyed buffer
 }

@@ -53,6 +53,7 @@ struct Case {
   bool colors;
   bool cas;           // compare-and-swap atomics instead of float atomics
   bool alpha_depth;   // cotangents on the alpha and depth outputs too
+  uint32_t pixels = 0;  // backward pixels per invocation: 0 by device (8 on lavapipe), or the GPUs' 1
 };
 
 }  // namespace
@@ -63,15 +64,17 @@ struct Case {
 // 1e-5 leaves a 12x margin and still catches any wrong term (those are O(1) relative errors).
 TEST_CASE("GPU projection, blending and backward match the twin stage by stage") {
   for (const Case c : {Case{0, false, false, true}, Case{1, false, false, false}, Case{2, false, true, true},
-                       Case{3, false, false, true}, Case{3, true, false, true}, Case{1, true, true, false}}) {
+                       Case{3, false, false, true}, Case{3, true, false, true}, Case{1, true, true, false},
+                       Case{3, false, false, true, 1}, Case{2, true, true, true, 1}}) {
     CAPTURE(c.sh_degree);
     CAPTURE(c.colors);
     CAPTURE(c.cas);
-    std::mt19937 rng(static_cast<unsigned>(100 + c.sh_degree * 7 + c.colors * 3 + c.cas));
+    CAPTURE(c.pixels);
+    std::mt19937 rng(static_cast<unsigned>(100 + c.sh_degree * 7 + c.colors * 3 + c.cas + 11 * c.pixels));
     const Cam cam = test::random_camera(83, 61, rng);  // not multiples of 16: partial tiles
     const Scene g = test::random_scene(1500, c.sh_degree, c.colors, rng);
     test::DeviceScene dev(test::context(), g);
-    splat::Rasterizer r(test::context(), "raster", {.force_cas_atomics = c.cas});
+    splat::Rasterizer r(test::context(), "raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels});
     const test::GpuForward f = test::gpu_forward(r, dev, cam, kBg);
 
     const ref::Projected<float> tp = ref::project_fwd(g, cam);

@@ -25,4 +25,6 @@ engine::Context& context() {
 
 bool context_created() { return slot() != nullptr; }
 
+void release_context() { slot().reset(); }
+
 }  // namespace s4d::test

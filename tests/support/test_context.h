@@ -8,5 +8,8 @@ namespace s4d::test {
 
 engine::Context& context();
 bool context_created();
+// Destroys the shared context (main does, before returning: a Vulkan device torn down by static
+// destructors after the driver's own can crash the process at exit, as NVIDIA's 580 driver did).
+void release_context();
 
 }  // namespace s4d::test

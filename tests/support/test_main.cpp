@@ -44,6 +44,7 @@ REGISTER_LISTENER("validation", 1, ValidationListener);
 int main(int argc, char** argv) {
   doctest::Context runner(argc, argv);
   const int result = runner.run();
+  s4d::test::release_context();
   if (runner.shouldExit()) return result;
   if (g_cases_with_validation_errors > 0) {
     std::cerr << g_cases_with_validation_errors << " test case(s) produced Vulkan validation errors\n";

@@ -100,6 +100,11 @@ void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool st
 
 Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions options)
     : ctx_(&ctx), name_(std::move(name)), options_(options) {
+  if (options.backward_pixels != 0 && options.backward_pixels != S4D_RBWD_PIXELS_CPU &&
+      options.backward_pixels != S4D_RBWD_PIXELS_GPU)
+    throw std::invalid_argument("rasterizer '" + name_ + "': backward_pixels " + std::to_string(options.backward_pixels) +
+                                " is not 0 (by device), " + std::to_string(S4D_RBWD_PIXELS_GPU) + " or " +
+                                std::to_string(S4D_RBWD_PIXELS_CPU));
   reserve_gaussians(1);
   allocate_instances(std::max(1u, options.initial_instance_capacity));
   reserve_pixels(1, 1);
@@ -107,6 +112,11 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   totals_ = buffer("instance totals", 12);
   args_ = buffer("instance args", sizeof(gpu::InstanceArgs));
   readback_ = engine::Buffer(ctx, name_ + " readback", sizeof(Readback), engine::BufferKind::staging);
+}
+
+uint32_t Rasterizer::backward_pixels() const {
+  if (options_.backward_pixels != 0) return options_.backward_pixels;
+  return ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? S4D_RBWD_PIXELS_CPU : S4D_RBWD_PIXELS_GPU;
 }
 
 size_t Rasterizer::device_bytes() const {
@@ -377,13 +387,17 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
   if (style != nullptr)
     bind.insert(bind.end(), {S4D_BIND(RBWD_QUADRIC, quadric_), S4D_BIND(RBWD_STYLE_MLP, *g[Attr::style_mlp]),
                              S4D_BIND(RBWD_V_STYLE_MLP, *out[Attr::style_mlp])});
-  const shaders::Id id = style != nullptr
-                             ? (float_atomics ? shaders::Id::style_raster_bwd : shaders::Id::style_raster_bwd_cas)
-                             : (float_atomics ? shaders::Id::raster_bwd : shaders::Id::raster_bwd_cas);
+  const uint32_t per_invocation = backward_pixels();
+  using shaders::Id;
+  const Id id = per_invocation == 1 ? (style != nullptr ? (float_atomics ? Id::style_raster_bwd_px1 : Id::style_raster_bwd_cas_px1)
+                                                : (float_atomics ? Id::raster_bwd_px1 : Id::raster_bwd_cas_px1))
+                            : (style != nullptr ? (float_atomics ? Id::style_raster_bwd : Id::style_raster_bwd_cas)
+                                                : (float_atomics ? Id::raster_bwd : Id::raster_bwd_cas));
   const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
-  // Specialised to the fewest lanes a subgroup of raster_bwd can have (its lane-parallel adds' rounds).
+  // Specialised to the fewest lanes a subgroup of raster_bwd can have (its lane-parallel adds'
+  // rounds), no more than the workgroup's invocations (a wider subgroup is partial).
   const shaders::Entry& e = shaders::get(id);
-  const uint32_t min_lanes = std::clamp(ctx_->info().min_subgroup_size, 1u, uint32_t{S4D_RBWD_INVOCATIONS});
+  const uint32_t min_lanes = std::clamp(ctx_->info().min_subgroup_size, 1u, uint32_t{S4D_TILE_PIXELS} / per_invocation);
   rec.dispatch_raw(ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, min_lanes}}), bind, &raster,
                    sizeof raster, num_tiles);
   rec.barrier();

@@ -188,9 +188,12 @@ class Context {
   StageTimer* stage_timer_ = nullptr;
 
   struct Retired {
-    uint64_t after;  // timeline value that must complete first
+    // Timeline value that must complete first; kAfterOpenRecorders while recorders that were open
+    // when it was retired are still open (their submissions' values are not known yet).
+    uint64_t after;
     std::function<void()> destroy;
   };
+  static constexpr uint64_t kAfterOpenRecorders = UINT64_MAX;
   std::deque<Retired> retired_;
 
   std::map<std::pair<std::string, std::vector<SpecConstant>>, std::unique_ptr<Pipeline>> pipelines_;

@@ -81,6 +81,10 @@ struct RasterizerOptions {
   // Tile instances the buffers hold before the first frame (exactly; growth adds headroom). Tests
   // set it tiny to force the overflow path.
   uint32_t initial_instance_capacity = 1024;
+  // Pixels per invocation of the backward kernel (s4d_splat.h): 0 picks by device type,
+  // S4D_RBWD_PIXELS_CPU on a CPU device and S4D_RBWD_PIXELS_GPU elsewhere; tests and benches set
+  // 1 or 8 to run either variant anywhere.
+  uint32_t backward_pixels = 0;
 };
 
 struct RenderStats {
@@ -142,6 +146,8 @@ class Rasterizer {
   engine::Context& context() const { return *ctx_; }
   // Bytes of device memory in this rasterizer's buffers. They only grow, so this is its peak so far.
   size_t device_bytes() const;
+  // Pixels per invocation of the backward kernel on this device (RasterizerOptions::backward_pixels).
+  uint32_t backward_pixels() const;
 
  private:
   engine::Buffer buffer(const char* what, size_t bytes) const;  // named after this rasterizer
