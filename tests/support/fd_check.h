@@ -52,6 +52,32 @@ struct FdChecker {
   }
 };
 
+// Sum of a[i] * b[i].
+inline double dot(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
+// Largest |analytic - central difference| of d/dv[i] sum(r * f(v)) over all i, relative to the
+// largest |analytic| (step 1e-6; the nn twins' checks).
+inline double fd_error(std::vector<double>& v, const std::function<std::vector<double>()>& f,
+                       const std::vector<double>& r, const std::vector<double>& analytic) {
+  REQUIRE(analytic.size() == v.size());
+  double worst = 0, scale = 1e-30;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const double step = 1e-6, saved = v[i];
+    v[i] = saved + step;
+    const double lp = dot(r, f());
+    v[i] = saved - step;
+    const double lm = dot(r, f());
+    v[i] = saved;
+    worst = std::max(worst, std::abs((lp - lm) / (2 * step) - analytic[i]));
+    scale = std::max(scale, std::abs(analytic[i]));
+  }
+  return worst / scale;
+}
+
 // Three unit directions orthogonal to q (Gram-Schmidt on the axes, dropping the most parallel one).
 inline std::vector<std::array<double, 4>> quat_tangents(const double* q) {
   std::vector<std::array<double, 4>> basis;

@@ -11,10 +11,12 @@
 #include <vector>
 
 #include "s4d/ref/ccpl_ref.h"
+#include "fd_check.h"
 
 namespace {
 
 using s4d::ref::Chw;
+using s4d::test::fd_error;
 
 std::vector<double> random_vec(size_t n, std::mt19937& rng, double lo = -1, double hi = 1) {
   std::uniform_real_distribution<double> u(lo, hi);
@@ -27,30 +29,6 @@ Chw<double> random_chw(uint32_t c, uint32_t h, uint32_t w, std::mt19937& rng) {
   Chw<double> t(c, h, w);
   t.v = random_vec(t.v.size(), rng);
   return t;
-}
-
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0;
-  for (size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
-  return s;
-}
-
-// Largest |analytic - central difference| of d/dv[i] sum(r * f(v)), relative to the largest |analytic|.
-double fd_error(std::vector<double>& v, const std::function<std::vector<double>()>& f, const std::vector<double>& r,
-                const std::vector<double>& analytic) {
-  REQUIRE(analytic.size() == v.size());
-  double worst = 0, scale = 1e-30;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const double step = 1e-6, saved = v[i];
-    v[i] = saved + step;
-    const double lp = dot(r, f());
-    v[i] = saved - step;
-    const double lm = dot(r, f());
-    v[i] = saved;
-    worst = std::max(worst, std::abs((lp - lm) / (2 * step) - analytic[i]));
-    scale = std::max(scale, std::abs(analytic[i]));
-  }
-  return worst / scale;
 }
 
 // 3 anchors of a 5x6 plane with their 8 neighbours, some jittered onto each other and clamped at 0.
