@@ -142,6 +142,10 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     gen = torch.Generator().manual_seed(1)
+    # ClipModel's constructor draws its default initialisation from the global generator, and not
+    # every tensor is redrawn from `gen` afterwards: unseeded, run a's mean/std sensitivity varied
+    # from 2.3e-3 (under the 3e-3 it must pass) to 4.1e-1 between runs.
+    torch.manual_seed(1)
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
     import convert_weights
     text = dict(text_width=64, text_layers=1, vocab=VOCAB)
