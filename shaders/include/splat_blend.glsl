@@ -10,19 +10,18 @@ float T = 1.0, depth = 0.0;
 vec3 color = vec3(0.0);
 uint count = 0u, last = 0u;
 
-// Blends entry j of the batch whose first entry is list position `position0`.
-void blend(uint j, uint batch, uint position0) {
-  if (done || j >= batch) return;
-  PairSample s = pair_sample(j);
+// Blends the pair with slot j (data sl) of the batch whose first entry is list position `position0`.
+void blend_slot(Slot sl, uint j, uint position0) {
+  if (done) return;
+  PairSample s = pair_sample(sl);
   if (s.b.skip) return;
   float next = T * (1.0 - s.b.alpha);
   if (next < S4D_MIN_TRANSMITTANCE) {
     done = true;  // this Gaussian is not added, as in graphdeco
     return;
   }
-  vec4 cd = s_color_depth[j];
-  color += pair_color(j, s) * (s.b.alpha * T);
-  depth += cd.w * (s.b.alpha * T);
+  color += pair_color(sl, s) * (s.b.alpha * T);
+  depth += sl.color_depth.w * (s.b.alpha * T);
   T = next;
   ++count;
   last = position0 + j + 1u;
@@ -34,13 +33,14 @@ void blend(uint j, uint batch, uint position0) {
 // Marks slot j in `bits` when this pixel still blends and may meet it.
 void blend_mark(uint j, uint batch, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
-  raster_walk_mark(bits, j, !done && !pair_bound(j).b.skip);
+  raster_walk_mark(bits, j, !done && !pair_bound(slot_load_bound(j)).b.skip);
 }
 
 // Blends the next marked slot, if any, and unmarks it.
-void blend_next(inout uvec2 todo, uint batch, uint position0) {
-  if (todo == uvec2(0u)) return;
-  blend(raster_walk_pop(todo), batch, position0);
+void blend_next(inout uvec2 todo, uint position0) {
+  if (todo == uvec2(0u) || done) return;
+  uint j = raster_walk_pop(todo);
+  blend_slot(slot_load(j), j, position0);
 }
 
 // Blends a loaded batch in two passes (raster_walk.glsl): which slots meet a pixel of this subgroup
@@ -56,11 +56,17 @@ void blend_batch(uint batch, uint position0) {
   }
   uvec2 todo = raster_walk_todo(bits);
   while (!done && todo != uvec2(0u)) {
-    blend_next(todo, batch, position0), blend_next(todo, batch, position0);
-    blend_next(todo, batch, position0), blend_next(todo, batch, position0);
+    blend_next(todo, position0), blend_next(todo, position0);
+    blend_next(todo, position0), blend_next(todo, position0);
   }
 }
 #else
+// Blends entry j if there is one.
+void blend(uint j, uint batch, uint position0) {
+  if (done || j >= batch) return;
+  blend_slot(slot_load(j), j, position0);
+}
+
 // Blends a loaded batch, S4D_RASTER_UNROLL entries per loop iteration written out without a loop
 // (llvmpipe's loop-iteration cap, see s4d_splat.h).
 void blend_batch(uint batch, uint position0) {

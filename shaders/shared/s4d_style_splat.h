@@ -33,7 +33,12 @@
 // RasterParams.flags: S4D_RASTER_HAS_V_ALPHA and S4D_RASTER_HAS_V_DEPTH (backward) plus:
 #define S4D_STYLE_INPUT_SIGMOID 4u  // x = sigmoid(x) before layer 1 (SuperGaussians does)
 
-// List entries per shared-memory batch. A batch holds 13 MLP vec4s, 3 quadric vec4s and the plain
+// A batch slot's style parts in shared memory (raster_batch.glsl): 13 MLP vec4s, then the quadric's
+// 3 vec4s, the last one (b2, opacity-offset bound, 0, 0).
+#define S4D_STYLE_SLOT_PARTS 16
+#define S4D_STYLE_SLOT_QUADRIC S4D_STYLE_MLP_VEC4S
+
+// List entries per shared-memory batch. A batch holds the 16 style parts and the plain
 // rasterizer's 10 floats (+ id) per entry: 64 entries take 19 KiB of lavapipe's 32 KiB.
 #define S4D_STYLE_BATCH 64
 // The style kernels walk a batch in two loops (raster_walk.glsl): S4D_STYLE_MARK_UNROLL slots per

@@ -120,11 +120,10 @@ float g_opacity, g_depth;
 vec4 v_w[S4D_STYLE_MLP_VEC4S];  // the current pair's weight cotangents, in the weights' vec4 layout
 
 // Backward of style_mlp_fwd for output cotangent dz, added to v_w.
-void mlp_bwd(uint j, StyleMlpEval m, vec4 dz) {
-  uint w = uint(S4D_STYLE_MLP_VEC4S) * j;
-  vec4 dh2 = vec4(dot(s_mlp[w + 8u], dz), dot(s_mlp[w + 9u], dz), dot(s_mlp[w + 10u], dz), dot(s_mlp[w + 11u], dz));
+void mlp_bwd(Slot sl, StyleMlpEval m, vec4 dz) {
+  vec4 dh2 = vec4(dot(sl.w[8], dz), dot(sl.w[9], dz), dot(sl.w[10], dz), dot(sl.w[11], dz));
   vec4 da2 = dh2 * m.h2 * (1.0 - m.h2);
-  vec4 dh1 = vec4(dot(s_mlp[w + 3u], da2), dot(s_mlp[w + 4u], da2), dot(s_mlp[w + 5u], da2), dot(s_mlp[w + 6u], da2));
+  vec4 dh1 = vec4(dot(sl.w[3], da2), dot(sl.w[4], da2), dot(sl.w[5], da2), dot(sl.w[6], da2));
   vec4 da1 = dh1 * m.h1 * (1.0 - m.h1);
   v_w[0] += da1 * m.x.x, v_w[1] += da1 * m.x.y, v_w[2] += da1;
   v_w[3] += da2 * m.h1.x, v_w[4] += da2 * m.h1.y, v_w[5] += da2 * m.h1.z, v_w[6] += da2 * m.h1.w, v_w[7] += da2;
@@ -155,11 +154,11 @@ void add_g2d(uint base, uint lane, uint size, uint r) {
   if (k < uint(S4D_G2D_STRIDE)) add_grad(base + k, vec4_at(v, k & 3u));
 }
 
-// Adds pixel q's cotangents of entry j (sample s, which q meets in front of its last contributor)
-// to the pair's sums, and steps q's state past the entry.
-void pixel_pair(uint j, PairSample s, inout Pixel q) {
-  vec4 cd = s_color_depth[j];
-  vec3 c = pair_color(j, s);
+// Adds pixel q's cotangents of the entry in slot sl (sample s, which q meets in front of its last
+// contributor) to the pair's sums, and steps q's state past the entry.
+void pixel_pair(Slot sl, PairSample s, inout Pixel q) {
+  vec4 cd = sl.color_depth;
+  vec3 c = pair_color(sl, s);
   float alpha = s.b.alpha;
   float T_i = q.T / (1.0 - alpha);
   float v_alpha = T_i * dot(c - q.behind, q.vc) + T_i * (cd.w - q.behind_depth) * q.v_pix_depth +
@@ -171,14 +170,14 @@ void pixel_pair(uint j, PairSample s, inout Pixel q) {
   if (!s.b.clamped) {  // a capped alpha depends on neither the conic, the mean nor the opacity
     p_opacity = s.b.G * v_alpha;
     float v_power = s.opacity * s.b.G * v_alpha;
-    vec4 co = s_conic_opacity[j];
+    vec4 co = sl.conic_opacity;
     vec2 d = s.b.d;
     g_opacity += p_opacity;
     g_xy += -v_power * vec2(co.x * d.x + co.y * d.y, co.y * d.x + co.z * d.y);
     g_conic += -v_power * vec3(0.5 * d.x * d.x, d.x * d.y, 0.5 * d.y * d.y);
   }
 #if S4D_STYLE
-  mlp_bwd(j, s.m, s.m.s * (1.0 - s.m.s) * vec4(2.0 * p_rgb, p_opacity));
+  mlp_bwd(sl, s.m, s.m.s * (1.0 - s.m.s) * vec4(2.0 * p_rgb, p_opacity));
 #endif
   q.behind = alpha * c + (1.0 - alpha) * q.behind;
   q.behind_depth = alpha * cd.w + (1.0 - alpha) * q.behind_depth;
@@ -190,7 +189,8 @@ void pixel_pair(uint j, PairSample s, inout Pixel q) {
 void accumulate(uint j, uint batch, uint end) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
-#define RBWD_SAMPLE(k) use_pixel(px[k]); PairSample s##k = pair_sample(j); \
+  Slot sl = slot_load(j);  // once for all the invocation's pixels
+#define RBWD_SAMPLE(k) use_pixel(px[k]); PairSample s##k = pair_sample(sl); \
   bool c##k = position < px[k].last && !s##k.b.skip; any_pixel = any_pixel || c##k;
   bool any_pixel = false;
   RBWD_EACH(RBWD_SAMPLE)
@@ -200,7 +200,7 @@ void accumulate(uint j, uint batch, uint end) {
   v_w = vec4[S4D_STYLE_MLP_VEC4S](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0),
                                   vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
 #endif
-#define RBWD_PAIR(k) if (c##k) pixel_pair(j, s##k, px[k]);
+#define RBWD_PAIR(k) if (c##k) pixel_pair(sl, s##k, px[k]);
   RBWD_EACH(RBWD_PAIR)
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
@@ -253,7 +253,8 @@ void accumulate_mark(uint j, uint batch, uint end, inout uvec2 bits) {
   if (j >= batch) return;  // uniform: every invocation has the same batch
   uint position = end - 1u - j;
   bool meets = false;
-#define RBWD_BOUND(k) use_pixel(px[k]); meets = meets || (position < px[k].last && !pair_bound(j).b.skip);
+  Slot sl = slot_load_bound(j);
+#define RBWD_BOUND(k) use_pixel(px[k]); meets = meets || (position < px[k].last && !pair_bound(sl).b.skip);
   RBWD_EACH(RBWD_BOUND)
   raster_walk_mark(bits, j, meets);
 }
