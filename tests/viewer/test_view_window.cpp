@@ -89,6 +89,8 @@ TEST_CASE("a still view is rasterized once; a playing one at a lower scale under
   const std::string still = view_in_window(run, dir, "--exit-after 4");
   CHECK_MESSAGE(still.find("presented 4 frames") != std::string::npos, still);
   CHECK_MESSAGE(still.find("rasterized 1 at mean scale 1") != std::string::npos, still);
+  // The warm-up render before the first frame grew the instance buffers, so nothing shown was partial.
+  CHECK_MESSAGE(still.find(", 0 again after the instance buffers grew") != std::string::npos, still);
   // Playing under a 1 ms budget no frame can meet: the first frame (nothing measured yet) is full
   // resolution, the rest at the floor, 1/4 of each side.
   const std::string playing = view_in_window(run, dir, "--play --exit-after 6 --frame-budget-ms 1");

@@ -149,6 +149,13 @@ ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& opti
   // The last rasterized frame, measured once its submission completes: start time and scale.
   std::optional<std::pair<std::chrono::steady_clock::time_point, double>> measuring;
   bool recreate = false;
+  {  // A warm-up render of the first view, unshown: the instance buffers grow to the scene here, so
+     // the first frame on screen is not a partial one (overflow) followed by its re-render.
+    const auto [w, h] = window.framebuffer_size();
+    if (w > 0 && h > 0)
+      renderer.render_now(styles.source(), control.camera(static_cast<uint32_t>(w), static_cast<uint32_t>(h)),
+                          playback.time, swapchain.pixel_order());
+  }
   auto last = std::chrono::steady_clock::now();
 
   while (!window.should_close()) {
