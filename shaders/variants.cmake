@@ -17,8 +17,10 @@ set(S4D_SHADER_VARIANTS
   "tile_list_stats|splat/tile_list_stats.comp"
   "instance_args|splat/instance_args.comp"
   # The rasterizer family: plain and Style Gaussians variants of one source per pass.
+  # raster_fwd and raster_bwd: 8 pixels per invocation for CPU devices, 1 (the _px1 variants) for
+  # GPUs (s4d_splat.h).
   "raster_fwd|splat/raster_fwd.comp|S4D_STYLE=0"
-  # raster_bwd: 8 pixels per invocation for CPU devices, 1 (the _px1 variants) for GPUs (s4d_splat.h).
+  "raster_fwd_px1|splat/raster_fwd.comp|S4D_STYLE=0|S4D_RFWD_PIXELS=1"
   "raster_bwd|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=1"
   "raster_bwd_cas|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=0"
   "raster_bwd_px1|splat/raster_bwd.comp|S4D_STYLE=0|S4D_FLOAT_ATOMICS=1|S4D_RBWD_PIXELS=1"
@@ -26,6 +28,7 @@ set(S4D_SHADER_VARIANTS
   "project_bwd|splat/project_bwd.comp"
   "style_quadric|splat/style_quadric.comp"
   "style_raster_fwd|splat/raster_fwd.comp|S4D_STYLE=1"
+  "style_raster_fwd_px1|splat/raster_fwd.comp|S4D_STYLE=1|S4D_RFWD_PIXELS=1"
   "style_raster_bwd|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1"
   "style_raster_bwd_cas|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=0"
   "style_raster_bwd_px1|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1|S4D_RBWD_PIXELS=1"
@@ -44,7 +47,7 @@ set(S4D_SHADER_VARIANTS
   "densify_gather|densify/densify_gather.comp"
   "densify_split|densify/densify_split.comp"
   "densify_reset_opacity|densify/densify_reset_opacity.comp"
-  "blend_ceiling|bench/blend_ceiling.comp|S4D_STYLE=0"
+  "blend_ceiling|bench/blend_ceiling.comp|S4D_STYLE=0|S4D_RFWD_PIXELS=1"
   "deform_feat|deform/deform_feat.comp"
   "deform_fwd|deform/deform_fwd.comp"
   "deform_cot|deform/deform_cot.comp"

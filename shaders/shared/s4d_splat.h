@@ -123,6 +123,14 @@
 #define S4D_RBWD_PIXELS S4D_RBWD_PIXELS_CPU
 #endif
 #define S4D_RBWD_INVOCATIONS (S4D_TILE_PIXELS / S4D_RBWD_PIXELS)
+// raster_fwd: pixels per invocation, the same split (variants.cmake): on llvmpipe every
+// shared-memory load is a loop over the lanes, so a slot loaded once for 8 pixels costs an eighth.
+#define S4D_RFWD_PIXELS_CPU 8
+#define S4D_RFWD_PIXELS_GPU 1
+#ifndef S4D_RFWD_PIXELS
+#define S4D_RFWD_PIXELS S4D_RFWD_PIXELS_CPU
+#endif
+#define S4D_RFWD_INVOCATIONS (S4D_TILE_PIXELS / S4D_RFWD_PIXELS)
 // Specialization constant of raster_bwd: the smallest number of lanes a subgroup of it can have,
 // min(device's smallest subgroup size, the variant's S4D_RBWD_INVOCATIONS, 32), which fixes how many rounds of
 // lane-parallel atomics each pair's cotangents take (ceil(values / lanes)).

@@ -105,6 +105,11 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
     throw std::invalid_argument("rasterizer '" + name_ + "': backward_pixels " + std::to_string(options.backward_pixels) +
                                 " is not 0 (by device), " + std::to_string(S4D_RBWD_PIXELS_GPU) + " or " +
                                 std::to_string(S4D_RBWD_PIXELS_CPU));
+  if (options.forward_pixels != 0 && options.forward_pixels != S4D_RFWD_PIXELS_CPU &&
+      options.forward_pixels != S4D_RFWD_PIXELS_GPU)
+    throw std::invalid_argument("rasterizer '" + name_ + "': forward_pixels " + std::to_string(options.forward_pixels) +
+                                " is not 0 (by device), " + std::to_string(S4D_RFWD_PIXELS_GPU) + " or " +
+                                std::to_string(S4D_RFWD_PIXELS_CPU));
   reserve_gaussians(1);
   allocate_instances(std::max(1u, options.initial_instance_capacity));
   reserve_pixels(1, 1);
@@ -112,6 +117,11 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   totals_ = buffer("instance totals", 12);
   args_ = buffer("instance args", sizeof(gpu::InstanceArgs));
   readback_ = engine::Buffer(ctx, name_ + " readback", sizeof(Readback), engine::BufferKind::staging);
+}
+
+uint32_t Rasterizer::forward_pixels() const {
+  if (options_.forward_pixels != 0) return options_.forward_pixels;
+  return ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? S4D_RFWD_PIXELS_CPU : S4D_RFWD_PIXELS_GPU;
 }
 
 uint32_t Rasterizer::backward_pixels() const {
@@ -291,7 +301,9 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
   if (g.style != nullptr)
     bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
   const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
-  const shaders::Id id = g.style != nullptr ? shaders::Id::style_raster_fwd : shaders::Id::raster_fwd;
+  using shaders::Id;
+  const Id id = forward_pixels() == 1 ? (g.style != nullptr ? Id::style_raster_fwd_px1 : Id::raster_fwd_px1)
+                                      : (g.style != nullptr ? Id::style_raster_fwd : Id::raster_fwd);
   rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
 
   cam_ = cam;

@@ -85,6 +85,8 @@ struct RasterizerOptions {
   // S4D_RBWD_PIXELS_CPU on a CPU device and S4D_RBWD_PIXELS_GPU elsewhere; tests and benches set
   // 1 or 8 to run either variant anywhere.
   uint32_t backward_pixels = 0;
+  // Pixels per invocation of the forward kernel, likewise (S4D_RFWD_PIXELS_CPU or _GPU).
+  uint32_t forward_pixels = 0;
 };
 
 struct RenderStats {
@@ -148,6 +150,8 @@ class Rasterizer {
   size_t device_bytes() const;
   // Pixels per invocation of the backward kernel on this device (RasterizerOptions::backward_pixels).
   uint32_t backward_pixels() const;
+  // Pixels per invocation of the forward kernel on this device (RasterizerOptions::forward_pixels).
+  uint32_t forward_pixels() const;
 
  private:
   engine::Buffer buffer(const char* what, size_t bytes) const;  // named after this rasterizer
