@@ -135,6 +135,7 @@ json splat_json(json line, const s4d::bench::SplatTiming& t) {
                {"instances", t.instances},
                {"tiles", t.tiles},
                {"bwd_pixels", t.bwd_pixels},
+               {"fwd_pixels", t.fwd_pixels},
                {"avg_tile_list", static_cast<double>(t.instances) / t.tiles},
                {"longest_tile_list", t.longest_tile_list},
                {"pixel_pairs_listed", t.pixel_pairs_listed},
@@ -159,7 +160,7 @@ json pass_json(json line, const char* pass, const s4d::bench::Timing& ms, uint64
 // every line of the point carries (device, size, Gaussian count).
 bool run_point(s4d::engine::Context& ctx, const json& base, const s4d::bench::SplatScene& scene, const Options& o,
                bool twin) {
-  const auto t = s4d::bench::bench_splat(ctx, scene, o.repeats, o.fwdbwd, twin, 1, {.backward_pixels = o.bwd_pixels});
+  const auto t = s4d::bench::bench_splat(ctx, scene, o.repeats, o.fwdbwd, twin, 1, {.backward_pixels = o.bwd_pixels, .forward_pixels = o.fwd_pixels});
   const SplatPoint& pt = t.point;
   const json line = splat_json(base, t);
   bool ok = !t.twin_checked || t.matches_twin;
@@ -240,7 +241,7 @@ int main(int argc, char** argv) {
     if (std::string(argv[i]) == "--style") return s4d::bench::style_bench_main(argc, argv);
   const char* usage =
       "usage: s4d_bench_splat [--sizes WxH:N,... | --ply F --cameras transforms.json [--camera K] | --suite peer]\n"
-      "                       [--repeats R] [--only fwd|fwdbwd] [--bwd-pixels 1|8]\n"
+      "                       [--repeats R] [--only fwd|fwdbwd] [--bwd-pixels 1|8] [--fwd-pixels 1|8]\n"
       "       s4d_bench_splat --write-peer-scene DIR [--gaussians N] [--size WxH]\n"
       "       s4d_bench_splat --style [scene options] [--repeats R] [--depth ndc|relative] [--cas]\n";
   std::optional<Options> parsed;

@@ -21,7 +21,8 @@ bool parse_scene_option(int argc, char** argv, int& i, SceneOptions& o) {
   if (a == "--suite" && value == "peer") {
     o.peer_suite = true;
   } else if (value.empty() ||
-             (a != "--sizes" && a != "--ply" && a != "--cameras" && a != "--camera" && a != "--bwd-pixels")) {
+             (a != "--sizes" && a != "--ply" && a != "--cameras" && a != "--camera" && a != "--bwd-pixels" &&
+              a != "--fwd-pixels")) {
     return false;
   } else if (a == "--sizes") {
     o.points.clear();
@@ -33,6 +34,8 @@ bool parse_scene_option(int argc, char** argv, int& i, SceneOptions& o) {
     o.cameras = value;
   } else if (a == "--bwd-pixels") {
     o.bwd_pixels = static_cast<uint32_t>(std::stoul(value));
+  } else if (a == "--fwd-pixels") {
+    o.fwd_pixels = static_cast<uint32_t>(std::stoul(value));
   } else {
     o.camera = std::stoul(value);
   }

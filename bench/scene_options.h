@@ -1,6 +1,7 @@
 // The scene options the splat benches share (issue 21's like-for-like runs): --sizes WxH:N,...,
 // --ply F --cameras transforms.json [--camera K] (a standard 3DGS scene), --suite peer, and
-// --bwd-pixels 1|8 (the rasterizer backward's variant, RasterizerOptions::backward_pixels).
+// --bwd-pixels 1|8 and --fwd-pixels 1|8 (the rasterizer's variants, RasterizerOptions::backward_pixels
+// and forward_pixels).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +21,7 @@ struct SceneOptions {
   size_t camera = 0;
   bool peer_suite = false;
   uint32_t bwd_pixels = 0;  // --bwd-pixels 1|8: the backward kernel's variant (0: by device type)
+  uint32_t fwd_pixels = 0;  // --fwd-pixels 1|8: the forward kernel's variant (0: by device type)
 };
 
 // "WxH:N" -> point; throws std::invalid_argument on anything else.

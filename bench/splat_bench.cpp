@@ -87,6 +87,7 @@ SplatTiming bench_splat(engine::Context& ctx, const SplatScene& scene, int repea
   if (backward) grads.emplace(ctx, dev.params, pixels, seed);
   splat::Rasterizer raster(ctx, "bench rasterizer", options);
   t.bwd_pixels = raster.backward_pixels();
+  t.fwd_pixels = raster.forward_pixels();
 
   std::vector<double> fwd_ms, fwdbwd_ms;
   splat::RenderStats stats;

@@ -24,6 +24,7 @@ struct SplatTiming {
   Timing fwd, fwdbwd;
   uint32_t instances = 0, tiles = 0, longest_tile_list = 0;
   uint32_t bwd_pixels = 0;  // the backward kernel's pixels per invocation (its variant)
+  uint32_t fwd_pixels = 0;  // the forward kernel's
   // (pixel, Gaussian) pairs the tile lists hold: instances * 256, every pixel of a tile counted up to
   // the end of its list. Early termination means fewer are actually visited.
   uint64_t pixel_pairs_listed = 0;

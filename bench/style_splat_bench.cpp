@@ -176,8 +176,10 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatScene
   const size_t pixels = size_t{pt.width} * pt.height;
   Device d(ctx, scene.gaussians, mlp, pixels);
   const splat::Camera cam = bench::to_gpu_camera(scene.camera);
-  splat::Rasterizer plain(ctx, "bench plain", {.force_cas_atomics = o.cas, .backward_pixels = o.bwd_pixels});
-  splat::Rasterizer styled(ctx, "bench style", {.force_cas_atomics = o.cas, .backward_pixels = o.bwd_pixels});
+  const splat::RasterizerOptions options{
+      .force_cas_atomics = o.cas, .backward_pixels = o.bwd_pixels, .forward_pixels = o.fwd_pixels};
+  splat::Rasterizer plain(ctx, "bench plain", options);
+  splat::Rasterizer styled(ctx, "bench style", options);
 
   const double load_before = load_average();
   Measured mp, ms;
@@ -201,6 +203,7 @@ bool run_point(engine::Context& ctx, const json& device, const bench::SplatScene
                {"depth_mode", o.depth == ref::StyleDepth::ndc ? "ndc" : "relative"},
                {"atomics", o.cas ? "cas" : "float"},
                {"bwd_pixels", styled.backward_pixels()},
+               {"fwd_pixels", styled.forward_pixels()},
                {"instances", ms.stats.instances},
                {"longest_tile_list", ms.stats.longest_tile_list},
                {"timing", "wall clock around forward() and backward(), which submit and wait"},

@@ -53,7 +53,7 @@ struct Case {
   bool colors;
   bool cas;           // compare-and-swap atomics instead of float atomics
   bool alpha_depth;   // cotangents on the alpha and depth outputs too
-  uint32_t pixels = 0;  // backward pixels per invocation: 0 by device (8 on lavapipe), or the GPUs' 1
+  uint32_t pixels = 0;  // pixels per invocation, forward and backward: 0 by device (8 on lavapipe), or the GPUs' 1
 };
 
 }  // namespace
@@ -74,7 +74,7 @@ TEST_CASE("GPU projection, blending and backward match the twin stage by stage")
     const Cam cam = test::random_camera(83, 61, rng);  // not multiples of 16: partial tiles
     const Scene g = test::random_scene(1500, c.sh_degree, c.colors, rng);
     test::DeviceScene dev(test::context(), g);
-    splat::Rasterizer r(test::context(), "raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels});
+    splat::Rasterizer r(test::context(), "raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels, .forward_pixels = c.pixels});
     const test::GpuForward f = test::gpu_forward(r, dev, cam, kBg);
 
     const ref::Projected<float> tp = ref::project_fwd(g, cam);

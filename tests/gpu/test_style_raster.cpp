@@ -26,7 +26,7 @@ struct Case {
   bool colors;       // colour buffer instead of SH
   bool cas;          // compare-and-swap atomics instead of float atomics
   bool alpha_depth;  // cotangents on the alpha and depth outputs too
-  uint32_t pixels = 0;  // backward pixels per invocation: 0 by device (8 on lavapipe), or the GPUs' 1
+  uint32_t pixels = 0;  // pixels per invocation, forward and backward: 0 by device (8 on lavapipe), or the GPUs' 1
 };
 
 }  // namespace
@@ -54,7 +54,7 @@ TEST_CASE("GPU style rasterizer matches the twin stage by stage") {
     test::DeviceScene dev(test::context(), g);
     test::DeviceStyle style(test::context(), mlp);
     style.attach(dev);
-    splat::Rasterizer r(test::context(), "style raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels});
+    splat::Rasterizer r(test::context(), "style raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels, .forward_pixels = c.pixels});
     const test::GpuForward f = test::gpu_forward(r, dev, cam, kBg);
 
     const std::vector<float> quadric =
