@@ -92,7 +92,8 @@ DeviceInfo query_device_info(VkPhysicalDevice device, uint32_t index) {
   info.min_subgroup_size = size_control ? sg_control.minSubgroupSize : subgroup.subgroupSize;
   info.max_subgroup_size = size_control ? sg_control.maxSubgroupSize : subgroup.subgroupSize;
   const VkSubgroupFeatureFlags needed_ops =
-      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT;
+      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
+      VK_SUBGROUP_FEATURE_SHUFFLE_BIT;  // raster_bwd's reduce-scatter
   info.subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
                              (subgroup.supportedOperations & needed_ops) == needed_ops;
 
@@ -158,7 +159,7 @@ DeviceInfo query_device_info(VkPhysicalDevice device, uint32_t index) {
   if (!has_compute) missing.push_back("a compute queue");
   if (!info.push_descriptor) missing.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
   if (!info.timeline_semaphore) missing.push_back("timeline semaphores");
-  if (!info.subgroup_arithmetic) missing.push_back("subgroup basic, arithmetic and vote operations in compute shaders");
+  if (!info.subgroup_arithmetic) missing.push_back("subgroup basic, arithmetic, vote and shuffle operations in compute shaders");
   info.suitable = missing.empty();
   for (size_t i = 0; i < missing.size(); ++i)
     info.unsuitable_reason += (i ? ", " : "lacks ") + missing[i];

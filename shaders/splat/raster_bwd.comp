@@ -18,6 +18,7 @@
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_shuffle : require  // the style variant's reduce-scatter
 #if S4D_FLOAT_ATOMICS
 #extension GL_EXT_shader_atomic_float : require
 #endif
@@ -142,6 +143,57 @@ void add_mlp(uint w, uint lane, uint size, uint r) {
   v = mix(v, v_w[10], bvec4(i == 10u)), v = mix(v, v_w[11], bvec4(i == 11u)), v = mix(v, v_w[12], bvec4(i == 12u));
   if (k < uint(S4D_STYLE_MLP_STRIDE)) add_v_mlp(w + k, vec4_at(v, k & 3u));
 }
+
+// The style variant's 62 cotangents of a pair (52 weights, 10 screen-space), reduced over the
+// subgroup and scattered in one pass: at each step a lane keeps half of its values and adds the
+// other lane's copy of that half (subgroupShuffleXor), so after log2(S) steps each of the S lanes
+// holds 64 / S sums, and 62 shuffles replace the 18 subgroupAdds' 62 reductions (on a GPU each is
+// log2(S) shuffles: 5x fewer at S = 32). Values: rs[0 .. 12] the weights' vec4s, rs[13 .. 15]
+// v_g2d. Needs every lane active and S = MIN_SUBGROUP, 2 .. 64 (checked by the caller).
+vec4 rs[16];
+
+// Step with lane mask m over the first 2n vec4s: the lane with bit m keeps the upper n.
+void rs_step(uint m, uint n) {
+  bool upper = (gl_SubgroupInvocationID & m) != 0u;
+#define RS_PAIR(i) if (i < n) { vec4 keep = upper ? rs[i + n] : rs[i], give = upper ? rs[i] : rs[i + n]; \
+  rs[i] = keep + subgroupShuffleXor(give, m); }
+  RS_PAIR(0u) RS_PAIR(1u) RS_PAIR(2u) RS_PAIR(3u) RS_PAIR(4u) RS_PAIR(5u) RS_PAIR(6u) RS_PAIR(7u)
+}
+
+// Adds value f of the 64 (rs's layout) to global memory.
+void rs_add(uint f, float value, uint w, uint base) {
+  if (f < uint(S4D_STYLE_MLP_STRIDE)) add_v_mlp(w + f, value);
+  else if (f < uint(S4D_STYLE_MLP_STRIDE + S4D_G2D_STRIDE)) add_grad(base + f - uint(S4D_STYLE_MLP_STRIDE), value);
+}
+
+void reduce_scatter_add(uint w, uint base) {
+  uint lane = gl_SubgroupInvocationID;
+  // vec4 steps, the lane's block offset growing by n for each mask bit it has.
+  uint block = 0u;
+  if (MIN_SUBGROUP >= 2u) rs_step(1u, 8u), block += (lane & 1u) * 8u;
+  if (MIN_SUBGROUP >= 4u) rs_step(2u, 4u), block += ((lane >> 1u) & 1u) * 4u;
+  if (MIN_SUBGROUP >= 8u) rs_step(4u, 2u), block += ((lane >> 2u) & 1u) * 2u;
+  if (MIN_SUBGROUP >= 16u) rs_step(8u, 1u), block += (lane >> 3u) & 1u;
+  // Then within the lane's last vec4: halves (S >= 32), quarters (S = 64).
+  if (MIN_SUBGROUP >= 32u) {
+    bool hi = (lane & 16u) != 0u;
+    vec2 keep = hi ? rs[0].zw : rs[0].xy, give = hi ? rs[0].xy : rs[0].zw;
+    vec2 v = keep + subgroupShuffleXor(give, 16u);
+    uint f = 4u * block + (hi ? 2u : 0u);
+    if (MIN_SUBGROUP >= 64u) {
+      bool odd = (lane & 32u) != 0u;
+      rs_add(f + (odd ? 1u : 0u), (odd ? v.y : v.x) + subgroupShuffleXor(odd ? v.x : v.y, 32u), w, base);
+    } else {
+      rs_add(f, v.x, w, base), rs_add(f + 1u, v.y, w, base);
+    }
+    return;
+  }
+  // S <= 16: 16 / S vec4s left, blocks block .. block + 16 / S - 1.
+  uint left = 16u / MIN_SUBGROUP;
+#define RS_ADD(i) if (i < left) { rs_add(4u * (block + i), rs[i].x, w, base); rs_add(4u * (block + i) + 1u, rs[i].y, w, base); \
+  rs_add(4u * (block + i) + 2u, rs[i].z, w, base); rs_add(4u * (block + i) + 3u, rs[i].w, w, base); }
+  RS_ADD(0u) RS_ADD(1u) RS_ADD(2u) RS_ADD(3u) RS_ADD(4u) RS_ADD(5u) RS_ADD(6u) RS_ADD(7u)
+}
 #endif
 
 vec4 v_g2d[3];  // the current pair's screen-space cotangents in grad2d's layout (S4D_G2D_*), padded
@@ -202,6 +254,15 @@ void accumulate(uint j, uint batch, uint end) {
 #endif
 #define RBWD_PAIR(k) if (c##k) pixel_pair(sl, s##k, px[k]);
   RBWD_EACH(RBWD_PAIR)
+#if S4D_STYLE
+  if (gl_SubgroupSize == MIN_SUBGROUP && MIN_SUBGROUP >= 2u && MIN_SUBGROUP <= 64u) {  // uniform
+    rs[0] = v_w[0], rs[1] = v_w[1], rs[2] = v_w[2], rs[3] = v_w[3], rs[4] = v_w[4], rs[5] = v_w[5], rs[6] = v_w[6];
+    rs[7] = v_w[7], rs[8] = v_w[8], rs[9] = v_w[9], rs[10] = v_w[10], rs[11] = v_w[11], rs[12] = v_w[12];
+    rs[13] = vec4(g_xy, g_conic.xy), rs[14] = vec4(g_conic.z, g_opacity, g_rgb.rg), rs[15] = vec4(g_rgb.b, g_depth, 0.0, 0.0);
+    reduce_scatter_add(s_id[j] * S4D_STYLE_MLP_STRIDE, s_id[j] * S4D_G2D_STRIDE);
+    return;
+  }
+#endif
   g_xy = subgroupAdd(g_xy);
   g_conic = subgroupAdd(g_conic);
   g_rgb = subgroupAdd(g_rgb);

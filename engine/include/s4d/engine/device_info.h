@@ -22,7 +22,7 @@ struct DeviceInfo {
   uint32_t subgroup_size = 0;
   uint32_t min_subgroup_size = 0;
   uint32_t max_subgroup_size = 0;
-  bool subgroup_arithmetic = false;  // basic + arithmetic + vote in compute shaders (required)
+  bool subgroup_arithmetic = false;  // basic + arithmetic + vote + shuffle in compute shaders (required)
   bool float_atomic_add_buffer = false;
   bool float_atomic_add_shared = false;
   bool fp16_arithmetic = false;
