@@ -34,7 +34,7 @@
 #define S4D_STYLE_INPUT_SIGMOID 4u  // x = sigmoid(x) before layer 1 (SuperGaussians does)
 
 // A batch slot's style parts in shared memory (raster_batch.glsl): 13 MLP vec4s, then the quadric's
-// 3 vec4s, the last one (b2, opacity-offset bound, 0, 0).
+// 3 vec4s.
 #define S4D_STYLE_SLOT_PARTS 16
 #define S4D_STYLE_SLOT_QUADRIC S4D_STYLE_MLP_VEC4S
 
