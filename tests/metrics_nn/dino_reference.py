@@ -89,6 +89,7 @@ def main():
     style4d, dino_features, converter, work = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(22)
+    torch.manual_seed(22)  # module constructors draw from the global generator: every run the same
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
     import convert_weights
 

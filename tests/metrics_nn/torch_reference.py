@@ -204,6 +204,7 @@ def main():
     style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(2024)
+    torch.manual_seed(2024)  # module constructors draw from the global generator: every run the same
     image = lambda w, h: noise_image(w, h, gen)
     dirs = {d: os.path.join(work, d) for d in ("stylised", "original")}
     frames = {}

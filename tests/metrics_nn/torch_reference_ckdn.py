@@ -53,6 +53,7 @@ def main():
     style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(22)
+    torch.manual_seed(22)  # module constructors draw from the global generator: every run the same
 
     image = lambda w, h: noise_image(w, h, gen)
 

@@ -60,6 +60,7 @@ def main():
     style4d, converter, work, calibration = sys.argv[1:5]
     shutil.rmtree(work, ignore_errors=True)
     gen = torch.Generator().manual_seed(31)
+    torch.manual_seed(31)  # module constructors draw from the global generator: every run the same
     sys.path.insert(0, os.path.dirname(os.path.abspath(converter)))
     import convert_weights
     weights = os.path.join(work, "weights")
