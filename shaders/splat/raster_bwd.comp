@@ -149,7 +149,9 @@ void add_mlp(uint w, uint lane, uint size, uint r) {
 // other lane's copy of that half (subgroupShuffleXor), so after log2(S) steps each of the S lanes
 // holds 64 / S sums, and 62 shuffles replace the 18 subgroupAdds' 62 reductions (on a GPU each is
 // log2(S) shuffles: 5x fewer at S = 32). Values: rs[0 .. 12] the weights' vec4s, rs[13 .. 15]
-// v_g2d. Needs every lane active and S = MIN_SUBGROUP, 2 .. 64 (checked by the caller).
+// v_g2d. Needs every lane active and S = MIN_SUBGROUP, 2 .. 64 (checked by the caller); a device
+// whose subgroups vary in size takes the subgroupAdd path below instead (tests run it on lavapipe
+// by specialising a smaller MIN_SUBGROUP: RasterizerOptions::min_subgroup_lanes).
 vec4 rs[16];
 
 // Step with lane mask m over the first 2n vec4s: the lane with bit m keeps the upper n.

@@ -27,6 +27,10 @@ struct Case {
   bool cas;          // compare-and-swap atomics instead of float atomics
   bool alpha_depth;  // cotangents on the alpha and depth outputs too
   uint32_t pixels = 0;  // pixels per invocation, forward and backward: 0 by device (8 on lavapipe), or the GPUs' 1
+  // The fewest subgroup lanes the backward assumes: 0 the device's (8 on lavapipe: the
+  // reduce-scatter); 1 or 4, below the subgroup's 8, take the subgroupAdd path that a device whose
+  // subgroups vary in size takes.
+  uint32_t min_lanes = 0;
 };
 
 }  // namespace
@@ -40,13 +44,16 @@ TEST_CASE("GPU style rasterizer matches the twin stage by stage") {
   const ref::StyleDepth ndc = ref::StyleDepth::ndc, rel = ref::StyleDepth::relative;
   for (const Case c : {Case{ndc, false, false, false, true}, Case{ndc, true, false, true, false},
                        Case{rel, false, true, false, false}, Case{rel, true, false, true, true},
-                       Case{ndc, false, true, false, true, 1}, Case{rel, true, false, true, true, 1}}) {
+                       Case{ndc, false, true, false, true, 1}, Case{rel, true, false, true, true, 1},
+                       Case{ndc, true, false, false, true, 0, 1}, Case{rel, false, false, true, true, 1, 4}}) {
     CAPTURE(static_cast<int>(c.depth));
     CAPTURE(c.sigmoid);
     CAPTURE(c.colors);
     CAPTURE(c.cas);
     CAPTURE(c.pixels);
-    std::mt19937 rng(static_cast<unsigned>(200 + 4 * static_cast<int>(c.depth) + 2 * c.sigmoid + c.cas + 11 * c.pixels));
+    CAPTURE(c.min_lanes);
+    std::mt19937 rng(static_cast<unsigned>(200 + 4 * static_cast<int>(c.depth) + 2 * c.sigmoid + c.cas + 11 * c.pixels +
+                                           13 * c.min_lanes));
     const Cam cam = test::random_camera(83, 61, rng);  // not multiples of 16: partial tiles
     const Scene g = test::random_scene(700, 2, c.colors, rng);
     ref::StyleMlp<float> mlp = test::random_mlp(g.size(), c.depth, c.sigmoid, rng);
@@ -54,7 +61,9 @@ TEST_CASE("GPU style rasterizer matches the twin stage by stage") {
     test::DeviceScene dev(test::context(), g);
     test::DeviceStyle style(test::context(), mlp);
     style.attach(dev);
-    splat::Rasterizer r(test::context(), "style raster", {.force_cas_atomics = c.cas, .backward_pixels = c.pixels, .forward_pixels = c.pixels});
+    splat::Rasterizer r(test::context(), "style raster",
+                        {.force_cas_atomics = c.cas, .backward_pixels = c.pixels, .forward_pixels = c.pixels,
+                         .min_subgroup_lanes = c.min_lanes});
     const test::GpuForward f = test::gpu_forward(r, dev, cam, kBg);
 
     const std::vector<float> quadric =

@@ -96,20 +96,24 @@ void check_list_length(const engine::DeviceInfo& info, uint32_t longest, bool st
                              "Gaussians, or a GPU");
 }
 
+// A pixels-per-invocation option: 0 (by device) or one of the two variants.
+void check_pixels(const std::string& name, const char* option, uint32_t value, uint32_t cpu, uint32_t gpu) {
+  if (value != 0 && value != cpu && value != gpu)
+    throw std::invalid_argument("rasterizer '" + name + "': " + option + " " + std::to_string(value) +
+                                " is not 0 (by device), " + std::to_string(gpu) + " or " + std::to_string(cpu));
+}
+
 }  // namespace
 
 Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions options)
     : ctx_(&ctx), name_(std::move(name)), options_(options) {
-  if (options.backward_pixels != 0 && options.backward_pixels != S4D_RBWD_PIXELS_CPU &&
-      options.backward_pixels != S4D_RBWD_PIXELS_GPU)
-    throw std::invalid_argument("rasterizer '" + name_ + "': backward_pixels " + std::to_string(options.backward_pixels) +
-                                " is not 0 (by device), " + std::to_string(S4D_RBWD_PIXELS_GPU) + " or " +
-                                std::to_string(S4D_RBWD_PIXELS_CPU));
-  if (options.forward_pixels != 0 && options.forward_pixels != S4D_RFWD_PIXELS_CPU &&
-      options.forward_pixels != S4D_RFWD_PIXELS_GPU)
-    throw std::invalid_argument("rasterizer '" + name_ + "': forward_pixels " + std::to_string(options.forward_pixels) +
-                                " is not 0 (by device), " + std::to_string(S4D_RFWD_PIXELS_GPU) + " or " +
-                                std::to_string(S4D_RFWD_PIXELS_CPU));
+  check_pixels(name_, "backward_pixels", options.backward_pixels, S4D_RBWD_PIXELS_CPU, S4D_RBWD_PIXELS_GPU);
+  check_pixels(name_, "forward_pixels", options.forward_pixels, S4D_RFWD_PIXELS_CPU, S4D_RFWD_PIXELS_GPU);
+  const uint32_t lanes = options.min_subgroup_lanes;
+  if (lanes != 0 && (!std::has_single_bit(lanes) || lanes > ctx.info().min_subgroup_size))
+    throw std::invalid_argument("rasterizer '" + name_ + "': min_subgroup_lanes " + std::to_string(lanes) +
+                                " is not 0 (the device's) or a power of two up to the device's " +
+                                std::to_string(ctx.info().min_subgroup_size));
   reserve_gaussians(1);
   allocate_instances(std::max(1u, options.initial_instance_capacity));
   reserve_pixels(1, 1);
@@ -119,14 +123,17 @@ Rasterizer::Rasterizer(engine::Context& ctx, std::string name, RasterizerOptions
   readback_ = engine::Buffer(ctx, name_ + " readback", sizeof(Readback), engine::BufferKind::staging);
 }
 
+uint32_t Rasterizer::pixels_by_device(uint32_t forced, uint32_t cpu, uint32_t gpu) const {
+  if (forced != 0) return forced;
+  return ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? cpu : gpu;
+}
+
 uint32_t Rasterizer::forward_pixels() const {
-  if (options_.forward_pixels != 0) return options_.forward_pixels;
-  return ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? S4D_RFWD_PIXELS_CPU : S4D_RFWD_PIXELS_GPU;
+  return pixels_by_device(options_.forward_pixels, S4D_RFWD_PIXELS_CPU, S4D_RFWD_PIXELS_GPU);
 }
 
 uint32_t Rasterizer::backward_pixels() const {
-  if (options_.backward_pixels != 0) return options_.backward_pixels;
-  return ctx_->info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? S4D_RBWD_PIXELS_CPU : S4D_RBWD_PIXELS_GPU;
+  return pixels_by_device(options_.backward_pixels, S4D_RBWD_PIXELS_CPU, S4D_RBWD_PIXELS_GPU);
 }
 
 size_t Rasterizer::device_bytes() const {
@@ -407,9 +414,11 @@ void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g,
                                                 : (float_atomics ? Id::raster_bwd : Id::raster_bwd_cas));
   const gpu::RasterParams raster = raster_params(style, pp.cam, background_, flags);
   // Specialised to the fewest lanes a subgroup of raster_bwd can have (its lane-parallel adds'
-  // rounds), no more than the workgroup's invocations (a wider subgroup is partial).
+  // rounds, its reduce-scatter's halving steps), no more than the workgroup's invocations (a wider
+  // subgroup is partial).
   const shaders::Entry& e = shaders::get(id);
-  const uint32_t min_lanes = std::clamp(ctx_->info().min_subgroup_size, 1u, uint32_t{S4D_TILE_PIXELS} / per_invocation);
+  const uint32_t fewest = options_.min_subgroup_lanes != 0 ? options_.min_subgroup_lanes : ctx_->info().min_subgroup_size;
+  const uint32_t min_lanes = std::clamp(fewest, 1u, uint32_t{S4D_TILE_PIXELS} / per_invocation);
   rec.dispatch_raw(ctx_->pipeline(e.name, e.spirv(), {{S4D_RBWD_SPEC_MIN_SUBGROUP, min_lanes}}), bind, &raster,
                    sizeof raster, num_tiles);
   rec.barrier();

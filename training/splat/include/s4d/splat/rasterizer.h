@@ -87,6 +87,10 @@ struct RasterizerOptions {
   uint32_t backward_pixels = 0;
   // Pixels per invocation of the forward kernel, likewise (S4D_RFWD_PIXELS_CPU or _GPU).
   uint32_t forward_pixels = 0;
+  // The fewest lanes the backward may assume a subgroup has (S4D_RBWD_SPEC_MIN_SUBGROUP): 0 takes
+  // the device's; a smaller power of two is always correct, and lets tests run on lavapipe the
+  // path a device whose subgroups vary in size takes.
+  uint32_t min_subgroup_lanes = 0;
 };
 
 struct RenderStats {
@@ -155,6 +159,7 @@ class Rasterizer {
 
  private:
   engine::Buffer buffer(const char* what, size_t bytes) const;  // named after this rasterizer
+  uint32_t pixels_by_device(uint32_t forced, uint32_t cpu, uint32_t gpu) const;
   void reserve_gaussians(uint32_t n);
   void reserve_instances(uint32_t n);        // grows to at least n, with headroom
   void allocate_instances(uint32_t capacity);  // exactly `capacity`
