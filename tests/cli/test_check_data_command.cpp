@@ -154,7 +154,7 @@ TEST_CASE("check-data exits 2 with the loader's one line when the dataset cannot
     fs::remove(data / "cam02" / "0003.png");
     CHECK(run(data.string(), dir / "log.txt") == 2);
     const std::string log = read_text(dir / "log.txt");
-    CHECK(has(log, "style4d check-data: error: " + (data / "cam02").string() + ": has 3 frames but cam00 has 4"));
+    CHECK(has(log, "style4d check-data: error: " + (data / "cam02").string() + ": has 3 frames but cam00 has 4: missing 0003.png (frame 3 of cam00)"));
     CHECK(std::count(log.begin(), log.end(), '\n') == 1);
   }
   {

@@ -302,7 +302,8 @@ TEST_CASE("colmap bad inputs") {
   }
   SUBCASE("frame count mismatch") {
     fs::remove(root / "cam02" / "0002.png");
-    check_load_fails(root, root / "cam02", "has 2 frames but cam00 has 3; every camera needs the same frame count");
+    check_load_fails(root, root / "cam02", "has 2 frames but cam00 has 3: missing 0002.png (frame 2 of cam00); every camera "
+                                           "needs the same frame count");
   }
   SUBCASE("missing frame folder") {
     fs::remove_all(root / "cam01");

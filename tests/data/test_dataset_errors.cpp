@@ -71,7 +71,8 @@ TEST_CASE("dynerf bad inputs") {
   }
   SUBCASE("cameras with different frame counts") {
     fs::remove(root / "cam02" / "0001.png");
-    check_load_fails(root, (root / "cam02").string() + ": has 1 frames but cam00 has 2");
+    check_load_fails(root, (root / "cam02").string() + ": has 1 frames but cam00 has 2: missing 0001.png (frame 1 of cam00); "
+                           "every camera needs the same frame count");
   }
   SUBCASE("camera folder without frames") {
     for (int f = 0; f < 2; ++f) fs::remove(root / "cam01" / ("000" + std::to_string(f) + ".png"));

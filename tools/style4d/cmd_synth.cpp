@@ -30,10 +30,20 @@ int cmd_synth(const std::vector<std::string>& argv) {
                 "                        camera 0 at every time, DIR/transforms_{train,test}.json", false, ""},
       {"object", "the moving objects alone on black (no wall or floor), cameras on a full ring\n"
                  "                        above them: with --dnerf, a D-NeRF-like object capture", false, ""},
+      {"motion", "object fixture instead of the built-in objects (implies --object): bounce (three\n"
+                 "                        small spheres collide and fly apart), squash (a sphere falls on a box,\n"
+                 "                        squashes, rebounds), orbit (a finely checkered sphere on a full orbit)", true, "NAME"},
+      {"rgba", "with --dnerf: RGBA frames with a transparent sky, as D-NeRF's (loaders composite\n"
+               "                        them on white)", false, ""},
+      {"mixed-distances", "cameras at 1, 1.4 and 0.75 times the rig's distance and 1, 1.2, 0.85 times\n"
+                          "                        its focal length in turn (the test camera keeps the rig's)", false, ""},
+      {"random-init", "write fused.ply with N uniform random points in [-1.3, 1.3]^3 (4DGaussians'\n"
+                      "                        synthetic recipe) instead of points3D.ply's surface points", true, "N"},
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf] [--object]",
+    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf [--rgba]] [--object | --motion NAME]\n"
+                       "       [--mixed-distances] [--random-init N]",
                        "Renders the built-in dynamic scene (static textured wall and floor, a spinning sphere,\n"
                        "a box sliding along an arc, a waving sheet) with an analytic CPU ray caster into a\n"
                        "DyNeRF/Neu3D dataset: DIR/camNN/NNNN.png (frame k has t = k/(T-1); DIR/camNN.mp4 with\n"
@@ -54,6 +64,10 @@ int cmd_synth(const std::vector<std::string>& argv) {
   options.video = args.flag("video");
   options.dnerf = args.flag("dnerf");
   options.object = args.flag("object");
+  options.motion = args.get_or("motion", "");
+  options.rgba = args.flag("rgba");
+  options.mixed_distances = args.flag("mixed-distances");
+  options.random_init = parse_number<int>("random-init", args.get_or("random-init", "0"));
   synth::check_options(options);
 
   util::Progress progress("synth", static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames));

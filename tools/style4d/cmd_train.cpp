@@ -1,6 +1,6 @@
 // style4d train --data DIR --out RUN [--preset P] [--iters N] | --resume RUN: stages 1 and 2
 // (static Gaussians, then 4DGS). SIGINT or SIGTERM writes a checkpoint and exits with 130;
-// --resume continues it.
+// --resume continues it. A finished run whose model is degenerate exits with 3 (kExitDegenerate).
 #include <nlohmann/json.hpp>
 
 #include <atomic>
@@ -19,8 +19,14 @@
 #include "s4d/run/run_lock.h"
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/trainer.h"
+#include "train_plots.h"
 
 namespace s4d::cli {
+
+// A finished run whose model is degenerate (no Gaussians, or renders no better than the
+// background): its files are written, but scripts must not take it for a result.
+constexpr int kExitDegenerate = 3;
+
 
 namespace {
 
@@ -150,9 +156,12 @@ int cmd_train(const std::vector<std::string>& argv) {
     std::cout << usage("train", "--data DIR --out RUN [options] | --resume RUN",
                        "Trains static Gaussians, then the 4DGS deformation field. Writes RUN/geometry/gaussians.ply\n"
                        "(canonical Gaussians, standard 3DGS PLY; the field is in the checkpoint),\n"
-                       "RUN/train.json (test_psnr, test_ssim, seconds, num_gaussians, settings, per test view),\n"
+                       "RUN/train.json (test_psnr, test_ssim, moving-content PSNR, seconds, num_gaussians, the\n"
+                       "Gaussian count after every densification, settings, per test view), RUN/gaussian_count.png,\n"
                        "RUN/checkpoint/state.s4dckpt, RUN/loss.csv and RUN/eval/*.png (test-view renders).\n"
                        "Ctrl-C writes a checkpoint and exits; --resume RUN continues where it stopped.\n"
+                       "A finished run whose model is degenerate (fewer than 16 Gaussians, or test renders\n"
+                       "no better than the background alone) says why and exits with 3.\n"
                        "A new run first checks the dataset as `style4d check-data` does: warnings are printed,\n"
                        "errors are printed and refuse the run (--skip-check skips the check).",
                        specs);
@@ -204,8 +213,15 @@ int cmd_train(const std::vector<std::string>& argv) {
   std::signal(SIGTERM, request_stop);
   const train::TrainResult r = trainer->run(g_stop);
   if (!r.complete) return 130;
-  std::cout << run::stage_name(r.stage) << " stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim << ", " << r.num_gaussians
-            << " Gaussians, " << r.seconds << " s\n";
+  write_gaussian_count_plot(run::RunDir{args.get("resume") ? fs::path(*args.get("resume")) : fs::path(args.require("out"))});
+  std::cout << run::stage_name(r.stage) << " stage: test PSNR " << r.test.psnr << " dB, SSIM " << r.test.ssim;
+  if (r.test.moving.psnr) std::cout << ", moving content " << *r.test.moving.psnr << " dB";
+  std::cout << ", " << r.num_gaussians << " Gaussians, " << r.seconds << " s\n";
+  if (!r.degenerate.empty()) {
+    // The run's files stay for inspection; the exit code tells scripts the model is unusable.
+    std::cerr << "error: " << args.get_or("out", args.get_or("resume", "")) << ": degenerate model: " << r.degenerate << "\n";
+    return kExitDegenerate;
+  }
   return 0;
 }
 

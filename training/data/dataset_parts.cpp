@@ -2,6 +2,7 @@
 #include "s4d/data/camera_geometry.h"
 
 #include <algorithm>
+#include <set>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -118,6 +119,31 @@ void finish_dataset(Dataset& dataset, const LoadOptions& options, const std::arr
     dataset.points_file = file;
     break;
   }
+}
+
+std::string frame_count_mismatch(const std::vector<std::filesystem::path>& frames,
+                                 const std::string& reference_name, const std::vector<std::filesystem::path>& reference) {
+  constexpr size_t kNamed = 5;  // a damaged capture may lack hundreds; the first few say where
+  std::set<std::string> have, ref;
+  for (const auto& f : frames) have.insert(f.filename().string());
+  for (const auto& f : reference) ref.insert(f.filename().string());
+  std::string missing, extra;
+  size_t n_missing = 0, n_extra = 0;
+  for (size_t k = 0; k < reference.size(); ++k) {
+    const std::string file = reference[k].filename().string();
+    if (have.count(file)) continue;
+    if (n_missing++ < kNamed)
+      missing += (missing.empty() ? "" : ", ") + file + " (frame " + std::to_string(k) + " of " + reference_name + ")";
+  }
+  for (const auto& f : frames)
+    if (!ref.count(f.filename().string()) && n_extra++ < kNamed) extra += (extra.empty() ? "" : ", ") + f.filename().string();
+  std::string out = "has " + std::to_string(frames.size()) + " frames but " + reference_name + " has " +
+                    std::to_string(reference.size());
+  if (n_missing > 0) out += ": missing " + missing + (n_missing > kNamed ? " and " + std::to_string(n_missing - kNamed) + " more" : "");
+  if (n_extra > 0)
+    out += (n_missing > 0 ? "; " : ": ") + std::string("not in ") + reference_name + ": " + extra +
+           (n_extra > kNamed ? " and " + std::to_string(n_extra - kNamed) + " more" : "");
+  return out + "; every camera needs the same frame count";
 }
 
 }  // namespace s4d::data::detail

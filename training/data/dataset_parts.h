@@ -17,6 +17,11 @@ namespace s4d::data::detail {
 // (width, height) from a PNG's IHDR chunk, without decoding the image.
 std::pair<int, int> png_size(const std::filesystem::path& path);
 
+// "has 29 frames but cam00 has 30: missing 0017.png (frame 17 of cam00), ..." for two cameras'
+// sorted frame files (the caller's error names the camera's folder): the counts, then which file names one has and the other lacks (the first few).
+std::string frame_count_mismatch(const std::vector<std::filesystem::path>& frames,
+                                 const std::string& reference_name, const std::vector<std::filesystem::path>& reference);
+
 // Image size after the box filter: trailing rows and columns that do not fill a whole block are dropped.
 inline int downscaled(int size, int factor) { return size / factor; }
 

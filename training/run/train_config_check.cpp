@@ -105,6 +105,7 @@ void validate(const TrainConfig& c, const std::string& source) {
   check.fraction("min_opacity", c.min_opacity);
   check.positive("max_screen_radius", c.max_screen_radius);
   check.at_least("budget", c.budget, 1);
+  check.require(c.seed_views <= 64, "seed_views", c.seed_views, "must be at most 64 (views rendered at each densification)");
   // The 4DGS stage and its field (the kernels' limits, s4d_deform.h).
   check.at_least("fine_batch", c.fine_batch, 1);
   for (uint32_t r : c.field_resolution)

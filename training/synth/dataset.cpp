@@ -10,6 +10,7 @@
 #include "s4d/data/npy.h"
 #include "s4d/data/video_writer.h"
 #include "s4d/io/image_io.h"
+#include "s4d/synth/bodies.h"
 #include "s4d/synth/camera_rig.h"
 #include "s4d/synth/dnerf_layout.h"
 #include "s4d/synth/point_cloud.h"
@@ -56,6 +57,17 @@ void finish(const fs::path& partial, const fs::path& out) {
   fs::rename(partial, out);
 }
 
+// Cameras in turn at 1, 1.4 and 0.75 times the rig's distance, with 1, 1.2 and 0.85 times its
+// focal length, so the objects cover different numbers of pixels from view to view; the test
+// camera (first) keeps the rig's.
+void vary_distances(std::vector<PinholeCamera>& cameras, Vec3 centre) {
+  constexpr double kDistance[3] = {1.0, 1.4, 0.75}, kFocal[3] = {1.0, 1.2, 0.85};
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    cameras[k].position = centre + (cameras[k].position - centre) * kDistance[k % 3];
+    cameras[k].focal *= kFocal[k % 3];
+  }
+}
+
 }  // namespace
 
 void check_options(const SynthOptions& o) {
@@ -65,6 +77,9 @@ void check_options(const SynthOptions& o) {
   check_range("--size height", o.height, kMinSide, kMaxSide);
   check_range("samples per axis", o.samples_per_axis, 1, 16);
   check_range("point count", o.points, 1, 10'000'000);
+  if (o.rgba && !o.dnerf) throw std::invalid_argument("--rgba needs --dnerf (the DyNeRF layout's frames are RGB)");
+  check_range("--random-init", o.random_init, 0, 10'000'000);
+  if (!o.motion.empty()) motion_bodies(o.motion);  // names the choices when unknown
   if (o.video && o.dnerf) throw std::invalid_argument("--video writes the DyNeRF layout; the D-NeRF layout has image files only");
   if (o.dnerf && o.cams < 3) throw std::invalid_argument("the D-NeRF layout needs --cams >= 3 (one test camera, two or more training cameras)");
   if (o.video && (o.width % 2 != 0 || o.height % 2 != 0))
@@ -104,7 +119,11 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
 
   Scene scene;
   ArcRig rig;
-  if (options.object) {
+  if (!options.motion.empty()) {
+    scene.builtin_objects = false;
+    scene.bodies = motion_bodies(options.motion);
+  }
+  if (options.object || !options.motion.empty()) {
     scene.room = false;
     scene.sky = {0, 0, 0};
     rig.span_deg = 360.0 * (options.cams - 1) / options.cams;
@@ -114,10 +133,13 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   // others follow from left to right, so the test view is interpolated, not extrapolated.
   std::vector<PinholeCamera> cameras = arc_cameras(rig, scene.centre, options.cams, options.width, options.height);
   std::rotate(cameras.begin(), cameras.begin() + options.cams / 2, cameras.begin() + options.cams / 2 + 1);
+  if (options.mixed_distances) vary_distances(cameras, scene.centre);
   const RenderSettings settings{options.samples_per_axis, options.seed, 0};
 
-  const std::vector<ColouredPoint> points = sample_points(scene, cameras, options.points, options.seed);
-  util::write_file_atomic(partial / "points3D.ply", points_to_ply(points));
+  const std::vector<ColouredPoint> points = options.random_init > 0
+                                                ? random_points(options.random_init, options.seed)
+                                                : sample_points(scene, cameras, options.points, options.seed);
+  util::write_file_atomic(partial / (options.random_init > 0 ? "fused.ply" : "points3D.ply"), points_to_ply(points));
   if (options.dnerf) {
     write_dnerf_views(partial, scene, cameras, options, settings, progress);
     util::write_file_atomic(partial / "scene.json", scene_json(scene, rig, options, cameras, {}, points.size()));

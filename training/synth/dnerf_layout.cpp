@@ -1,5 +1,6 @@
 #include "s4d/synth/dnerf_layout.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -28,6 +29,20 @@ nlohmann::json transform_matrix(const PinholeCamera& c) {
           {0.0, 0.0, 0.0, 1.0}};
 }
 
+// RGBA with straight (not premultiplied) colour, as PNG stores it: the render is colour over the sky
+// weighted by coverage, so the sky's share comes out again.
+io::ImageF straight_rgba(const RenderedView& view, Vec3 sky) {
+  io::ImageF out{view.width, view.height, 4, std::vector<float>(view.alpha.size() * 4)};
+  const double sky_rgb[3] = {sky.x, sky.y, sky.z};
+  for (size_t i = 0; i < view.alpha.size(); ++i) {
+    const float a = view.alpha[i];
+    for (size_t c = 0; c < 3; ++c)
+      out.data[i * 4 + c] = a > 0 ? static_cast<float>((view.rgb[i * 3 + c] - sky_rgb[c] * (1 - a)) / a) : 0.0f;
+    out.data[i * 4 + 3] = a;
+  }
+  return out;
+}
+
 }  // namespace
 
 int monocular_camera(int frame, int cams) {
@@ -42,20 +57,23 @@ void write_dnerf_views(const fs::path& dir, const Scene& scene, const std::vecto
                        const SynthOptions& options, const RenderSettings& settings, const ProgressFn& progress) {
   const uint64_t total = 2 * static_cast<uint64_t>(options.frames);
   uint64_t done = 0;
-  const double angle_x = 2 * std::atan(0.5 * cameras[0].width / cameras[0].focal);
+  auto angle_x = [](const PinholeCamera& c) { return 2 * std::atan(0.5 * c.width / c.focal); };
+  const bool one_focal = std::all_of(cameras.begin(), cameras.end(), [&](const PinholeCamera& c) { return c.focal == cameras[0].focal; });
   for (const std::string split : {"train", "test"}) {
     fs::create_directories(dir / split);
     nlohmann::json frames = nlohmann::json::array();
     for (int f = 0; f < options.frames; ++f) {
       const double t = static_cast<double>(f) / (options.frames - 1);
       const PinholeCamera& cam = cameras[static_cast<size_t>(split == "train" ? monocular_camera(f, options.cams) : 0)];
-      RenderedView view = render_view(scene, cam, t, settings);
-      io::write_png(dir / split / (view_name(f) + ".png"), io::ImageF{view.width, view.height, 3, std::move(view.rgb)});
-      frames.push_back({{"file_path", "./" + split + "/" + view_name(f)}, {"time", t}, {"transform_matrix", transform_matrix(cam)}});
+      const RenderedView view = render_view(scene, cam, t, settings);
+      io::write_png(dir / split / (view_name(f) + ".png"), options.rgba ? straight_rgba(view, scene.sky) : io::ImageF{view.width, view.height, 3, view.rgb});
+      nlohmann::json frame = {{"file_path", "./" + split + "/" + view_name(f)}, {"time", t}, {"transform_matrix", transform_matrix(cam)}};
+      if (!one_focal) frame["camera_angle_x"] = angle_x(cam);  // NeRF transforms allow it per frame
+      frames.push_back(std::move(frame));
       if (progress) progress(++done, total);
     }
     util::write_file_atomic(dir / ("transforms_" + split + ".json"),
-                            nlohmann::json{{"camera_angle_x", angle_x}, {"frames", frames}}.dump(2) + "\n");
+                            nlohmann::json{{"camera_angle_x", angle_x(cameras[0])}, {"frames", frames}}.dump(2) + "\n");
   }
 }
 

@@ -13,8 +13,20 @@ uint8_t to_byte(double v) { return static_cast<uint8_t>(std::lround(std::clamp(v
 
 // Distinguishes this stream from the pixel jitter that uses the same seed.
 constexpr uint64_t kPointStream = 0x90196c10d5ull;
+constexpr uint64_t kRandomInitStream = 0x5eed0c10d0ull;
 
 }  // namespace
+
+std::vector<ColouredPoint> random_points(int count, uint64_t seed) {
+  std::vector<ColouredPoint> points(static_cast<size_t>(std::max(count, 0)));
+  for (size_t i = 0; i < points.size(); ++i) {
+    double u[6];
+    for (uint64_t a = 0; a < 6; ++a) u[a] = unit_double(hash_key(seed ^ kRandomInitStream, i, a));
+    points[i] = {static_cast<float>(u[0] * 2.6 - 1.3), static_cast<float>(u[1] * 2.6 - 1.3),
+                 static_cast<float>(u[2] * 2.6 - 1.3), to_byte(u[3]), to_byte(u[4]), to_byte(u[5])};
+  }
+  return points;
+}
 
 std::vector<ColouredPoint> sample_points(const Scene& scene, const std::vector<PinholeCamera>& cameras, int count,
                                          uint64_t seed) {

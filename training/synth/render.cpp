@@ -17,12 +17,13 @@ struct RowResult {
 };
 
 void render_row(const Scene& scene, const PinholeCamera& cam, double t, const RenderSettings& st, int y, float* out,
-                RowResult& range) {
+                float* alpha, RowResult& range) {
   const int n = st.samples_per_axis;
   const double inv = 1.0 / (n * n);
   for (int x = 0; x < cam.width; ++x) {
     const uint64_t pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(cam.width) + static_cast<uint64_t>(x);
     Vec3 sum;
+    int hits = 0;
     for (int k = 0; k < n * n; ++k) {
       const uint64_t h = hash_key(st.seed, pixel, static_cast<uint64_t>(k));
       const double jx = unit_double(h), jy = unit_double(mix64(h));
@@ -30,6 +31,7 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
       const Ray ray = cam.ray(px, py);
       if (const auto hit = trace(scene, ray, t)) {
         sum = sum + shade(scene, *hit);
+        ++hits;
         const double depth = cam.view_depth(hit->point);
         range.min_depth = std::min(range.min_depth, depth);
         range.max_depth = std::max(range.max_depth, depth);
@@ -40,6 +42,7 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
     out[3 * x + 0] = static_cast<float>(sum.x * inv);
     out[3 * x + 1] = static_cast<float>(sum.y * inv);
     out[3 * x + 2] = static_cast<float>(sum.z * inv);
+    alpha[x] = static_cast<float>(hits * inv);
   }
 }
 
@@ -53,6 +56,7 @@ RenderedView render_view(const Scene& scene, const PinholeCamera& camera, double
   view.width = camera.width;
   view.height = camera.height;
   view.rgb.resize(static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height) * 3);
+  view.alpha.resize(static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height));
   const unsigned hw = settings.threads > 0 ? static_cast<unsigned>(settings.threads)
                                            : std::max(1u, std::thread::hardware_concurrency());
   const unsigned count = std::min(hw, static_cast<unsigned>(camera.height));
@@ -62,7 +66,7 @@ RenderedView render_view(const Scene& scene, const PinholeCamera& camera, double
   auto work = [&](unsigned w) {
     for (int y = next_row++; y < camera.height; y = next_row++)
       render_row(scene, camera, t, settings, y, view.rgb.data() + static_cast<size_t>(y) * static_cast<size_t>(camera.width) * 3,
-                 ranges[w]);
+                 view.alpha.data() + static_cast<size_t>(y) * static_cast<size_t>(camera.width), ranges[w]);
   };
   std::vector<std::thread> pool;
   for (unsigned w = 1; w < count; ++w) pool.emplace_back(work, w);

@@ -72,6 +72,14 @@ void consider_sheet(const Scene& sc, const Ray& ray, double t, double s_min, dou
   }
 }
 
+void consider_bodies(const Scene& sc, const Ray& ray, double t, double s_min, double& s_max, std::optional<Hit>& best) {
+  for (const Body& b : sc.bodies)
+    if (auto h = intersect_body(b, ray, t, s_min, s_max)) {
+      s_max = h->s;
+      best = Hit{h->s, Surface::body, ray.at(h->s), h->normal, h->albedo};
+    }
+}
+
 }  // namespace
 
 Vec3 Scene::box_centre(double t) const {
@@ -82,9 +90,12 @@ Vec3 Scene::box_centre(double t) const {
 std::optional<Hit> trace(const Scene& scene, const Ray& ray, double t, double s_min, double s_max) {
   std::optional<Hit> best;
   consider_background(scene, ray, s_min, s_max, best);
-  consider_sphere(scene, ray, t, s_min, s_max, best);
-  consider_box(scene, ray, t, s_min, s_max, best);
-  consider_sheet(scene, ray, t, s_min, s_max, best);
+  if (scene.builtin_objects) {
+    consider_sphere(scene, ray, t, s_min, s_max, best);
+    consider_box(scene, ray, t, s_min, s_max, best);
+    consider_sheet(scene, ray, t, s_min, s_max, best);
+  }
+  consider_bodies(scene, ray, t, s_min, s_max, best);
   // Two-sided surfaces: shade the side the ray sees.
   if (best && dot(best->normal, ray.dir) > 0) best->normal = -best->normal;
   return best;

@@ -65,6 +65,11 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
       {"intrinsics", {{"width", first.width}, {"height", first.height}, {"focal", first.focal},
                       {"cx", 0.5 * first.width}, {"cy", 0.5 * first.height}, {"fov_x_deg", rig.fov_x_deg}}},
       {"objects_only", !scene.room},
+      {"motion", options.motion.empty() ? "built-in sphere, box and sheet" : options.motion},
+      {"frames_rgba", options.rgba},
+      {"camera_distances", options.mixed_distances ? "1, 1.4, 0.75 x the rig's, focal 1, 1.2, 0.85 x, in turn" : "one"},
+      {"init_cloud", options.random_init > 0 ? "fused.ply: uniform random points in [-1.3, 1.3]^3, random colours"
+                                             : "points3D.ply: surface points the cameras see at t = 0"},
       {"rig", {{"kind", options.object ? "full ring facing the scene centre" : "horizontal arc facing the scene centre"}, {"radius", rig.radius},
                {"height", rig.height}, {"span_deg", rig.span_deg}}},
       {"convention",

@@ -1,6 +1,9 @@
 #include "s4d/train/evaluate.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <map>
+#include <utility>
 
 #include "s4d/io/image_io.h"
 #include "s4d/io/psnr.h"
@@ -15,6 +18,20 @@ std::vector<const data::View*> spread_views(const std::vector<const data::View*>
   return out;
 }
 
+namespace {
+
+// Views share a camera when their poses and intrinsics are equal to 1e-6 (a fixed test camera
+// over time).
+std::string camera_key(const io::CameraView& c) {
+  std::string key;
+  char buf[32];
+  for (double v : c.world_to_cam) std::snprintf(buf, sizeof buf, "%.6f,", v), key += buf;
+  for (double v : {c.fx, c.fy, c.cx, c.cy}) std::snprintf(buf, sizeof buf, "%.6f,", v), key += buf;
+  return key + std::to_string(c.width) + "x" + std::to_string(c.height);
+}
+
+}  // namespace
+
 Evaluator::Evaluator(engine::Context& ctx) : ctx_(&ctx), loss_(ctx, "evaluation ssim") {}
 
 Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_at,
@@ -22,6 +39,9 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_a
                                const std::array<float, 3>& background, const std::filesystem::path& save_dir) {
   Evaluation out;
   if (!save_dir.empty()) std::filesystem::create_directories(save_dir);
+  // Renders and ground truths by camera (the same pose and intrinsics), in time order, for the
+  // moving-content score.
+  std::map<std::string, std::vector<std::pair<io::ImageF, io::ImageF>>> by_camera;
   for (const data::View* view : views) {
     const io::ImageF& target = frames.get(*view);
     const splat::Camera cam = splat::to_splat_camera(view->camera);
@@ -40,6 +60,9 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_a
     loss_.record(rec, image_, target_, cam.width, cam.height, 3, 1.0f, grad_);
     ctx_->run(std::move(rec));
     ViewScore score{view->name, view->time, io::psnr(image, target), loss_.value().ssim};
+    io::ImageF empty{image.width, image.height, 3, std::vector<float>(image.data.size())};
+    for (size_t i = 0; i < empty.data.size(); ++i) empty.data[i] = background[i % 3];
+    out.background_psnr += io::psnr(empty, target);
     out.psnr += score.psnr;
     out.ssim += score.ssim;
     if (!save_dir.empty()) {
@@ -48,8 +71,17 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_a
       io::write_png(save_dir / (file + ".png"), image);
     }
     out.views.push_back(std::move(score));
+    by_camera[camera_key(view->camera)].emplace_back(std::move(image), target);
   }
-  if (!views.empty()) out.psnr /= double(views.size()), out.ssim /= double(views.size());
+  io::MovingPsnr moving;
+  for (const auto& [key, pairs] : by_camera) {
+    std::vector<const io::ImageF*> renders, truths;
+    for (const auto& [render, truth] : pairs) renders.push_back(&render), truths.push_back(&truth);
+    moving.add(renders, truths);
+  }
+  out.moving = moving.score();
+  if (!views.empty())
+    out.psnr /= double(views.size()), out.ssim /= double(views.size()), out.background_psnr /= double(views.size());
   return out;
 }
 

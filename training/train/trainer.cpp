@@ -292,6 +292,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
     if (steps.last()) {
       if (!runner.checkpoint(steps)) throw std::runtime_error("the final state is not finite");
       TrainResult r = m.result(true, steps.seconds(), std::move(steps.test));
+      r.degenerate = m.degenerate_cause(r);
       m.write_result(r);
       return r;
     }

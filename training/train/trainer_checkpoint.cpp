@@ -40,7 +40,8 @@ nlohmann::json Trainer::Impl::meta(double seconds) const {
   return {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", recovery.lr_scale},   {"seconds", seconds},
           {"rollbacks", recovery.rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
-          {"deform_evaluations_unmasked", deform_evaluations_unmasked}};
+          {"deform_evaluations_unmasked", deform_evaluations_unmasked}, {"densify_log", densify_log},
+          {"prune_floor", prune_floor}, {"prune_floor_why", prune_floor_why}};
 }
 
 run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
@@ -76,6 +77,10 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   static_scores = cp.meta.at("static_test");
   deform_evaluations = cp.meta.at("deform_evaluations").get<double>();
   deform_evaluations_unmasked = cp.meta.at("deform_evaluations_unmasked").get<double>();
+  // Checkpoints written before the log and the floor existed have neither: the floor is measured again.
+  densify_log = cp.meta.value("densify_log", nlohmann::json::array());
+  prune_floor = cp.meta.value("prune_floor", 0u);
+  prune_floor_why = cp.meta.value("prune_floor_why", nlohmann::json());
   still_count = 0;
   if (!field) {
     aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();

@@ -41,9 +41,13 @@ splat::GaussianParams Trainer::Impl::deform_to(double time) {
   return p;
 }
 
-const data::View& Trainer::Impl::next_fine_view(bool front) {
+double Trainer::Impl::fine_window() const {
   const double ramp = config.fine_time_ramp * config.fine_iterations;
-  const double window = ramp > 0 ? std::min(1.0, double(iteration) / ramp) : 1.0;
+  return ramp > 0 ? std::min(1.0, double(iteration) / ramp) : 1.0;
+}
+
+const data::View& Trainer::Impl::next_fine_view(bool front) {
+  const double window = fine_window();
   const double from = front && window < 1.0 ? window - config.fine_time_front : -1.0;
   // A band holding no view (times sparser than the band) falls back to the whole window.
   for (size_t draws = 0;; ++draws) {

@@ -81,6 +81,11 @@ struct Trainer::Impl {
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
   run::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
+  // Every densification's counts, and every seeding's (train.json "densify_log"; kept in checkpoints).
+  nlohmann::json densify_log = nlohmann::json::array();
+  // The fewest Gaussians pruning may leave (visible_content.h); 0 until measured at the first densification.
+  uint32_t prune_floor = 0;
+  nlohmann::json prune_floor_why;
   // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
   // the newest without rotating it over the good previous one.
   bool newest_damaged = false;
@@ -147,6 +152,8 @@ struct Trainer::Impl {
   // fine_time_front of time. Views outside are skipped in the sampler's order, so the choice stays
   // deterministic and resumable.
   const data::View& next_fine_view(bool front);
+  // The end of the fine stage's open time window (1 once the ramp is over).
+  double fine_window() const;
   // Stage 2: a batch of views, each deformed to its time; gradients summed over the batch.
   optim::LossValue fine_step();
 
@@ -160,6 +167,17 @@ struct Trainer::Impl {
   void update_mask();
   bool mask_due() const;
   void densify_if_due();
+  // The prune rules of one densification, with min_opacity lowered so that at least prune_floor
+  // Gaussians survive it; says so in one line when it does.
+  densify::DensifyRules prune_rules_with_floor(densify::DensifyRules rules, const std::string& when);
+  void log_densify(const std::string& when, const densify::DensifyResult& r, uint32_t below_opacity, float min_opacity);
+  // Renders config.seed_views training views and seeds Gaussians where they miss content
+  // (trainer_seed.cpp); logs the count in densify_log.
+  void seed_missing_content(const std::string& when);
+  // The training views seeding looks at: the static stage's; in the fine stage the newest
+  // fine_time_front of the open window while it opens (what was just opened is what the model
+  // misses), else every open view.
+  std::vector<const data::View*> seed_pool() const;
 
   // ---- Tests, the stage change and train.json (trainer_report.cpp).
   Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {});
@@ -167,6 +185,8 @@ struct Trainer::Impl {
   // training_setup again: fresh Adam moments, statistics and schedules).
   void begin_fine_stage(const Evaluation& static_test);
   void write_result(const TrainResult& r) const;
+  // TrainResult::degenerate's text for a finished run ("" when the model is sound).
+  std::string degenerate_cause(const TrainResult& r) const;
 };
 
 }  // namespace s4d::train

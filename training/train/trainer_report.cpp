@@ -9,6 +9,12 @@ namespace s4d::train {
 
 namespace {
 
+}  // namespace
+
+nlohmann::json moving_json(const Evaluation& e);
+
+namespace {
+
 nlohmann::json scores_json(const Evaluation& e) {
   nlohmann::json views = nlohmann::json::array();
   for (const ViewScore& s : e.views) views.push_back({{"name", s.name}, {"time", s.time}, {"psnr", s.psnr}, {"ssim", s.ssim}});
@@ -33,7 +39,8 @@ Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, 
 }
 
 void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
-  static_scores = {{"test_psnr", static_test.psnr}, {"test_ssim", static_test.ssim}, {"test_views", scores_json(static_test)}};
+  static_scores = {{"test_psnr", static_test.psnr}, {"test_ssim", static_test.ssim}, {"moving", moving_json(static_test)},
+                   {"test_views", scores_json(static_test)}};
   stage = run::Stage::fine;
   iteration = 0;
   sampler = stage_sampler();
@@ -46,12 +53,41 @@ void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {
   ctx.run(std::move(rec));
 }
 
+nlohmann::json moving_json(const Evaluation& e) {
+  if (!e.moving.psnr) return {{"psnr", nullptr}, {"why", e.moving.why}};
+  return {{"psnr", *e.moving.psnr}, {"moving_share", e.moving.moving_share}};
+}
+
+std::string Trainer::Impl::degenerate_cause(const TrainResult& r) const {
+  std::string cause;
+  if (r.num_gaussians < kDegenerateGaussians)
+    cause = std::to_string(r.num_gaussians) + " Gaussians left";
+  else if (!r.test.views.empty() && r.test.psnr < r.test.background_psnr + kDegenerateMarginDb)
+    cause = "the test renders (" + std::to_string(r.test.psnr) + " dB) are no better than the background alone (" +
+            std::to_string(r.test.background_psnr) + " dB)";
+  if (cause.empty()) return cause;
+  // The step that lost most of the model.
+  const nlohmann::json* worst = nullptr;
+  double worst_share = 0;
+  for (const nlohmann::json& e : densify_log) {
+    const double before = e.value("before", 0.0), after = e.value("after", 0.0);
+    if (before > 0 && (before - after) / before > worst_share) worst_share = (before - after) / before, worst = &e;
+  }
+  if (worst && worst_share > 0.5)
+    cause += "; the model fell from " + std::to_string((*worst)["before"].get<uint64_t>()) + " to " +
+             std::to_string((*worst)["after"].get<uint64_t>()) + " Gaussians at the densification of " +
+             (*worst)["stage"].get<std::string>() + " iteration " + std::to_string((*worst)["iteration"].get<uint64_t>());
+  return cause;
+}
+
 void Trainer::Impl::write_result(const TrainResult& r) const {
   nlohmann::json j = {{"stage", run::stage_name(r.stage)},
                       {"complete", r.complete},
                       {"iteration", r.iteration},
                       {"test_psnr", r.test.psnr},
                       {"test_ssim", r.test.ssim},
+                      {"moving", moving_json(r.test)},
+                      {"background_psnr", r.test.background_psnr},
                       {"seconds", r.seconds},
                       {"num_gaussians", r.num_gaussians},
                       {"rollbacks", r.rollbacks},
@@ -60,11 +96,14 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"deform_evaluations", deform_evaluations},
                       {"deform_evaluations_unmasked", deform_evaluations_unmasked},
                       {"moving_gaussians", gaussians->size() - still_count},
+                      {"densify_log", densify_log},
+                      {"prune_floor", prune_floor_why},
                       {"device", ctx.info().name},
                       {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
                       {"data", fs::absolute(dataset.root).string()},
                       {"dataset", facts},
                       {"settings", run::to_json(config)}};
+  if (!r.degenerate.empty()) j["degenerate"] = r.degenerate;
   // This session's step times; a session that trained no step (resuming a finished run) keeps the last.
   if (stage_timer && timed_steps > 0) {
     j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);

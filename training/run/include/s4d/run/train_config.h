@@ -49,6 +49,10 @@ struct TrainConfig {
   float grad_threshold = 0.0002f, percent_dense = 0.01f, min_opacity = 0.005f;
   float max_screen_radius = 20.0f;  // pixels; applies after the first opacity reset
   uint32_t budget = 1000000;        // at most this many Gaussians
+  // Growth into missed content (train/missing_content.h): at every densification, this many
+  // training views are rendered and Gaussians are seeded where the render misses the ground truth.
+  // 0: off (runs from before it existed); the presets set 4.
+  uint32_t seed_views = 0;
   // Stage 2, the 4DGS fine stage (ALGORITHMS.md 3; DyNeRF settings). 0 iterations: static only.
   // Its iteration counter, learning-rate schedules and densification window restart at 1; every
   // log-linear schedule spans its stage (4DGaussians spans 20000 steps in both stages).

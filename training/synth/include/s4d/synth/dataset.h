@@ -27,6 +27,13 @@ struct SynthOptions {
   // The moving objects alone on black, cameras on a full ring above them looking down: an object
   // capture like D-NeRF's (with `dnerf`) rather than a room seen from one side.
   bool object = false;
+  // Object fixtures (implies `object`): bodies_h's named motion instead of the built-in objects.
+  std::string motion;
+  bool rgba = false;             // D-NeRF frames as RGBA with a transparent sky, as D-NeRF's are
+  bool mixed_distances = false;  // cameras at three distances and three focal lengths in turn
+  // > 0: fused.ply holds this many random points in [-1.3, 1.3]^3 with random colours (4DGaussians'
+  // synthetic recipe) instead of points3D.ply's surface samples.
+  int random_init = 0;
 };
 
 // Throws std::invalid_argument naming the bad value.

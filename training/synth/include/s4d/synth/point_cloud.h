@@ -21,6 +21,10 @@ struct ColouredPoint {
 std::vector<ColouredPoint> sample_points(const Scene& scene, const std::vector<PinholeCamera>& cameras, int count,
                                          uint64_t seed);
 
+// `count` points uniform in [-1.3, 1.3]^3 with uniform random colours (seeded): 4DGaussians'
+// initialisation of its synthetic D-NeRF scenes, which knows nothing of the surfaces.
+std::vector<ColouredPoint> random_points(int count, uint64_t seed);
+
 // ASCII PLY: element vertex with float x, y, z and uchar red, green, blue.
 std::string points_to_ply(const std::vector<ColouredPoint>& points);
 

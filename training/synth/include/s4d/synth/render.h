@@ -19,6 +19,7 @@ struct RenderSettings {
 struct RenderedView {
   int width = 0, height = 0;
   std::vector<float> rgb;  // [H, W, 3] in [0, 1]
+  std::vector<float> alpha;  // [H, W]: the share of the pixel's samples that hit a surface
   // Range of view depth over every sample that hit a surface; min > max when none did.
   double min_depth = 0, max_depth = 0;
 };

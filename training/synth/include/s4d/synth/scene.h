@@ -5,12 +5,15 @@
 #include <numbers>
 #include <optional>
 
+#include <vector>
+
+#include "s4d/synth/bodies.h"
 #include "s4d/synth/vec3.h"
 #include "s4d/synth/wave_sheet.h"
 
 namespace s4d::synth {
 
-enum class Surface { wall, floor, sphere, box, sheet };
+enum class Surface { wall, floor, sphere, box, sheet, body };
 
 struct Scene {
   // Static background: wall plane z = wall_z over |x| <= half_width, floor_y <= y <= wall_top;
@@ -31,6 +34,9 @@ struct Scene {
   // false: the moving objects alone, on `sky`: a D-NeRF-like object capture (synth --object).
   bool room = true;
   Vec3 sky{0.55, 0.70, 0.90};  // what rays that hit nothing see
+  // false: the sphere, box and sheet are left out, so only `bodies` move (synth --motion).
+  bool builtin_objects = true;
+  std::vector<Body> bodies;
 
   Vec3 light_dir = normalize(Vec3{0.35, 0.9, 0.55});  // towards the light
   double ambient = 0.3;

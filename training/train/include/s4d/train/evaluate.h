@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "s4d/io/moving_content.h"
+
 #include "s4d/data/dataset.h"
 #include "s4d/data/frame_cache.h"
 #include "s4d/engine/buffer.h"
@@ -23,6 +25,9 @@ struct ViewScore {
 struct Evaluation {
   double psnr = 0, ssim = 0;  // means over the views
   std::vector<ViewScore> views;
+  // Over the pixels that move, per camera seen at three or more times (io/moving_content.h).
+  io::MovingScore moving;
+  double background_psnr = 0;  // mean PSNR of an empty render (the background alone) against the same views
 };
 
 // The periodic tests during a stage use this many test views; the closing test uses all.

@@ -32,7 +32,15 @@ struct TrainResult {
   double seconds = 0;  // training time over all sessions of the run
   uint32_t rollbacks = 0;
   Evaluation test;  // the last evaluation (all test views when complete); train.json also keeps the static stage's
+  // Non-empty when the finished model is degenerate: (nearly) no Gaussians, or test renders no
+  // better than the background alone. Names the cause and the step where the model collapsed.
+  std::string degenerate;
 };
+
+// Fewer Gaussians than this at the end is no model.
+inline constexpr uint32_t kDegenerateGaussians = 16;
+// Test renders within this of an empty render's PSNR show nothing of the scene.
+inline constexpr double kDegenerateMarginDb = 1.0;
 
 class Trainer {
  public:
