@@ -109,8 +109,10 @@ TEST_CASE("settings round-trip through JSON and --iters rescales the schedules")
   c.background = {1, 0.5f, 0};
   CHECK(run::to_json(run::config_from_json(run::to_json(c))) == run::to_json(c));
   run::TrainConfig d = run::preset_config("default");
-  run::set_iterations(d, 3000);
-  CHECK(d.iterations == 3000);
+  CHECK(d.iterations == 3000);  // 4DGaussians' coarse stage, then its DyNeRF fine steps
+  CHECK(d.fine_iterations == 14000);
+  run::set_iterations(d, 300);
+  CHECK(d.iterations == 300);
   CHECK(d.densify_until == 1500);
   CHECK(d.densify_from == 50);
   CHECK(d.densify_every == 100);  // the interval is a rate, kept

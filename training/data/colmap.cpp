@@ -95,9 +95,7 @@ std::vector<RigCamera> rig_cameras(const fs::path& root, const fs::path& images_
   }
   for (const RigCamera& c : cameras) {
     if (c.frames.size() != cameras[0].frames.size()) {
-      fail(c.frames[0].parent_path(), "has " + std::to_string(c.frames.size()) + " frames but " + cameras[0].name +
-                                          " has " + std::to_string(cameras[0].frames.size()) +
-                                          "; every camera needs the same frame count");
+      fail(c.frames[0].parent_path(), detail::frame_count_mismatch(c.frames, cameras[0].name, cameras[0].frames));
     }
   }
   return cameras;

@@ -90,6 +90,9 @@ std::vector<CameraSource> find_cameras(const fs::path& root) {
   if (cameras.empty()) fail(root, "no cameras (camNN/ frame folders or camNN.mp4 videos) next to poses_bounds.npy");
   for (const CameraSource& c : cameras) {
     if (c.frame_count != cameras[0].frame_count) {
+      // Frame folders name the files one has and the other lacks; a video has only its count.
+      if (c.video.empty() && cameras[0].video.empty())
+        fail(root / c.name, detail::frame_count_mismatch(c.frames, cameras[0].name, cameras[0].frames));
       fail(c.video.empty() ? root / c.name : c.video,
            "has " + std::to_string(c.frame_count) + " frames but " + cameras[0].name + " has " +
                std::to_string(cameras[0].frame_count) + "; every camera needs the same frame count");

@@ -76,7 +76,8 @@ const std::vector<std::string>& motion_names() {
 std::vector<Body> motion_bodies(const std::string& name) {
   std::vector<Body> out;
   if (name == "bounce") {
-    // Three spheres of radius 0.2 meet near the centre at t = 0.5 and fly apart, each also bouncing
+    // Three spheres of radius 0.2 touch near the centre at t = 0.5 (centres 1.2 r from it, 2.08 r
+    // apart) and fly apart, each also bouncing
     // once off an invisible floor: about two radii of travel per frame at 24 frames.
     const double r = 0.2;
     const Vec3 colours[3] = {{0.9, 0.15, 0.1}, {0.1, 0.75, 0.2}, {0.15, 0.3, 0.95}};
@@ -87,7 +88,7 @@ std::vector<Body> motion_bodies(const std::string& name) {
       Body b;
       b.albedo = colours[i];
       b.keys = {key(0.0, dir * 1.1 + Vec3{0, 0.5, 0}, uniform(r)), key(0.25, dir * 0.6 + Vec3{0, -0.3, 0}, uniform(r)),
-                key(0.5, dir * (r * 1.05), uniform(r)), key(0.75, out_dir * 0.6 + Vec3{0, 0.4, 0}, uniform(r)),
+                key(0.5, dir * (r * 1.2), uniform(r)), key(0.75, out_dir * 0.6 + Vec3{0, 0.4, 0}, uniform(r)),
                 key(1.0, out_dir * 1.1 + Vec3{0, -0.3, 0}, uniform(r))};
       out.push_back(b);
     }

@@ -36,21 +36,33 @@ std::array<double, 3> project(const io::CameraView& c, const V3& p) {
   return {c.fx * q[0] / q[2] + c.cx, c.fy * q[1] / q[2] + c.cy, q[2]};
 }
 
-// Mean colour of the 3x3 pixels around image point (x, y); false outside the image.
-bool patch_mean(const io::ImageF& im, double x, double y, float out[3]) {
-  const int cx = static_cast<int>(std::floor(x)), cy = static_cast<int>(std::floor(y));
-  if (cx < 0 || cy < 0 || cx >= im.width || cy >= im.height) return false;
+// Bilinear colour at image point (x, y) (pixel centres at +0.5), clamped at the borders.
+void bilinear(const io::ImageF& im, double x, double y, float out[3]) {
+  const double fx = x - 0.5, fy = y - 0.5;
+  const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+  const double ax = fx - x0, ay = fy - y0;
   const size_t ch = size_t(im.channels);
-  float sum[3] = {0, 0, 0};
-  int n = 0;
+  for (int k = 0; k < 3; ++k) out[k] = 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int px = std::clamp(x0 + i, 0, im.width - 1), py = std::clamp(y0 + j, 0, im.height - 1);
+      const double w = (i ? ax : 1 - ax) * (j ? ay : 1 - ay);
+      const size_t p = (size_t(py) * size_t(im.width) + size_t(px)) * ch;
+      for (size_t k = 0; k < 3; ++k) out[k] += static_cast<float>(w * im.data[p + std::min<size_t>(k, ch - 1)]);
+    }
+}
+
+// Mean colour of a 3x3 pixel neighbourhood around image point (x, y), sampled bilinearly so that
+// sub-pixel shifts along the ray change it smoothly; false outside the image.
+bool patch_mean(const io::ImageF& im, double x, double y, float out[3]) {
+  if (x < 0 || y < 0 || x >= im.width || y >= im.height) return false;
+  float sum[3] = {0, 0, 0}, c[3];
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
-      const int px = std::clamp(cx + dx, 0, im.width - 1), py = std::clamp(cy + dy, 0, im.height - 1);
-      const size_t i = (size_t(py) * size_t(im.width) + size_t(px)) * ch;
-      for (size_t k = 0; k < 3; ++k) sum[k] += im.data[i + std::min<size_t>(k, ch - 1)];
-      ++n;
+      bilinear(im, x + dx, y + dy, c);
+      for (int k = 0; k < 3; ++k) sum[k] += c[k];
     }
-  for (int k = 0; k < 3; ++k) out[k] = sum[k] / float(n);
+  for (int k = 0; k < 3; ++k) out[k] = sum[k] / 9;
   return true;
 }
 
@@ -121,7 +133,9 @@ std::optional<double> consistent_depth(const ViewImage& source, double x, double
       ++seen;
     }
     if (seen < need) continue;
-    cost /= double(seen);
+    // A view the point falls outside of gives no agreement: it counts as a mismatch at the
+    // threshold, so a depth all views agree on beats a lucky match in one.
+    cost = (cost + double(others.size() - seen) * s.error_threshold) / double(others.size());
     if (cost < best) best = cost, best_depth = depth;
   }
   if (!(best <= s.error_threshold)) return std::nullopt;

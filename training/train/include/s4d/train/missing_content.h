@@ -55,8 +55,9 @@ struct MissedPixel {
 std::vector<MissedPixel> missed_pixels(const io::ImageF& render, const io::ImageF& truth, const SeedSettings& s);
 
 // The depth along pixel (x, y)'s ray of `source` whose projections into `others` agree best with
-// the pixel's colour (3x3 means, mean absolute difference); nullopt when no depth inside the box
-// is seen by half the others or the best disagrees by more than s.error_threshold.
+// the pixel's colour (bilinear 3x3 means, mean absolute difference; a view the point falls outside
+// of counts as a difference of s.error_threshold); nullopt when no depth inside the box is seen by
+// half the others or the best disagrees by more than s.error_threshold.
 std::optional<double> consistent_depth(const ViewImage& source, double x, double y, const std::vector<ViewImage>& others,
                                        const std::array<float, 3>& box_lo, const std::array<float, 3>& box_hi,
                                        const SeedSettings& s);
