@@ -96,9 +96,13 @@ TEST_CASE("the plane sweep finds a textured square's depth from two other views,
   // Cells on the square's border mix sky into the colour and may find no agreement or a wrong
   // depth; the interior's must be right.
   CHECK(on_plane >= seeds.size() * 8 / 10);
-  // Where the model covers the pixel (alpha >= 0.5), its own depth is used.
-  std::vector<float> covered(size_t(size) * size, 1.0f), covered_depth(size_t(size) * size, 2.5f);
-  const auto at_render = train::find_missing_content({&a, src}, {&empty, &covered, &covered_depth}, {}, lo, hi, s);
+  // Where the model covers the pixel (alpha >= 0.5), its colour is wrong, not its geometry: no seed.
+  const std::vector<float> covered(size_t(size) * size, 1.0f), covered_depth(size_t(size) * size, 2.5f);
+  CHECK(train::find_missing_content({&a, src}, {&empty, &covered, &covered_depth}, others, lo, hi, s).empty());
+  // Under a faint cover (alpha 0.3 here) with no view to sweep against, the render's depth
+  // (sum of depth x weight / alpha) places the seed.
+  const std::vector<float> faint(size_t(size) * size, 0.3f), faint_depth(size_t(size) * size, 0.75f);
+  const auto at_render = train::find_missing_content({&a, src}, {&empty, &faint, &faint_depth}, {}, lo, hi, s);
   REQUIRE(!at_render.empty());
   for (const train::Seed& seed : at_render) {
     CHECK(seed.from_render_depth);

@@ -31,7 +31,7 @@ void write_gaussian_count_plot(const run::RunDir& run) {
   }
   if (count.values.empty()) return;
   io::write_png(run.root / "gaussian_count.png",
-                bench::line_plot("Gaussians over training (static stage, then fine)", "step", "Gaussians", {count}));
+                bench::line_plot("Gaussians over training", "loss.csv row (the static stage, then the fine stage)", "Gaussians", {count}));
 }
 
 }  // namespace s4d::cli

@@ -118,7 +118,8 @@ std::optional<double> consistent_depth(const ViewImage& source, double x, double
   float colour[3];
   if (!patch_mean(*source.image, x, y, colour)) return std::nullopt;
   const size_t need = (others.size() + 1) / 2;
-  double best = std::numeric_limits<double>::infinity(), best_depth = 0;
+  double best = std::numeric_limits<double>::infinity(), best_depth = 0, cost_sum = 0;
+  uint32_t costs = 0;
   const uint32_t n = std::max<uint32_t>(2, s.depth_samples);
   for (uint32_t k = 0; k < n; ++k) {
     const double depth = range->first + (range->second - range->first) * (k + 0.5) / n;
@@ -136,9 +137,12 @@ std::optional<double> consistent_depth(const ViewImage& source, double x, double
     // A view the point falls outside of gives no agreement: it counts as a mismatch at the
     // threshold, so a depth all views agree on beats a lucky match in one.
     cost = (cost + double(others.size() - seen) * s.error_threshold) / double(others.size());
+    cost_sum += cost, ++costs;
     if (cost < best) best = cost, best_depth = depth;
   }
-  if (!(best <= s.error_threshold)) return std::nullopt;
+  // A depth only where the ray has one: the best must agree within the threshold and stand out
+  // from the ray's mean (a flat cost, as over a textureless region, places nothing).
+  if (!(best <= s.error_threshold) || !(best <= s.distinct * cost_sum / costs)) return std::nullopt;
   return best_depth;
 }
 
@@ -151,11 +155,13 @@ std::vector<Seed> find_missing_content(const ViewImage& source, const RenderedVi
   for (const MissedPixel& m : missed_pixels(*render.rgb, truth, s)) {
     const size_t p = size_t(m.y) * size_t(truth.width) + size_t(m.x);
     const double px = m.x + 0.5, py = m.y + 0.5;
+    // Missed content is what the model does not cover; a wrong colour where it does is left to
+    // gradient-driven growth. A faint cover (a smudge) lends its depth when the sweep finds none.
     const float alpha = (*render.alpha)[p];
-    std::optional<double> depth;
-    const bool covered = alpha >= s.covered_alpha;
-    if (covered) depth = (*render.depth)[p] / alpha;
-    else depth = consistent_depth(source, px, py, others, box_lo, box_hi, s);
+    if (alpha >= s.covered_alpha) continue;
+    std::optional<double> depth = consistent_depth(source, px, py, others, box_lo, box_hi, s);
+    const bool from_render = !depth && alpha >= s.faint_alpha;
+    if (from_render) depth = (*render.depth)[p] / alpha;
     if (!depth || !(*depth > 0)) continue;
     const PixelRay ray = pixel_ray(source.camera, px, py);
     Seed seed;
@@ -165,7 +171,7 @@ std::vector<Seed> find_missing_content(const ViewImage& source, const RenderedVi
     }
     // Half the cell's footprint: neighbouring seeds overlap like a densified surface.
     seed.scale = static_cast<float>(0.5 * s.cell * *depth / source.camera.fx);
-    seed.x = m.x, seed.y = m.y, seed.error = m.error, seed.from_render_depth = covered;
+    seed.x = m.x, seed.y = m.y, seed.error = m.error, seed.from_render_depth = from_render;
     seeds.push_back(seed);
   }
   return seeds;

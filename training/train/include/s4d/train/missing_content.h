@@ -1,11 +1,12 @@
-// Growth that follows missing content: where a training view's render misses its ground truth,
-// new Gaussians are seeded on the pixel's ray. A monocular capture sees a moving object in another
+// Growth that follows missing content: where a training view's render misses its ground truth and
+// does not cover the pixel, new Gaussians are seeded on the pixel's ray. A monocular capture sees a moving object in another
 // place in every frame, so a fit fades it and gradient-driven growth, which only splits what is
 // already there, never brings it back; seeding puts Gaussians where the object is in that frame.
-// The depth on the ray is the render's own where the model covers the pixel (its colour is wrong,
-// not its geometry), else the depth whose projections into other views (the same time's other
-// cameras on a rig, the nearest times' on a monocular capture) agree best with the pixel's colour:
-// a plane sweep over the ray's segment inside the scene's box. CPU only: the trainer renders.
+// The depth on the ray is the one whose projections into other views (the same time's other
+// cameras on a rig, the nearest times' on a monocular capture) agree best with the pixel's colour,
+// a plane sweep over the ray's segment inside the scene's box, or where the sweep finds none the
+// render's own under a faint cover. A pixel the model covers has wrong colour, not missing
+// geometry, and is left to gradient-driven growth. CPU only: the trainer renders.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -25,7 +26,9 @@ struct SeedSettings {
   uint32_t cell = 4;             // at most one seed per cell x cell pixels (the worst)
   uint32_t max_seeds = 256;      // per view
   uint32_t depth_samples = 64;   // along the ray's segment inside the box
-  float covered_alpha = 0.5f;    // the render's alpha from which its depth is trusted
+  float covered_alpha = 0.5f;    // the render covers a pixel from this alpha on: nothing is missed there
+  float faint_alpha = 0.1f;      // from this alpha on, the render's depth stands in for a failed sweep
+  float distinct = 0.5f;         // the sweep's best cost must be at most this times the ray's mean
 };
 
 struct ViewImage {
@@ -57,13 +60,15 @@ std::vector<MissedPixel> missed_pixels(const io::ImageF& render, const io::Image
 // The depth along pixel (x, y)'s ray of `source` whose projections into `others` agree best with
 // the pixel's colour (bilinear 3x3 means, mean absolute difference; a view the point falls outside
 // of counts as a difference of s.error_threshold); nullopt when no depth inside the box is seen by
-// half the others or the best disagrees by more than s.error_threshold.
+// half the others, the best disagrees by more than s.error_threshold, or it is not below
+// s.distinct times the mean over the ray.
 std::optional<double> consistent_depth(const ViewImage& source, double x, double y, const std::vector<ViewImage>& others,
                                        const std::array<float, 3>& box_lo, const std::array<float, 3>& box_hi,
                                        const SeedSettings& s);
 
-// Seeds for one view: its missed pixels, each placed at the render's depth or by consistent_depth
-// (pixels placed by neither are skipped).
+// Seeds for one view: its missed pixels the render covers with alpha below covered_alpha, each
+// placed by consistent_depth or, failing that, at the render's depth under a cover of at least
+// faint_alpha (pixels placed by neither are skipped).
 std::vector<Seed> find_missing_content(const ViewImage& source, const RenderedView& render, const std::vector<ViewImage>& others,
                                        const std::array<float, 3>& box_lo, const std::array<float, 3>& box_hi,
                                        const SeedSettings& s);
