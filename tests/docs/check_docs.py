@@ -260,13 +260,15 @@ def self_test():
         git(d, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "fixture")
         return d
 
+    # Planted phrases are split across string literals ("iss" "ue") so this file passes its own checks.
+    issue, machine = "iss" "ue 21", "/wo" "rk/shared/data"
     clean = {
         "README.md": "# Product\n\nSee [the manual](docs/a.md#time-and-memory), [code](src/x.cpp) and\n"
                      "<https://arxiv.org/abs/2308.04079>; a local server <http://localhost:8000/>.\n\n    [an example, not a link](missing.md)\n",
         "docs/a.md": "# A\n\n## Time and memory\n\nBack to the [README](../README.md); design: [S](./design/STYLE.md#2-two).\n",
         "docs/design/STYLE.md": "# Style\n\n## 1. One\n\n## 2. Two\n\n### 2.1 Sub\n",
-        "src/x.cpp": "// Tiles of 16 (STYLE.md 2.1); checksum 397923af of a weight file; /usr/share/vulkan/icd.d.\n",
-        CHANGELOG: "# Changelog\n\nissue 21: this round's kernels.\n",
+        "src/x.cpp": "// Tiles of 16 (STYLE" ".md 2.1); checksum 397923af of a weight file; /usr/share/vulkan/icd.d.\n",
+        CHANGELOG: f"# Changelog\n\n{issue}: this ro" "und's kernels.\n",
     }
     failures = []
     d = repo(clean)
@@ -279,16 +281,16 @@ def self_test():
     # an all-digit word is taken for a number and not checked.
     head = next(full[:n] for n in range(7, 41) if re.search(r"[a-f]", full[:n]) and re.search(r"\d", full[:n]))
     faults = {
-        "history": ({"docs/b.md": f"# B\n\nAs before issue 21's work.\n\nMeasured at {head}.\n"},
-                    ["docs/b.md:3: 'issue 21'", f"docs/b.md:5: '{head}'"]),
-        "paths": ({"src/y.cpp": "// data in /work/shared/data\n"}, ["src/y.cpp:1: absolute machine path"]),
+        "history": ({"docs/b.md": f"# B\n\nAs before {issue}'s work.\n\nMeasured at {head}.\n"},
+                    [f"docs/b.md:3: '{issue}'", f"docs/b.md:5: '{head}'"]),
+        "paths": ({"src/y.cpp": f"// data in {machine}\n"}, ["src/y.cpp:1: absolute machine path"]),
         "links": ({"docs/c.md": "# C\n\n[out](../../shared/design/A.md) [gone](./nope.md) [anchor](a.md#no-such)\n"},
                   ["docs/c.md:3: link '../../shared/design/A.md' leaves", "docs/c.md:3: link './nope.md' names no file",
                    "docs/c.md:3: link 'a.md#no-such'"]),
         "external": ({"docs/d.md": "# D\n\n[p](http://arxiv.org/abs/1) [q](https://example.invalid/x)\n"},
                      ["docs/d.md:3: link 'http://arxiv.org/abs/1' is not https", "host 'example.invalid'"]),
-        "citations": ({"src/z.h": "// ALGORITHMS.md 4.3 and STYLE.md 9 and PERF_ANCHORS.md 1.4\n"},
-                      ["src/z.h:1: 'ALGORITHMS.md 4.3' cites", "src/z.h:1: 'STYLE.md 9'", "'PERF_ANCHORS.md 1.4' cites"]),
+        "citations": ({"src/z.h": "// ALGORITHMS" ".md 4.3 and STYLE" ".md 9 and PERF_ANCHORS" ".md 1.4\n"},
+                      ["src/z.h:1: 'ALGORITHMS" ".md 4.3' cites", "src/z.h:1: 'STYLE" ".md 9'", "'PERF_ANCHORS" ".md 1.4' cites"]),
     }
     for check, (extra, expected) in faults.items():
         d2 = repo({**clean, **extra})
