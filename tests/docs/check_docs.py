@@ -90,7 +90,7 @@ def load_phrases():
 def check_history(root, files):
     problems = []
     phrases = load_phrases()
-    own = os.path.relpath(PHRASES_FILE, root) if os.path.commonpath([root, PHRASES_FILE]) == root else None
+    own = "tests/docs/" + os.path.basename(PHRASES_FILE)  # the phrase list names the phrases
     candidates = {}
     for name, lines in files:
         if name == CHANGELOG or name == own:
