@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Like for like against issue 21's peer, the pure-PyTorch rasterizer hbb1/torch-splatting: both draw
+# Like for like against a peer, the pure-PyTorch rasterizer hbb1/torch-splatting: both draw
 # the same scene files (s4d_bench_splat --write-peer-scene) from camera 0, forward + backward to
 # every parameter, in alternating rounds of the same run, so the machine's load falls on both.
 #

@@ -1,4 +1,4 @@
-// The PyTorch peer's kind of benchmark scene (issue 21), rebuilt from its description: n Gaussians
+// The PyTorch peer's (hbb1/torch-splatting) kind of benchmark scene, rebuilt from its description: n Gaussians
 // with means uniform in the unit ball, per-axis scales log-uniform in [0.01, 0.15], SH degree 3, seen
 // by camera 0 of a ring of cameras looking at the origin. Written as a standard 3DGS PLY and a
 // transforms.json, other tools (the peer, `style4d render`) draw exactly the same scene.

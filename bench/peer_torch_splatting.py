@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Times the pure-PyTorch rasterizer hbb1/torch-splatting (issue 21's peer) on a scene written by
+"""Times the pure-PyTorch rasterizer hbb1/torch-splatting (the peer) on a scene written by
 `s4d_bench_splat --write-peer-scene DIR`, so both programs draw the same Gaussians from the same camera.
 
 The peer is not part of this project: pass a checkout of it with --peer (nothing is downloaded).

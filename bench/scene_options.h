@@ -1,4 +1,4 @@
-// The scene options the splat benches share (issue 21's like-for-like runs): --sizes WxH:N,...,
+// The scene options the splat benches share (the like-for-like runs against the peer): --sizes WxH:N,...,
 // --ply F --cameras transforms.json [--camera K] (a standard 3DGS scene), --suite peer, and
 // --bwd-pixels 1|8 and --fwd-pixels 1|8 (the rasterizer's variants, RasterizerOptions::backward_pixels
 // and forward_pixels).
@@ -12,7 +12,7 @@
 
 namespace s4d::bench {
 
-// The PyTorch peer's sizes (issue 21).
+// The PyTorch peer's sizes.
 extern const std::vector<SplatPoint> kPeerSuite;
 
 struct SceneOptions {

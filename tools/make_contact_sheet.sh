@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Builds s4d_contact_sheet and writes docs/stylizer_contact_sheet.png: the default (patch) stylizer
-# on every content picture x style picture of a data folder (default /work/shared/data, with
-# content/ and styles/; see its SOURCES.md files). The product itself never needs this data.
-#   tools/make_contact_sheet.sh [DATA_DIR] [BUILD_DIR]
+# on every content picture x style picture of a data folder with content/ and styles/ (photographs
+# and paintings whose licences allow it). The product itself never needs this data.
+#   tools/make_contact_sheet.sh DATA_DIR [BUILD_DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-data="${1:-/work/shared/data}"
+if [ $# -lt 1 ] || [ ! -d "$1/content" ] || [ ! -d "$1/styles" ]; then
+  echo "usage: tools/make_contact_sheet.sh DATA_DIR [BUILD_DIR]: DATA_DIR needs content/ and styles/ folders" >&2
+  exit 2
+fi
+data="$1"
 build="${2:-$root/build}"
 cmake --build "$build" --target s4d_contact_sheet -j2
 mkdir -p "$root/docs"

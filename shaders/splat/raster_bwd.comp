@@ -27,7 +27,7 @@
 
 // Each invocation takes S4D_RBWD_PIXELS pixels of a column (rows S4D_RBWD_PIXELS y ..): the per-pair
 // subgroup reductions and atomics, which cost llvmpipe a loop over the lanes each, then serve
-// S4D_RBWD_PIXELS times as many pixels (issue 21: 8 pixels beat 4, which beat 2, which beat 1, on
+// S4D_RBWD_PIXELS times as many pixels (8 pixels beat 4, which beat 2, which beat 1, on
 // lavapipe; docs/rasterizer.md). The per-pixel sums over an invocation's pixels come first.
 layout(local_size_x = S4D_TILE_SIZE, local_size_y = S4D_TILE_SIZE / S4D_RBWD_PIXELS) in;  // S4D_RBWD_INVOCATIONS
 // RBWD_EACH(F): F(k) for each of the invocation's pixels, written out (llvmpipe's loop cap).

@@ -1,4 +1,4 @@
-// The GPU rasterizer at the extremes (issue 3's list): every output and gradient stays finite, and
+// The GPU rasterizer at the extremes: every output and gradient stays finite, and
 // each case's documented behaviour holds.
 #include <doctest/doctest.h>
 

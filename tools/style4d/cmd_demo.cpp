@@ -88,8 +88,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
   run::TrainConfig config = run::preset_config("fast");
   if (auto v = args.get("iters")) run::set_iterations(config, parse_number<uint32_t>("iters", *v));
   // Stage 4 is shortened from stylize's 1500/300 so that the build and the demo fit 15 minutes on
-  // two lavapipe cores (docs/demo.md); the fine stage runs fast's full 1500, which the 1200 used
-  // before the rasterizer's speed-ups missed 28 dB by about a decibel.
+  // two lavapipe cores (docs/demo.md); the fine stage runs fast's full 1500 (1200 misses 28 dB by
+  // about a decibel).
   if (auto v = args.get("fine-iters")) run::set_fine_iterations(config, parse_number<uint32_t>("fine-iters", *v));
   style_gaussians::StylizeRequest request;
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));

@@ -39,7 +39,7 @@ const std::vector<Command>& commands() {
        s4d::cli::cmd_bench},
       {"sweep", "a benchmark sweep (scenes x styles x methods) as cells: plan, run on Slurm or locally, status, merged table",
        s4d::cli::cmd_sweep},
-      {"demo", "run the whole pipeline on the built-in scene and style (what is built so far)", s4d::cli::cmd_demo},
+      {"demo", "run the whole pipeline on the built-in scene and style, with a report", s4d::cli::cmd_demo},
   };
   return list;
 }

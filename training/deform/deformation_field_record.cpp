@@ -19,7 +19,7 @@ using primitives::shader_pipeline;
 // invocation at the shape limits of s4d_deform.h: deform_bwd sums over at most the five heads' W
 // outputs; deform_feat_bwd visits per level and plane each channel's other five planes and four
 // atomics (one compare-and-swap try each when uncontended); the layout walks of s4d_deform.h
-// (plane offsets, head and layer tables) stay under 2000. The MLP's size beyond one layer no longer
+// (plane offsets, head and layer tables) stay under 2000. The MLP's size beyond one layer does not
 // enters: no field within the limits comes near the budget.
 constexpr uint64_t kLoopBudget = 65535;
 constexpr uint64_t kLoopBound =

@@ -38,8 +38,8 @@ TrainConfig preset_config(const std::string& name) {
     c.budget = 15000;
     c.test_every = 300;
     c.checkpoint_every = 300;
-    // Fine stage sized for lavapipe's speed: the per-layer MLP kernels run any width there (no
-    // longer capped near 32 by llvmpipe's loop limit), but 4DGaussians' width-128, five-head field
+    // Fine stage sized for lavapipe's speed: the per-layer MLP kernels run any width there
+    // (llvmpipe's loop limit does not cap them), but 4DGaussians' width-128, five-head field
     // costs ~24x this one per Gaussian (docs/training.md, "The deformation field").
     c.fine_iterations = 1500;
     c.fine_batch = 1;  // 4DGaussians uses 1 for D-NeRF; a 4DGS step costs ~2.5x a static one on lavapipe

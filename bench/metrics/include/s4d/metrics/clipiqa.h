@@ -1,4 +1,4 @@
-// CLIP-IQA+ (Wang, Chan & Loy, AAAI 2023; pyiqa `clipiqa+`, archs/clipiqa_arch.py; METRICS.md 1): a
+// CLIP-IQA+ (Wang, Chan & Loy, AAAI 2023; pyiqa `clipiqa+`, archs/clipiqa_arch.py; METRICS.md 2): a
 // no-reference quality score in [0, 1], higher is better. pyiqa's CLIPIQA(model_type='clipiqa+',
 // backbone='RN50') takes the RGB frame in [0, 1] at its own size (no resize or crop), normalises it
 // with OpenAI CLIP's mean/std and runs CLIP's RN50 image tower without the position embedding

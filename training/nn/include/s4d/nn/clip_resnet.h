@@ -1,5 +1,5 @@
 // CLIP's ResNet image tower (Radford et al. 2021, "ModifiedResNet" of openai/CLIP model.py, which
-// pyiqa's archs/clip_model.py keeps; RN50 for CLIP-IQA+, METRICS.md 1): a stem of three 3x3
+// pyiqa's archs/clip_model.py keeps; RN50 for CLIP-IQA+, METRICS.md 2): a stem of three 3x3
 // convolutions (3 -> w/2 stride 2, w/2 -> w/2, w/2 -> w, zero padding 1, each with BatchNorm and
 // ReLU) and AvgPool2d(2); four layers of Bottlenecks (resnet_bottleneck.h, strided by average
 // pooling) of widths w, 2w, 4w, 8w, the last three striding; then AttentionPool2d: the tokens are the

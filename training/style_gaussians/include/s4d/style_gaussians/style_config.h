@@ -52,7 +52,7 @@ struct StyleConfig {
 
 // The defaults of a named setting. "tuned" (StyleConfig's own): the MLPs join for the last 300 of
 // 1500 steps from a zero last layer (mlp_init identity), at a constant 2.5e-4, one view per step.
-// "paper" (PERF_ANCHORS.md 1.4): the MLPs train from the first step from SuperGaussians' U(-0.5, 0.5)
+// "paper" (ALGORITHMS.md 4.6): the MLPs train from the first step from SuperGaussians' U(-0.5, 0.5)
 // weights, their rate decays 1e-4 -> 1e-5, two views per step; L1 + TV and the colour rates as tuned.
 // std::invalid_argument "style settings: setting 'NAME' is not tuned or paper" otherwise.
 StyleConfig style_setting(const std::string& name);
