@@ -1,13 +1,15 @@
 // Reading style and content pictures (s4d/io/image_file.h): PNG, JPEG and BMP found by their first
 // bytes, as RGB levels / 255; errors name the file.
 #include <doctest/doctest.h>
-#include <jpeglib.h>
 
-#include <cstdio>
+#include <cmath>
+#include <cstdio>  // before jpeglib.h, which uses FILE
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include <jpeglib.h>
 
 #include "io_test_util.h"
 #include "s4d/io/image_file.h"

@@ -52,10 +52,10 @@ md = open(os.path.join(full, "gpu-check.md")).read()
 check(chosen["name"] in md and "| train | ok |" in md, "markdown table")
 c = load(cut, "gpu-check.json")
 statuses = [s["status"] for s in c["steps"]]
-check("cut short" in statuses or statuses.count("ok") == len(statuses) - statuses.count("not run (the budget was spent)"), "cut run statuses")
+# The step running when the budget ran out is stopped, the later ones never start.
+check("cut short" in statuses, f"a step of a 4 s budget is cut short: {statuses}")
 check(statuses[-1] == "not run (the budget was spent)", f"the last step of a 4 s budget is not run: {statuses}")
 check(c["figures"]["demo_seconds"] is None and c["figures"]["train_default_seconds"] is None, "cut run leaves figures null")
-check(c["seconds"] <= 4 + 10 + 2, f"cut run took {c['seconds']} s for a 4 s budget")
 for e in errors:
     print("FAIL:", e)
 sys.exit(1 if errors else 0)

@@ -1,12 +1,12 @@
 // JPEG decoding through libjpeg(-turbo), in memory. libjpeg reports errors through error_exit,
 // which must not return: it longjmps back to decode_jpeg's setjmp, which therefore holds only
 // trivial locals (every container belongs to read_jpeg).
-#include <jpeglib.h>
-
 #include <csetjmp>
-#include <cstdio>
+#include <cstdio>  // before jpeglib.h, which uses FILE
 #include <string>
 #include <vector>
+
+#include <jpeglib.h>
 
 #include "file_read.h"
 #include "s4d/io/image_io.h"

@@ -55,6 +55,6 @@ const Api kApi = {
 
 }  // namespace s4d::data::video_plugin
 
-extern "C" __attribute__((visibility("default"))) const s4d::data::video_plugin::Api* s4d_video_plugin_api() {
+const s4d::data::video_plugin::Api* s4d_video_plugin_api() {
   return &s4d::data::video_plugin::kApi;
 }

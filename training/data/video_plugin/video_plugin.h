@@ -45,5 +45,5 @@ const Api& api(const char* for_path);
 
 }  // namespace s4d::data::video_plugin
 
-// The plugin's one exported symbol.
-extern "C" const s4d::data::video_plugin::Api* s4d_video_plugin_api();
+// The plugin's one exported symbol (the plugin builds with hidden visibility).
+extern "C" __attribute__((visibility("default"))) const s4d::data::video_plugin::Api* s4d_video_plugin_api();
