@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The release in a clean environment (docs/release.md): tools/package.sh writes the bundle, which is
-# unpacked into an empty folder and run under `env -i` with only VK_ICD_FILENAMES (the Vulkan driver),
+# The release in a clean environment (docs/release.md): tools/package.sh writes the bundle (the
+# program's part and the video part), both unpacked into an empty folder and run under `env -i` with only VK_ICD_FILENAMES (the Vulkan driver),
 # HOME and TMPDIR set: devices, synth (videos, so the video plugin loads), a few train steps, render,
 # make-style, a few stylize steps and bench. Every library each run loaded, as the dynamic loader
 # logs it (LD_DEBUG), must be
@@ -14,11 +14,11 @@ icd=${VK_ICD_FILENAMES:?the release test needs VK_ICD_FILENAMES naming the Vulka
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-tarball=$("$src/tools/package.sh" --build "$build" --out "$work/dist" | tail -1)
+mapfile -t tarballs < <("$src/tools/package.sh" --build "$build" --out "$work/dist" | tail -2)
 mkdir "$work/unpacked" "$work/home" "$work/tmp" "$work/ld"
-tar -C "$work/unpacked" -xzf "$tarball"
+for t in "${tarballs[@]}"; do tar -C "$work/unpacked" -xzf "$t"; done  # the program's part, then the video part
 bundle=$(echo "$work"/unpacked/style4d-*)
-[ -x "$bundle/bin/style4d" ] || { echo "FAIL: no bin/style4d in $tarball"; exit 1; }
+[ -x "$bundle/bin/style4d" ] || { echo "FAIL: no bin/style4d in ${tarballs[0]}"; exit 1; }
 
 # Runs the unpacked program under env -i; the loader's log goes to ld/NAME.PID.
 step() {
