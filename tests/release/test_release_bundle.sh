@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The release in a clean environment (docs/release.md): tools/package.sh writes the bundle (the
-# program's part and the video part), both unpacked into an empty folder and run under `env -i` with only VK_ICD_FILENAMES (the Vulkan driver),
-# HOME and TMPDIR set: devices, synth (videos, so the video plugin loads), a few train steps, render,
-# make-style, a few stylize steps and bench. Every library each run loaded, as the dynamic loader
-# logs it (LD_DEBUG), must be
+# program's part and the video part), both are unpacked into an empty folder and run under `env -i`
+# with only VK_ICD_FILENAMES (the Vulkan driver), HOME and TMPDIR set: devices, synth (videos, so the
+# video plugin loads), a few train steps, render, make-style, a few stylize steps and bench. A run
+# that touches no video (devices) loads nothing of the video part. Every library each run loaded,
+# as the dynamic loader logs it (LD_DEBUG), must be
 #   - in the bundle, or
 #   - glibc's or the dynamic loader (tools/release/system-libs.txt), or
 #   - the ICD's library (library_path in the VK_ICD_FILENAMES file) or one it needs (its ldd closure).
@@ -45,10 +46,16 @@ grep -v '^#' "$src/tools/release/system-libs.txt" > "$work/glibc_names"
 
 # Each loaded library's path: the file named when its link map is made, or else the last file the
 # loader tried for it (its RUNPATH, the cache and the default folders are all logged as tries).
-awk '
-  /trying file=/ { sub(/.*trying file=/, ""); tried = $0; next }
-  /generating link map/ { sub(/.*file=/, ""); sub(/ \[[0-9]+\];.*/, ""); print (substr($0, 1, 1) == "/" ? $0 : tried) }
-' "$work"/ld/* | xargs -r realpath | sort -u > "$work/loaded"
+loaded() {
+  awk '
+    /trying file=/ { sub(/.*trying file=/, ""); tried = $0; next }
+    /generating link map/ { sub(/.*file=/, ""); sub(/ \[[0-9]+\];.*/, ""); print (substr($0, 1, 1) == "/" ? $0 : tried) }
+  ' "$@" | xargs -r realpath | sort -u
+}
+loaded "$work"/ld/* > "$work/loaded"
+tar -tzf "${tarballs[1]}" | grep -v '/$' | sed "s|^|$work/unpacked/|" | xargs -r realpath | sort > "$work/video_part"
+without_video=$(loaded "$work"/ld/devices.* | comm -12 - "$work/video_part")
+[ -z "$without_video" ] || { echo "FAIL: style4d devices loaded the video part: $without_video"; exit 1; }
 bundle_real=$(realpath "$bundle")
 fail=0 from_bundle=0 from_system=0 bytes=0
 while read -r lib; do
