@@ -30,15 +30,18 @@ def check(ok, what):
         errors.append(what)
 r = load(full, "gpu-check.json")
 steps = {s["step"]: s for s in r["steps"]}
-for name in ["devices", "gpu_tests", "demo", "synth", "train", "make_style", "stylize", "bench", "viewer",
+for name in ["devices", "gpu_tests", "synth", "train", "make_style", "stylize", "bench", "viewer",
              "viewer_orbit", "bench_splat", "bench_deform"]:
     check(steps.get(name, {}).get("status") == "ok", f"step {name}: {steps.get(name)}")
+# The demo has a minute at --small (its stage 3 is full size): done, or stopped at its cap.
+check(steps["demo"]["status"] in ("ok", "cut short"), f"demo: {steps['demo']}")
 chosen = [d for d in load(full, "devices.json") if d["chosen"]][0]
 check(r["device"]["name"] == chosen["name"], "device name")
 f = r["figures"]
-demo, train = load(full, "demo", "demo.json"), load(full, "object_run", "train.json")
+demo = load(full, "demo", "demo.json") if steps["demo"]["status"] == "ok" else None
+train = load(full, "object_run", "train.json")
 stylize = load(full, "object_run", "style", "builtin", "stylize.json")
-check(f["demo_seconds"] == demo["seconds"], "demo_seconds")
+check(f["demo_seconds"] == (demo["seconds"] if demo else None), "demo_seconds")
 check(f["train_default_seconds"] == train["seconds"], "train seconds")
 check(f["train_default_test_psnr"] == train["test_psnr"], "train PSNR")
 check(train["settings"]["preset"] == "default", "the workload trains --preset default")
