@@ -91,7 +91,7 @@ def main():
         "figures": figures,
         "demo_stages": get(demo, "stages"),
         "train_stage_ms": get(train, "stage_ms"),
-        "bench_metrics": get(bench, "methods") if bench else None,
+        "bench_report": bench,
         "bench_splat": splat,
         "bench_deform": deform,
         "viewer": viewer + orbit,
