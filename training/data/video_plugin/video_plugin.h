@@ -1,8 +1,9 @@
-// The interface between the program and its video plugin, libs4d_video.so: OpenCV's videoio with
-// FFmpeg behind it, 229 shared libraries on Debian 12, live only in the plugin, which the program opens on
-// its first video (video_plugin_loader.cpp). A run that never reads or writes a video never loads
-// FFmpeg, and the release runs without it (docs/release.md). Plugin and program come from one
-// build, so the interface is plain C++; kAbiVersion still refuses a plugin from another build.
+// The interface between the program and its video plugin, libs4d_video.so: OpenCV's videoio,
+// with FFmpeg and 229 shared libraries on Debian 12 behind it, lives only in the plugin, which the
+// program opens on its first video (video_plugin_loader.cpp). A run that never reads or writes a
+// video never loads FFmpeg, and the release runs without it (docs/release.md). Plugin and program
+// come from one build, so the interface is plain C++; kAbiVersion still refuses a plugin from
+// another build.
 #pragma once
 #include <opencv2/core.hpp>
 
