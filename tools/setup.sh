@@ -10,8 +10,9 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslc spirv-tools
-  libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libopenexr-dev libopencv-dev
+  libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libjpeg-dev libopenexr-dev libopencv-dev
   libglfw3-dev libimgui-dev xvfb xauth
+  patchelf  # tools/package.sh
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -4,9 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "cli_run.h"
+#include "s4d/data/video_reader.h"
 
 namespace {
 
@@ -14,9 +14,9 @@ using namespace s4d;
 namespace fs = std::filesystem;
 
 int decoded_frames(const fs::path& video) {
-  cv::VideoCapture cap(video.string());
+  data::VideoReader reader(video);
   int n = 0;
-  for (cv::Mat frame; cap.read(frame);) ++n;
+  while (reader.next()) ++n;
   return n;
 }
 

@@ -232,6 +232,21 @@ TEST_CASE("a diverging run rolls back, says so, and never writes a non-finite ch
   if (fs::exists(run / "checkpoint" / "state.s4dckpt")) CHECK_NOTHROW(run::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));
 }
 
+TEST_CASE("with no --preset, train takes the device's preset and says so; an explicit one wins") {
+  // The tests run on lavapipe, a CPU device: `fast`.
+  const fs::path dir = test::fresh_dir("train_device_preset");
+  const std::string common = "--data " + tiny_dataset().string() + " --stage static --iters 2 --max-time 0 --out ";
+  REQUIRE(test::run_style4d("train", common + (dir / "chosen").string(), dir / "chosen.log") == 0);
+  const std::string chosen = test::read_text(dir / "chosen.log");
+  CHECK_MESSAGE(chosen.find("preset fast: chosen for a CPU device (") != std::string::npos, chosen);
+  CHECK(read_json(dir / "chosen" / "train.json")["settings"]["preset"] == "fast");
+  REQUIRE(test::run_style4d("train", common + (dir / "given").string() + " --preset default", dir / "given.log") == 0);
+  CHECK(test::read_text(dir / "given.log").find("chosen for") == std::string::npos);
+  CHECK(read_json(dir / "given" / "train.json")["settings"]["preset"] == "default");
+  REQUIRE(test::run_style4d("train", "--help", dir / "help.log") == 0);
+  CHECK(test::read_text(dir / "help.log").find("default: fast on a CPU device") != std::string::npos);
+}
+
 TEST_CASE("train refuses bad input with a clear message") {
   const fs::path dir = test::fresh_dir("train_bad");
   fs::create_directories(dir / "busy");

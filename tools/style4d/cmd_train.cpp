@@ -57,8 +57,8 @@ T parse_real(const std::string& option, const std::string& text) {
 
 // The settings from the options: each option's value is checked once, by run::validate, with
 // SOURCE "command line" (the preset and the options) or "--set" (after the --set values).
-run::TrainConfig config_from_args(const Args& args) {
-  run::TrainConfig c = run::preset_config(args.get_or("preset", "default"));
+run::TrainConfig config_from_args(const Args& args, const std::string& default_preset) {
+  run::TrainConfig c = run::preset_config(args.get_or("preset", default_preset));
   if (auto v = args.get("iters")) run::set_iterations(c, parse_number<uint32_t>("iters", *v));
   if (auto v = args.get("fine-iters")) run::set_fine_iterations(c, parse_number<uint32_t>("fine-iters", *v));
   const std::string stage = args.get_or("stage", "all");
@@ -107,6 +107,16 @@ run::TrainConfig config_from_args(const Args& args) {
   return out;
 }
 
+// The preset when --preset is not given: `fast` on a CPU device (lavapipe), whose 4DGS stage is sized
+// for its speed, `default` on a GPU (docs/gpu.md). Said in one line, so a run never surprises.
+std::string device_preset(const engine::DeviceInfo& device) {
+  const bool cpu = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  const std::string preset = cpu ? "fast" : "default";
+  std::cout << "preset " << preset << ": chosen for " << (cpu ? "a CPU" : "a GPU") << " device (" << device.name
+            << "); --preset overrides\n";
+  return preset;
+}
+
 // A new run checks its dataset first, loaded as the trainer loads it (style4d check-data): warnings
 // are printed, errors are printed and refuse the run. Returns the dataset for the trainer.
 data::Dataset check_dataset_first(const std::string& dir, const run::TrainConfig& config) {
@@ -133,7 +143,7 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
       {"batch", "views per 4DGS step (default: the preset's)", true, "B"},
       {"static-motion", "Gaussians moving less than X x scene extent skip the deformation field (0: off)", true, "X"},
-      {"preset", "fast | default | quality (default: default)", true, "P"},
+      {"preset", "fast | default | quality (default: fast on a CPU device such as lavapipe, default on a GPU)", true, "P"},
       {"iters", "iterations; the preset's schedules are scaled to fit", true, "N"},
       {"downscale", "integer image downscale factor (default 1)", true, "K"},
       {"max-time", "use only views with time <= T, e.g. 0 for the first frame (default 1)", true, "T"},
@@ -171,8 +181,9 @@ int cmd_train(const std::vector<std::string>& argv) {
   // A new run's settings and, unless skipped, its checked dataset, which the trainer then takes as is.
   std::optional<run::TrainConfig> config;
   std::optional<data::Dataset> checked;
+  engine::Context ctx;
   if (!args.get("resume")) {
-    config = config_from_args(args);
+    config = config_from_args(args, args.get("preset") ? "" : device_preset(ctx.info()));
     if (!args.flag("skip-check")) checked = check_dataset_first(args.require("data"), *config);
   }
 
@@ -193,7 +204,6 @@ int cmd_train(const std::vector<std::string>& argv) {
       lock.emplace(out);
     }
   }
-  engine::Context ctx;
   std::unique_ptr<train::Trainer> trainer;
   if (auto run = args.get("resume")) {
     trainer = train::Trainer::resume(ctx, *run);

@@ -3,9 +3,9 @@
 #include <cstring>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "dataset_parts.h"
+#include "video_plugin/video_plugin.h"
 
 namespace s4d::data {
 
@@ -25,24 +25,24 @@ constexpr double kMaxCount = 1 << 24;
 }  // namespace
 
 struct VideoReader::Capture {
-  cv::VideoCapture capture;
+  std::unique_ptr<video_plugin::Capture> capture;
 };
 
-// The FFmpeg backend, named: left to choose, OpenCV also tries GStreamer, which prints warnings for
-// every file it cannot open.
 VideoReader::VideoReader(const std::filesystem::path& path) : path_(path) {
   if (!std::filesystem::exists(path)) fail(path, "video does not exist");
-  capture_ = std::make_unique<Capture>(Capture{cv::VideoCapture(path.string(), cv::CAP_FFMPEG)});
-  if (!capture_->capture.isOpened()) fail(path, "cannot open the video (not a video file, corrupt, or no decoder for its codec)");
+  const std::string name = path.string();
+  video_plugin::Capture* capture = video_plugin::api(name.c_str()).open_capture(name.c_str());
+  capture_ = std::make_unique<Capture>(Capture{std::unique_ptr<video_plugin::Capture>(capture)});
+  if (!capture_->capture) fail(path, "cannot open the video (not a video file, corrupt, or no decoder for its codec)");
 }
 
 VideoReader::~VideoReader() = default;
 
 VideoInfo VideoReader::info() const {
   // OpenCV reports the properties as doubles (0 when unknown); range-check before converting.
-  const cv::VideoCapture& capture = capture_->capture;
-  const double width = capture.get(cv::CAP_PROP_FRAME_WIDTH), height = capture.get(cv::CAP_PROP_FRAME_HEIGHT);
-  const double frames = capture.get(cv::CAP_PROP_FRAME_COUNT);
+  const video_plugin::Capture& capture = *capture_->capture;
+  const double width = capture.width(), height = capture.height();
+  const double frames = capture.frame_count();
   if (!(width >= 1 && width <= kMaxCount && height >= 1 && height <= kMaxCount)) {
     fail(path_, "video declares no valid frame size");
   }
@@ -52,7 +52,7 @@ VideoInfo VideoReader::info() const {
 
 std::optional<io::ImageF> VideoReader::next() {
   cv::Mat bgr;
-  if (!capture_->capture.read(bgr) || bgr.empty()) return std::nullopt;
+  if (!capture_->capture->read(bgr) || bgr.empty()) return std::nullopt;
   const int frame = next_++;
   if (bgr.type() != CV_8UC3) {
     fail(path_, "frame " + std::to_string(frame) + " decodes to an unsupported pixel format (expected 8-bit BGR)");
@@ -70,11 +70,11 @@ std::optional<io::ImageF> VideoReader::next() {
 io::ImageF VideoReader::read(int frame) {
   const std::string what = "frame " + std::to_string(frame);
   if (frame < next_ || frame > next_ + kMaxForwardDecode) {
-    if (!capture_->capture.set(cv::CAP_PROP_POS_FRAMES, frame)) fail(path_, what + " cannot be reached (seek failed)");
+    if (!capture_->capture->seek(frame)) fail(path_, what + " cannot be reached (seek failed)");
     next_ = frame;
   }
   for (; next_ < frame; ++next_) {
-    if (!capture_->capture.grab()) fail(path_, what + " cannot be decoded (the video ends or is corrupt before it)");
+    if (!capture_->capture->grab()) fail(path_, what + " cannot be decoded (the video ends or is corrupt before it)");
   }
   std::optional<io::ImageF> image = next();
   if (!image) fail(path_, what + " cannot be decoded (past the end of the video, or corrupt)");

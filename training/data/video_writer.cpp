@@ -2,16 +2,16 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 #include <stdexcept>
 #include <string>
 
 #include "dataset_parts.h"
+#include "video_plugin/video_plugin.h"
 
 namespace s4d::data {
 
 struct VideoWriter::Encoder {
-  cv::VideoWriter writer;
+  std::unique_ptr<video_plugin::Encoder> writer;
 };
 
 VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int height, double fps)
@@ -21,10 +21,10 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
                                 "resolution), got " + std::to_string(width) + "x" + std::to_string(height));
   }
   if (!(fps > 0)) throw std::invalid_argument(path.string() + ": fps must be positive");
-  encoder_ = std::make_unique<Encoder>();
-  encoder_->writer.open(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                        cv::Size(width, height));
-  if (!encoder_->writer.isOpened()) {
+  const std::string name = path.string();
+  video_plugin::Encoder* writer = video_plugin::api(name.c_str()).open_encoder(name.c_str(), fps, width, height);
+  encoder_ = std::make_unique<Encoder>(Encoder{std::unique_ptr<video_plugin::Encoder>(writer)});
+  if (!encoder_->writer) {
     detail::fail(path, "cannot open an mp4v (MPEG-4 Part 2) encoder through OpenCV's FFmpeg backend: OpenCV is "
                        "built without FFmpeg or the encoder, or the file cannot be written");
   }
@@ -47,7 +47,7 @@ void VideoWriter::write(const io::ImageF& rgb) {
   cv::Mat levels, bgr;
   values.convertTo(levels, CV_8UC3, 255.0);  // rounds to nearest
   cv::cvtColor(levels, bgr, cv::COLOR_RGB2BGR);
-  encoder_->writer.write(bgr);
+  encoder_->writer->write(bgr);
 }
 
 }  // namespace s4d::data

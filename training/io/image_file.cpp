@@ -4,9 +4,9 @@
 #include <stdexcept>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "file_read.h"
 #include "s4d/io/image_io.h"
 
 namespace s4d::io {
@@ -20,29 +20,29 @@ ImageF image_from(const cv::Mat& rgb) {
   return image;
 }
 
+// Gray replicated, alpha dropped.
+ImageF to_rgb(const std::filesystem::path& path, ImageF image) {
+  if (image.channels == 3) return image;
+  if (image.channels < 1 || image.channels > 4) detail::fail(path, std::to_string(image.channels) + " channels, expected 1 to 4");
+  const size_t pixels = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  const size_t in = static_cast<size_t>(image.channels);
+  ImageF rgb{image.width, image.height, 3, std::vector<float>(pixels * 3)};
+  for (size_t p = 0; p < pixels; ++p)
+    for (size_t c = 0; c < 3; ++c) rgb.data[p * 3 + c] = image.data[p * in + (in >= 3 ? c : 0)];
+  return rgb;
+}
+
 }  // namespace
 
+// The format from the file's first bytes, not its name.
 ImageF read_image_rgb(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path.string() + ": no such file");
-  const cv::Mat raw = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  if (raw.empty()) {
-    // OpenCV does not say why; the project's PNG reader names what is wrong with a PNG (and throws).
-    std::string head(8, '\0');
-    std::ifstream(path, std::ios::binary).read(head.data(), 8);
-    if (head == "\x89PNG\r\n\x1a\n") (void)read_png(path);
-    throw std::runtime_error(path.string() + ": not a readable image (PNG, JPEG, ...)");
-  }
-  cv::Mat rgb;
-  switch (raw.channels()) {
-    case 1: cv::cvtColor(raw, rgb, cv::COLOR_GRAY2RGB); break;
-    case 3: cv::cvtColor(raw, rgb, cv::COLOR_BGR2RGB); break;
-    case 4: cv::cvtColor(raw, rgb, cv::COLOR_BGRA2RGB); break;
-    default: throw std::runtime_error(path.string() + ": " + std::to_string(raw.channels()) + " channels, expected 1, 3 or 4");
-  }
-  const double scale = rgb.depth() == CV_16U ? 1.0 / 65535 : rgb.depth() == CV_8U ? 1.0 / 255 : 1.0;
-  cv::Mat f;
-  rgb.convertTo(f, CV_32FC3, scale);
-  return image_from(f);
+  std::string head(8, '\0');
+  std::ifstream(path, std::ios::binary).read(head.data(), 8);
+  if (head == "\x89PNG\r\n\x1a\n") return to_rgb(path, read_png(path));
+  if (head.starts_with("\xff\xd8\xff")) return read_jpeg(path);
+  if (head.starts_with("BM")) return read_bmp(path);
+  detail::fail(path, "not a PNG, JPEG or BMP image");
 }
 
 ImageF resize_image(const ImageF& image, int width, int height) {

@@ -1,4 +1,4 @@
-// Reading style and content pictures of any common format (PNG, JPEG, ...) as RGB, and resizing.
+// Reading style and content pictures (PNG, JPEG, BMP) as RGB, and resizing.
 #pragma once
 #include <filesystem>
 
@@ -6,8 +6,9 @@
 
 namespace s4d::io {
 
-// RGB [H, W, 3] in [0, 1] (gray is replicated, alpha dropped, 16-bit scaled by 1/65535). Throws
-// std::runtime_error naming the file when it is missing or not a readable image.
+// RGB [H, W, 3] in [0, 1] (gray is replicated, alpha dropped, 16-bit scaled by 1/65535), the format
+// found from the file's first bytes. Throws std::runtime_error naming the file when it is missing,
+// of another format (TIFF, WebP, ...) or corrupt.
 ImageF read_image_rgb(const std::filesystem::path& path);
 
 // Area-averaging when shrinking, bilinear when enlarging. Throws std::invalid_argument for an empty

@@ -1,5 +1,6 @@
-// Image files: PNG (8/16-bit, for renders and inputs) and OpenEXR (32-bit float channels, for
-// depth and other exact outputs). Writers replace their target atomically.
+// Image files: PNG (8/16-bit, for renders and inputs), OpenEXR (32-bit float channels, for depth
+// and other exact outputs), and JPEG and BMP read for style and content pictures. Writers replace
+// their target atomically.
 #pragma once
 #include <filesystem>
 #include <map>
@@ -25,6 +26,14 @@ void write_png(const std::filesystem::path& path, const ImageF& image, int bit_d
 // conversion. Throws std::runtime_error naming the file when it is missing, not a PNG, truncated
 // or corrupt.
 ImageF read_png(const std::filesystem::path& path);
+
+// Reads a JPEG (grey or colour; CMYK is refused) as 8-bit RGB, values level / 255. Throws
+// std::runtime_error naming the file when it is missing, not a JPEG, truncated or corrupt.
+ImageF read_jpeg(const std::filesystem::path& path);
+
+// Reads an uncompressed 24- or 32-bit BMP as RGB (a 32-bit one's fourth byte dropped), values
+// level / 255. Throws std::runtime_error naming the file for any other BMP or a damaged one.
+ImageF read_bmp(const std::filesystem::path& path);
 
 // Writes a scanline OpenEXR with one 32-bit FLOAT channel per entry (e.g. "R", "G", "B", "A",
 // "Z"), each pointing at width * height values in row-major order, ZIP compression. Throws
