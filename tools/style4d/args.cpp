@@ -1,13 +1,22 @@
 #include "args.h"
 
+#include <algorithm>
+#include <iostream>
 #include <sstream>
-#include <stdexcept>
 
 namespace s4d::cli {
 
 Args::Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& specs) {
+  if (argv.size() == 1 && argv[0] == "--list-options") throw OptionTable{specs};
   std::map<std::string, const OptionSpec*> by_name;
-  for (const auto& s : specs) by_name[s.name] = &s;
+  std::vector<std::string> known;
+  for (const auto& s : specs) {
+    if (s.name.empty()) continue;  // a group heading
+    for (const std::string& n : s.old_names) by_name[n] = &s;
+    by_name[s.name] = &s;
+    known.push_back(s.name);
+  }
+  std::set<std::string> warned;
   for (size_t i = 0; i < argv.size(); ++i) {
     const std::string& a = argv[i];
     if (a == "--help" || a == "-h") {
@@ -26,18 +35,24 @@ Args::Args(const std::vector<std::string>& argv, const std::vector<OptionSpec>& 
       name = name.substr(0, eq);
     }
     auto it = by_name.find(name);
-    if (it == by_name.end()) throw std::invalid_argument("unknown option --" + name + " (see --help)");
-    if (!it->second->takes_value) {
-      if (inline_value) throw std::invalid_argument("option --" + name + " takes no value");
-      flags_.insert(name);
+    if (it == by_name.end()) {
+      const std::string near = nearest(name, known);
+      throw UsageError("unknown option --" + name + (near.empty() ? "" : "; did you mean --" + near + "?") + " (see --help)");
+    }
+    const OptionSpec& spec = *it->second;
+    if (name != spec.name && warned.insert(name).second) warn_deprecated("--" + name, "--" + spec.name);
+    if (!spec.takes_value) {
+      if (inline_value) throw UsageError("option --" + name + " takes no value");
+      flags_.insert(spec.name);
       continue;
     }
     if (!inline_value) {
-      if (i + 1 >= argv.size()) throw std::invalid_argument("option --" + name + " needs a value");
+      if (i + 1 >= argv.size()) throw UsageError("option --" + name + " needs a value");
       value = argv[++i];
     }
-    values_[name] = value;
-    all_values_[name].push_back(value);
+    values_[spec.name] = value;
+    spellings_[spec.name] = name;
+    all_values_[spec.name].push_back(value);
   }
 }
 
@@ -58,18 +73,68 @@ std::vector<std::string> Args::get_all(const std::string& name) const {
 
 std::string Args::require(const std::string& name) const {
   auto v = get(name);
-  if (!v) throw std::invalid_argument("missing required option --" + name + " (see --help)");
+  if (!v) throw UsageError("missing required option --" + name + " (see --help)");
   return *v;
+}
+
+std::string Args::spelling(const std::string& name) const {
+  auto it = spellings_.find(name);
+  return it == spellings_.end() ? name : it->second;
+}
+
+void warn_deprecated(const std::string& old_spelling, const std::string& new_spelling) {
+  std::cerr << "style4d: warning: " << old_spelling << " is an old spelling; use " << new_spelling << " (" << old_spelling
+            << " keeps working)\n";
+}
+
+namespace {
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = 0;
+  for (const std::string& c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (best.empty() || d < best_distance) best = c, best_distance = d;
+  }
+  // A third of the word's letters, at least one: "--iter" finds --iters, "--xyz" finds nothing.
+  return !best.empty() && best_distance <= std::max<size_t>(1, word.size() / 3) ? best : std::string();
+}
+
+void refuse_positionals(const Args& args) {
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
 }
 
 std::string usage(const std::string& command, const std::string& synopsis, const std::string& summary,
                   const std::vector<OptionSpec>& specs) {
   std::ostringstream s;
   s << "usage: style4d " << command << (synopsis.empty() ? "" : " ") << synopsis << "\n\n" << summary << "\n";
-  s << "\noptions:\n";
+  if (specs.empty() || !specs.front().name.empty()) s << "\noptions:\n";
   for (const auto& o : specs) {
+    if (o.name.empty()) {
+      s << "\n" << o.help << ":\n";
+      continue;
+    }
     std::string left = "--" + o.name + (o.takes_value ? " " + o.value_name : "");
-    s << "  " << left << std::string(left.size() < 22 ? 22 - left.size() : 1, ' ') << o.help << "\n";
+    s << "  " << left << std::string(left.size() < 22 ? 22 - left.size() : 1, ' ') << o.help;
+    for (size_t i = 0; i < o.old_names.size(); ++i) s << (i == 0 ? " (old spelling: --" : ", --") << o.old_names[i];
+    s << (o.old_names.empty() ? "" : ")") << "\n";
   }
   s << "  --help                " << "show this help\n";
   return s.str();
@@ -80,7 +145,7 @@ std::pair<int, int> parse_size(const std::string& option, const std::string& tex
   char x = 0;
   std::istringstream in(text);
   if (!(in >> w >> x >> h) || x != 'x' || !in.eof() || w <= 0 || h <= 0)
-    throw std::invalid_argument("--" + option + ": expected WxH (for example 160x120), got '" + text + "'");
+    throw UsageError("--" + option + ": expected WxH (for example 160x120), got '" + text + "'");
   return {w, h};
 }
 

@@ -20,18 +20,29 @@ ImageF image_from(const cv::Mat& rgb) {
   return image;
 }
 
+// Gray replicated, alpha dropped (read_png keeps a PNG's own channels).
+ImageF rgb_of(ImageF image) {
+  if (image.channels == 3) return image;
+  ImageF rgb{image.width, image.height, 3, {}};
+  const size_t pixels = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  const size_t c = static_cast<size_t>(image.channels);
+  rgb.data.resize(pixels * 3);
+  for (size_t i = 0; i < pixels; ++i)
+    for (size_t k = 0; k < 3; ++k) rgb.data[3 * i + k] = image.data[i * c + (c < 3 ? 0 : k)];
+  return rgb;
+}
+
 }  // namespace
 
 ImageF read_image_rgb(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error(path.string() + ": no such file");
+  // PNGs go through the project's reader: it names what is wrong with a damaged file, checks the
+  // memory a huge one needs before decoding it, and keeps libpng's own lines off stderr.
+  std::string head(8, '\0');
+  std::ifstream(path, std::ios::binary).read(head.data(), 8);
+  if (head == "\x89PNG\r\n\x1a\n") return rgb_of(read_png(path));
   const cv::Mat raw = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  if (raw.empty()) {
-    // OpenCV does not say why; the project's PNG reader names what is wrong with a PNG (and throws).
-    std::string head(8, '\0');
-    std::ifstream(path, std::ios::binary).read(head.data(), 8);
-    if (head == "\x89PNG\r\n\x1a\n") (void)read_png(path);
-    throw std::runtime_error(path.string() + ": not a readable image (PNG, JPEG, ...)");
-  }
+  if (raw.empty()) throw std::runtime_error(path.string() + ": not a readable image (PNG, JPEG, ...)");
   cv::Mat rgb;
   switch (raw.channels()) {
     case 1: cv::cvtColor(raw, rgb, cv::COLOR_GRAY2RGB); break;

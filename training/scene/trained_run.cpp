@@ -24,7 +24,7 @@ run::StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
     std::string known;
     for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
     throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
-                             " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
+                             " (train one with style4d stylize --run " + run.root.string() + " --style-image IMG)");
   }
   return run::read_style_file(run::style_file_path(run.root, style));
 }
@@ -40,11 +40,18 @@ run::StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
 TrainedRun read_trained_run(const fs::path& root) {
   const run::RunDir run{root};
   if (!fs::is_directory(root))
-    throw std::runtime_error(root.string() + " is not a directory; train one with `style4d train --data DIR --out " +
+    throw std::runtime_error(root.string() + " is not a directory; train a run there with `style4d train --data DIR --run " +
                              root.string() + "`");
+  // A folder of other files (a dataset, say) is not trained into: the run goes in a folder of its own.
+  std::error_code ec;
+  const bool run_files = fs::exists(run.train_json()) || fs::exists(run.checkpoint().parent_path()) ||
+                         fs::exists(run.gaussians_ply().parent_path());
+  if (!fs::exists(run.run_json()) && !run_files && !fs::is_empty(root, ec))
+    throw std::runtime_error(root.string() + " is not a training run (no run.json); if it is a dataset, train a run from it "
+                             "with `style4d train --data " + root.string() + " --run NEW_RUN_DIR`");
   if (!fs::exists(run.run_json()))
     incomplete(root, {run.run_json().string() + ": missing (what was trained from what)"},
-               "train one with `style4d train --data DIR --out " + root.string() + "`");
+               "train a run there with `style4d train --data DIR --run " + root.string() + "`");
   run::RunJson j = run::read_run_json(run);  // names the file and the field
   TrainedRun out;
   out.root = root;
