@@ -151,7 +151,11 @@ int cmd_stylize(const std::vector<std::string>& argv) {
     req.style_image = *args.get("style");
     req.name = args.get_or("name", "");
   }
-  req.config = config_from_args(args);
+  try {
+    req.config = config_from_args(args);
+  } catch (const std::invalid_argument& e) {  // a setting, method or value the options name wrongly
+    throw UsageError(e.what());
+  }
   if (auto v = args.get("iters"); v && req.config.method == run::StyleMethod::scratch)
     req.scratch_iterations = parse_number<uint32_t>("iters", *v);
   req.restart = args.flag("restart");

@@ -1,6 +1,7 @@
 // style4d stylize-frames --in DIR|VIDEO --style-image IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]
 // [--style-size N] [--strength S] [--seed N]: restyles one camera's frames in time order with a
 // frame stylizer (s4d_frame_stylizers).
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -63,7 +64,11 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   network.weights = args.get_or("weights", "");
   network.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));
   if (network.style_size < 0) throw UsageError("--style-size: expected 0 or more pixels");
-  const auto stylizer = frame_stylizers::make_stylizer(args.get_or("stylizer", "patch"), network);
+  const std::string stylizer_name = args.get_or("stylizer", "patch");
+  const std::vector<std::string> known = frame_stylizers::stylizer_names();
+  if (std::find(known.begin(), known.end(), stylizer_name) == known.end())
+    throw UsageError("--stylizer: unknown stylizer '" + stylizer_name + "' (available: " + names + ")");
+  const auto stylizer = frame_stylizers::make_stylizer(stylizer_name, network);
 
   const io::ImageF style = io::read_image_rgb(style_path);
   const FrameSequence input = read_frame_sequence(in);

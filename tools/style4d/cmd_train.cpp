@@ -51,8 +51,6 @@ T parse_real(const std::string& option, const std::string& text) {
   return value;
 }
 
-// The settings from the options: each option's value is checked once, by run::validate, with
-// SOURCE "command line" (the preset and the options) or "--set" (after the --set values).
 // The command-line option that sets each setting, to name it in messages (validate's `flags`).
 const std::map<std::string, std::string> kFlagOfSetting = {
     {"iterations", "--iters"}, {"fine_iterations", "--fine-iters"}, {"fine_batch", "--batch"},
@@ -219,6 +217,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   std::string data_dir;
   if (fresh) {
     if (args.get("resume")) throw UsageError("--resume continues a run; a new run takes --data DIR --run RUN");
+    args.require("run");
     data_dir = args.get("data") ? *args.get("data") : read_saved_config(*args.get("config")).data;
     if (data_dir.empty()) throw UsageError("--config " + *args.get("config") + ": names no dataset ('data'); give --data DIR");
   } else if (!std::filesystem::exists(std::filesystem::path(*continued) / "run.json") && !args.get("resume")) {

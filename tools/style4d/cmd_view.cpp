@@ -24,16 +24,23 @@ namespace {
 
 // --camera N or --camera NAME (cam01, as render --path train:cam01 names it).
 size_t camera_index(const std::string& text, const std::vector<io::CameraView>& cameras) {
-  if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) return parse_number<size_t>("camera", text);
   std::string names;
+  for (size_t k = 0; k < cameras.size() && k < 12; ++k) names += (k ? ", " : "") + cameras[k].name;
+  names += cameras.size() > 12 ? ", ..." : "";
+  if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+    const size_t index = parse_number<size_t>("camera", text);
+    if (index >= cameras.size())
+      throw UsageError("--camera " + text + ": the run's dataset has cameras 0.." + std::to_string(cameras.size() - 1) + " (" +
+                       names + ")");
+    return index;
+  }
   for (size_t k = 0; k < cameras.size(); ++k) {
     std::string underscored = cameras[k].name;  // D-NeRF's train/r_000 is render's train_r_000
     std::replace(underscored.begin(), underscored.end(), '/', '_');
     if (cameras[k].name == text || underscored == text) return k;
-    if (k < 12) names += (k ? ", " : "") + cameras[k].name;
   }
   throw UsageError("--camera " + text + ": no such camera; give an index 0.." + std::to_string(cameras.size() - 1) +
-                   " or a name (" + names + (cameras.size() > 12 ? ", ..." : "") + ")");
+                   " or a name (" + names + ")");
 }
 
 }  // namespace

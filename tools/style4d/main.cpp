@@ -127,7 +127,9 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "style4d " << name << ": error: " << e.what() << "\n";
     return 1;
-  } catch (const s4d::cli::OptionTable&) {  // --list-options, asked by hand
+  } catch (const s4d::cli::OptionTable& table) {  // --list-options (the completion asks it): one option a line
+    for (const auto& o : table.specs)
+      if (!o.name.empty()) std::cout << "--" << o.name << "\n";
     return 0;
   }
 }
