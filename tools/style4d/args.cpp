@@ -89,19 +89,17 @@ void warn_deprecated(const std::string& old_spelling, const std::string& new_spe
 
 namespace {
 
+// Edits from a to b: insertions, deletions, substitutions, and swaps of two neighbours ("trian").
 size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i)
     for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
-  }
-  return row[b.size()];
+  return d[a.size()][b.size()];
 }
 
 }  // namespace
@@ -113,8 +111,8 @@ std::string nearest(const std::string& word, const std::vector<std::string>& can
     const size_t d = edit_distance(word, c);
     if (best.empty() || d < best_distance) best = c, best_distance = d;
   }
-  // A third of the word's letters, at least one: "--iter" finds --iters, "--xyz" finds nothing.
-  return !best.empty() && best_distance <= std::max<size_t>(1, word.size() / 3) ? best : std::string();
+  // Two edits, or a third of a long word's letters: "--iter" finds --iters, "trian" train, "xyzzy" nothing.
+  return !best.empty() && best_distance <= std::max<size_t>(2, word.size() / 3) ? best : std::string();
 }
 
 void refuse_positionals(const Args& args) {

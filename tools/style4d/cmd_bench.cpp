@@ -59,7 +59,7 @@ const std::vector<OptionSpec> kSpecs = {
     {"style", "a style of --run (style4d stylize --style), or original; repeat for several methods", true, "NAME"},
     {"spiral-frames", "run mode: frames of the spiral video (default 120)", true, "N"},
     group("merge mode"),
-    {"merge", " report folders (or their report.json) of earlier benches, one per job", true, "DIR..."},
+    {"merge", "report folders (or their report.json) of earlier benches, one per job", true, "DIR..."},
 };
 
 template <class T>

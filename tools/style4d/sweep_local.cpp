@@ -8,6 +8,7 @@
 #include <iostream>
 #include <set>
 
+#include "args.h"
 #include "sweep.h"
 
 namespace s4d::cli::sweep {

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "args.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::cli::sweep {

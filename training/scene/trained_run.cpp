@@ -70,7 +70,7 @@ TrainedRun read_trained_run(const fs::path& root) {
   if (!missing.empty())
     incomplete(root, missing,
                no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
-                                              : "finish it with `style4d train --resume " + root.string() + "`");
+                                              : "finish it with `style4d train --run " + root.string() + "`");
   data::LoadOptions load{.downscale = out.config.downscale, .background = out.config.background, .probe_background = false};
   if (!out.config.frames.empty()) load.frames = data::parse_frame_range(out.config.frames, run.run_json().string() + ": frames");
   out.dataset = data::load_dataset(data_path, load);
