@@ -1,7 +1,10 @@
 #include "s4d/scene/trained_run.h"
 
 #include <algorithm>
+#include <fstream>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/run/run_dir.h"
@@ -67,10 +70,16 @@ TrainedRun read_trained_run(const fs::path& root) {
   const fs::path data_path = j.data;
   const bool no_data = !fs::exists(data_path);
   if (no_data) missing.push_back(data_path.string() + ": missing (the dataset that run.json's field 'data' names)");
+  // A finished run (train.json: complete) is not trained again: what it lost cannot be finished.
+  std::ifstream train_json(run.train_json());
+  const nlohmann::json train = nlohmann::json::parse(train_json, nullptr, false);
+  const bool finished = train.is_object() && train.value("complete", false);
   if (!missing.empty())
     incomplete(root, missing,
                no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
-                                              : "finish it with `style4d train --run " + root.string() + "`");
+               : finished ? "the run finished, and what is missing cannot be rebuilt from the rest; train a new run "
+                            "with `style4d train --data DIR --run NEW_RUN_DIR`"
+                          : "finish it with `style4d train --run " + root.string() + "`");
   data::LoadOptions load{.downscale = out.config.downscale, .background = out.config.background, .probe_background = false};
   if (!out.config.frames.empty()) load.frames = data::parse_frame_range(out.config.frames, run.run_json().string() + ": frames");
   out.dataset = data::load_dataset(data_path, load);
