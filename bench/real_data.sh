@@ -45,7 +45,7 @@ stage() {
 }
 
 frame_args=(${frames:+--frames "$frames"})
-"$exe" check-data "$data" --downscale "$downscale" --json "$out/check.json" | tee "$out/check.txt" || {
+"$exe" check-data --data "$data" --downscale "$downscale" --json "$out/check.json" | tee "$out/check.txt" || {
   echo "real_data.sh: check-data found errors (listed above); fix them first" >&2; exit 1; }
 stage train "$out/run/train.json" "$exe" train --data "$data" --out "$out/run" --preset "$preset" \
   --downscale "$downscale" "${frame_args[@]}" --skip-check "$@"

@@ -494,8 +494,11 @@ def check_published(path, digest):
 
 
 def main(argv, tokenize=openai_tokenize):
+    if len(argv) == 2 and argv[1] in ("-h", "--help"):  # asked for: the usage on stdout, success
+        sys.stdout.write(__doc__)
+        return 0
     inputs = 3 if len(argv) > 1 and argv[1] == "clipiqa_plus" else 2
-    if len(argv) != 2 + inputs or argv[1] in ("-h", "--help"):
+    if len(argv) != 2 + inputs:
         sys.stderr.write(__doc__)
         return 2
     kind, paths, out_dir = argv[1], argv[2:-1], argv[-1]

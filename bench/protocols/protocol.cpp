@@ -53,23 +53,39 @@ std::vector<Sequence> fixed_camera_sequences(const data::Dataset& dataset, bool 
   return out;
 }
 
+// A camera path file's frames in file order, each at its own time.
+Sequence camera_path_sequence(const std::filesystem::path& file) {
+  const std::vector<io::CameraView> views = io::read_nerf_cameras(file);
+  if (views.empty()) throw std::runtime_error(file.string() + ": frames: empty; a camera path needs at least one frame");
+  Sequence s{file.stem().string(), {}};
+  for (const io::CameraView& v : views) {
+    if (!v.time)
+      throw std::runtime_error(file.string() + ": frames[" + std::to_string(s.frames.size()) + "] (" + v.name +
+                               "): no 'time'; each frame of a camera path gives its time in [0, 1]");
+    s.frames.push_back({static_cast<int>(s.frames.size()), *v.time, v});
+  }
+  return s;
+}
+
 }  // namespace
 
 std::string PathSpec::text() const {
   switch (kind) {
     case Kind::test: return "test";
     case Kind::spiral: return "spiral";
+    case Kind::file: return file.string();
     case Kind::train: break;
   }
   return "train:" + camera;
 }
 
 PathSpec parse_path(const std::string& text) {
-  if (text == "test") return {PathSpec::Kind::test, {}};
-  if (text == "spiral") return {PathSpec::Kind::spiral, {}};
-  if (text.rfind("train:", 0) == 0 && text.size() > 6) return {PathSpec::Kind::train, text.substr(6)};
-  throw std::invalid_argument("--path: expected test, spiral or train:CAM (a training camera name such as train:cam01), got '" +
-                              text + "'");
+  if (text == "test") return {PathSpec::Kind::test, {}, {}};
+  if (text == "spiral") return {PathSpec::Kind::spiral, {}, {}};
+  if (text.rfind("train:", 0) == 0 && text.size() > 6) return {PathSpec::Kind::train, text.substr(6), {}};
+  if (text.size() > 5 && text.ends_with(".json")) return {PathSpec::Kind::file, {}, text};
+  throw std::invalid_argument("--path: expected test, spiral, train:CAM (a training camera name such as train:cam01) or a "
+                              "camera path FILE.json, got '" + text + "'");
 }
 
 std::string camera_name(const data::View& view) {
@@ -87,6 +103,7 @@ std::vector<Sequence> build_protocol(const data::Dataset& dataset, const PathSpe
       return s;
     }
     case PathSpec::Kind::spiral: return {Sequence{"spiral", spiral_frames(analyse_rig(dataset), spiral_frames_count)}};
+    case PathSpec::Kind::file: return {camera_path_sequence(path.file)};
     case PathSpec::Kind::train: break;
   }
   return fixed_camera_sequences(dataset, false, &path.camera);

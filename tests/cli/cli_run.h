@@ -3,6 +3,7 @@
 #pragma once
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -21,6 +22,9 @@ inline int run_style4d(const std::string& command, const std::string& args, cons
       std::string(S4D_STYLE4D_EXE) + " " + command + " " + args + " > " + log.string() + " 2>&1";
   return std::system(cmd.c_str());
 }
+
+// The exit code in a std::system status (run_style4d's); -1 when the program did not exit (a signal).
+inline int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 
 // While alive, style4d runs started by this process use one lavapipe thread, so float atomics add
 // in one order and runs are bit for bit reproducible (for the resume tests).

@@ -21,7 +21,7 @@ inline const std::filesystem::path& styled(const std::string& name, const std::s
   if (!done.count(name)) {
     const Run4d& r = run4d();
     const std::filesystem::path log = r.root / ("stylize_" + name + ".log");
-    REQUIRE_MESSAGE(run_style4d("stylize", "--run " + r.run.string() + " --style " + image + " --name " + name + " " + options,
+    REQUIRE_MESSAGE(run_style4d("stylize", "--run " + r.run.string() + " --style-image " + image + " --style " + name + " " + options,
                                 log) == 0,
                     read_text(log));
     done[name] = r.run / "style" / name;

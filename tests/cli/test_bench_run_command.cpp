@@ -171,7 +171,7 @@ TEST_CASE("bench --run refuses a style the run lacks, no --style, and frames-mod
   CHECK(test::run_style4d("bench", "--run " + r.run.string() + " --out " + out.string(), log) != 0);
   CHECK(test::read_text(log).find("--style") != std::string::npos);
   CHECK(test::run_style4d("bench", "--run " + r.run.string() + " --style original --original x --out " + out.string(), log) != 0);
-  CHECK(test::read_text(log).find("--original belongs to the --frames mode") != std::string::npos);
+  CHECK(test::read_text(log).find("--original belongs to the frames mode (--stylized)") != std::string::npos);
   CHECK(test::run_style4d("bench", "--run " + r.run.string() + " --style original --spiral-frames 1 --out " + out.string(), log) != 0);
   CHECK(test::read_text(log).find("--spiral-frames") != std::string::npos);
   CHECK(!fs::exists(out / "report.json"));

@@ -19,8 +19,10 @@ namespace fs = std::filesystem;
 namespace {
 
 // The exit code of `style4d check-data ARGS` (std::system gives the wait status); -1 when it did not exit.
+// A leading dataset folder is passed as --data DIR (the positional DIR, its old spelling, is tested apart).
 int run(const std::string& args, const fs::path& log) {
-  const int status = s4d::test::run_style4d("check-data", args, log);
+  const bool folder_first = !args.empty() && args[0] != '-';
+  const int status = s4d::test::run_style4d("check-data", (folder_first ? "--data " : "") + args, log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 std::string read_text(const fs::path& p) { return s4d::test::read_text(p); }
@@ -177,13 +179,48 @@ TEST_CASE("check-data --help and bad arguments") {
   const fs::path dir = fresh_dir("args");
   REQUIRE(run("--help", dir / "log.txt") == 0);
   const std::string help = read_text(dir / "log.txt");
-  CHECK(has(help, "usage: style4d check-data DIR"));
+  CHECK(has(help, "usage: style4d check-data --data DIR"));
   CHECK(has(help, "--downscale"));
   CHECK(has(help, "--json"));
   CHECK(run("", dir / "log.txt") == 2);
-  CHECK(has(read_text(dir / "log.txt"), "missing the dataset directory"));
+  CHECK(has(read_text(dir / "log.txt"), "missing the dataset: --data DIR"));
   CHECK(run((dir).string() + " --downscale 0", dir / "log.txt") == 2);
   CHECK(has(read_text(dir / "log.txt"), "--downscale"));
   REQUIRE(s4d::test::run_style4d("train", "--help", dir / "log.txt") == 0);
   CHECK(has(read_text(dir / "log.txt"), "--skip-check"));
+}
+
+TEST_CASE("check-data DIR, the old spelling of --data DIR, still works and says so in one line") {
+  const fs::path dir = fresh_dir("positional");
+  const fs::path data = dir / "data";
+  write_tiny(data);
+  REQUIRE(WEXITSTATUS(s4d::test::run_style4d("check-data", data.string(), dir / "log.txt")) == 0);
+  const std::string log = read_text(dir / "log.txt");
+  CHECK(has(log, "style4d: warning: check-data DIR is an old spelling; use check-data --data DIR"));
+  CHECK(log.find("old spelling") == log.rfind("old spelling"));
+  CHECK(has(log, "0 errors, 0 warnings"));
+}
+
+TEST_CASE("a camera whose frames all decode as one colour is a warning naming the camera and the frames") {
+  const fs::path dir = fresh_dir("one_colour");
+  const fs::path data = dir / "data";
+  write_tiny(data);
+  // cam01's frames all black (a video the decoder could not read), cam02's one grey but for one frame.
+  const s4d::io::ImageF black{32, 24, 3, std::vector<float>(32 * 24 * 3, 0.0f)};
+  const s4d::io::ImageF grey{32, 24, 3, std::vector<float>(32 * 24 * 3, 0.5f)};
+  for (int f = 0; f < 4; ++f) {
+    s4d::io::write_png(data / "cam01" / ("000" + std::to_string(f) + ".png"), black);
+    if (f != 3) s4d::io::write_png(data / "cam02" / ("000" + std::to_string(f) + ".png"), grey);
+  }
+  REQUIRE(run(data.string(), dir / "log.txt") == 0);  // a warning: the run may still be wanted
+  const std::string log = read_text(dir / "log.txt");
+  CHECK_MESSAGE(has(log, "warning: " + (data / "cam01").string() + ": frames: camera cam01: every frame sampled "
+                         "(cam01/0000, cam01/0001, cam01/0003) decodes as one colour, 0.00,0.00,0.00 (black)"), log);
+  CHECK_MESSAGE(!has(log, "camera cam02"), log);  // its last frame has a picture
+  CHECK(has(log, "0 errors, 1 warning"));
+  // Now cam02 entirely one grey: named with its colour.
+  s4d::io::write_png(data / "cam02" / "0003.png", grey);
+  REQUIRE(run(data.string(), dir / "log.txt") == 0);
+  CHECK_MESSAGE(has(read_text(dir / "log.txt"), "camera cam02: every frame sampled (cam02/0000, cam02/0001, cam02/0003) "
+                                                "decodes as one colour, 0.50,0.50,0.50;"), read_text(dir / "log.txt"));
 }

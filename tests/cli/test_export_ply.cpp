@@ -77,7 +77,7 @@ TEST_CASE("a 4DGS run without its checkpoint, or whose checkpoint lacks the fiel
   };
   all_fail_with(ckpt.string() + ": missing (the canonical Gaussians and the deformation field");
   CHECK(read_text(dir / "log").find("incomplete run") != std::string::npos);
-  CHECK(read_text(dir / "log").find("--resume " + partial.string()) != std::string::npos);
+  CHECK(read_text(dir / "log").find("style4d train --run " + partial.string()) != std::string::npos);
 
   s4d::run::Checkpoint cp = s4d::run::read_checkpoint(r.run / "checkpoint" / "state.s4dckpt");
   s4d::run::Checkpoint no_field = cp;
@@ -90,5 +90,5 @@ TEST_CASE("a 4DGS run without its checkpoint, or whose checkpoint lacks the fiel
   static_stage.meta["iteration"] = 20;
   s4d::run::write_checkpoint(ckpt, static_stage);
   all_fail_with(ckpt.string() + ": the run is incomplete: the checkpoint is from the static stage (iteration 20 of 40)");
-  CHECK(read_text(dir / "log").find("--resume " + partial.string()) != std::string::npos);
+  CHECK(read_text(dir / "log").find("style4d train --run " + partial.string()) != std::string::npos);
 }

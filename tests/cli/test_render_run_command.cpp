@@ -86,7 +86,7 @@ TEST_CASE("render --path test writes each test camera's frames at the test times
 TEST_CASE("render --path spiral --format exr --flow writes frames and forward/backward flow per pair") {
   const Fixture& f = fixture();
   const fs::path out = f.root / "spiral_exr";
-  REQUIRE_MESSAGE(f.render("--path spiral --frames 4 --format exr --flow --out " + out.string(), f.root / "spiral.log") == 0,
+  REQUIRE_MESSAGE(f.render("--path spiral --spiral-frames 4 --format exr --flow --out " + out.string(), f.root / "spiral.log") == 0,
                   read_text(f.root / "spiral.log"));
   for (const char* name : {"0000.exr", "0003.exr"}) {
     const s4d::io::ExrImage exr = s4d::io::read_exr(out / name);
@@ -118,8 +118,8 @@ TEST_CASE("render --path train:CAM --format mp4 writes one video; bench reads th
   CHECK(read_json(mp4 / "frames.json")["sequences"][0]["video"] == "video.mp4");
 
   const fs::path png = f.root / "spiral_png", report = f.root / "report";
-  REQUIRE(f.render("--path spiral --frames 3 --flow --out " + png.string(), f.root / "png.log") == 0);
-  const std::string bench = "--frames " + png.string() + " --original " + png.string() + " --style-image " +
+  REQUIRE(f.render("--path spiral --spiral-frames 3 --flow --out " + png.string(), f.root / "png.log") == 0);
+  const std::string bench = "--stylized " + png.string() + " --original " + png.string() + " --style-image " +
                             (png / "0000.png").string() + " --flow exact --flow-dir " + (png / "flow").string() +
                             " --out " + report.string();
   REQUIRE_MESSAGE(run_style4d("bench", bench, f.root / "bench.log") == 0, read_text(f.root / "bench.log"));
@@ -137,13 +137,13 @@ TEST_CASE("render --run errors name the file, the path or the camera, and write 
     CHECK_MESSAGE(text.find(message) != std::string::npos, args << " -> " << text);
     CHECK_FALSE(fs::exists(out));
   };
-  fails_with("--path orbit", "expected test, spiral or train:CAM");
+  fails_with("--path orbit", "expected test, spiral, train:CAM (a training camera name such as train:cam01) or a camera path FILE.json");
   fails_with("--path train:cam00", "no training camera named 'cam00'");
   fails_with("--path train:cam7", "the training cameras are cam01, cam02, cam03");
   fails_with("--path test --style ink", "no style ink in");
-  fails_with("--path test --frames 5", "--frames sets the spiral's length");
+  fails_with("--path test --spiral-frames 5", "--spiral-frames sets the spiral's length");
   fails_with("--path test --format gif", "expected png, exr or mp4");
-  fails_with("--path spiral --frames 0", "at least 1");
+  fails_with("--path spiral --spiral-frames 0", "at least 1");
 
   const fs::path empty_run = f.root / "empty_run";
   fs::create_directories(empty_run);

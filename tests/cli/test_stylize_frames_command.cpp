@@ -55,7 +55,7 @@ TEST_CASE("stylize-frames restyles a folder of frames with the built-in style") 
   const fs::path dir = s4d::test::fresh_dir("stylize_ok");
   const fs::path in = write_frames(dir);
   REQUIRE(run("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "style_log.txt") == 0);
-  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() + " --out " +
+  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style-image " + (dir / "style.png").string() + " --out " +
                                     (dir / "out").string() + " --seed 2",
               dir / "log.txt") == 0);
   for (int t = 0; t < 3; ++t) {
@@ -67,7 +67,7 @@ TEST_CASE("stylize-frames restyles a folder of frames with the built-in style") 
   CHECK(read_text(dir / "log.txt").find("stylized 3 frames (32x24) with patch") != std::string::npos);
 
   // --strength 0 writes the content back (8-bit round trip: exactly).
-  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() + " --out " +
+  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style-image " + (dir / "style.png").string() + " --out " +
                                     (dir / "same").string() + " --strength 0",
               dir / "log.txt") == 0);
   CHECK(s4d::io::read_png(dir / "same" / "frame_1.png").data == s4d::io::read_png(in / "frame_1.png").data);
@@ -77,11 +77,11 @@ TEST_CASE("stylize-frames reads and writes videos") {
   const fs::path dir = s4d::test::fresh_dir("stylize_video");
   const fs::path in = write_frames(dir);
   REQUIRE(run("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "log.txt") == 0);
-  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() + " --out " +
+  REQUIRE(run("stylize-frames", "--in " + in.string() + " --style-image " + (dir / "style.png").string() + " --out " +
                                     (dir / "out.mp4").string(),
               dir / "log.txt") == 0);
   REQUIRE(fs::file_size(dir / "out.mp4") > 0);
-  REQUIRE(run("stylize-frames", "--in " + (dir / "out.mp4").string() + " --style " + (dir / "style.png").string() +
+  REQUIRE(run("stylize-frames", "--in " + (dir / "out.mp4").string() + " --style-image " + (dir / "style.png").string() +
                                     " --out " + (dir / "back").string(),
               dir / "log.txt") == 0);
   CHECK(fs::exists(dir / "back" / "0000.png"));
@@ -92,10 +92,10 @@ TEST_CASE("stylize-frames refuses bad inputs with one line and writes nothing") 
   const fs::path dir = s4d::test::fresh_dir("stylize_bad");
   const fs::path in = write_frames(dir);
   REQUIRE(run("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "log.txt") == 0);
-  const std::string style = " --style " + (dir / "style.png").string();
+  const std::string style = " --style-image " + (dir / "style.png").string();
   const std::string out = " --out " + (dir / "out").string();
 
-  CHECK(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "missing.png").string() + out, dir / "log.txt") != 0);
+  CHECK(run("stylize-frames", "--in " + in.string() + " --style-image " + (dir / "missing.png").string() + out, dir / "log.txt") != 0);
   CHECK(one_error_line(dir / "log.txt", "missing.png"));
 
   fs::create_directories(dir / "empty");
@@ -132,7 +132,7 @@ TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and na
   const fs::path weights = dir / "weights";
   fs::create_directories(weights);
   s4d::test::write_params(weights / "vgg_normalised.safetensors", s4d::test::random_vgg({}, 4, rng));
-  const std::string common = " --style " + (dir / "style.png").string() + " --stylizer adain --style-size 32";
+  const std::string common = " --style-image " + (dir / "style.png").string() + " --stylizer adain --style-size 32";
 
   CHECK(run("stylize-frames", "--in " + in.string() + common + " --weights " + weights.string() + " --out " +
                                   (dir / "out").string(),
@@ -151,7 +151,7 @@ TEST_CASE("stylize-frames runs adain from a folder of safetensors weights and na
   CHECK(read_text(dir / "log.txt").find("stylized 3 frames (32x24) with adain") != std::string::npos);
 
   // hgst reads MCCNet's module too.
-  CHECK(run("stylize-frames", "--in " + in.string() + " --style " + (dir / "style.png").string() +
+  CHECK(run("stylize-frames", "--in " + in.string() + " --style-image " + (dir / "style.png").string() +
                                   " --stylizer hgst --weights " + weights.string() + " --out " + (dir / "hgst").string(),
             dir / "log.txt") != 0);
   CHECK(one_error_line(dir / "log.txt", (weights / "mcc_module.safetensors").string() + ": cannot open"));

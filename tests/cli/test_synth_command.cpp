@@ -70,10 +70,10 @@ TEST_CASE("synth --dnerf writes a monocular D-NeRF dataset: one training camera 
 TEST_CASE("synth refuses bad flags with one line and writes nothing") {
   const fs::path dir = fresh_dir("bad");
   const fs::path out = dir / "data";
-  for (const std::string flags : {"--cams 1", "--frames 1", "--size 32", "--size 4x4", "--size 32x24x1",
+  for (const std::string flags : {"--cams 1", "--frame-count 1", "--size 32", "--size 4x4", "--size 32x24x1",
                                   "--cams 3x", "--seed -1", "--cams", "--size 33x24 --video"}) {
     CAPTURE(flags);
-    CHECK(run("--out " + out.string() + " " + flags, dir / "log.txt") != 0);
+    CHECK(s4d::test::exit_code(run("--out " + out.string() + " " + flags, dir / "log.txt")) == 2);  // a usage error
     const std::string log = read_text(dir / "log.txt");
     CHECK(log.find("error") != std::string::npos);
     CHECK(std::count(log.begin(), log.end(), '\n') == 1);

@@ -45,7 +45,7 @@ fs::path bounce_fixture(const fs::path& dir) {
 }
 
 int train(const fs::path& data, const fs::path& run, const std::string& extra) {
-  return s4d::test::run_style4d("train", "--data " + data.string() + " --out " + run.string() + " --skip-check " + extra,
+  return s4d::test::run_style4d("train", "--data " + data.string() + " --run " + run.string() + " --skip-check " + extra,
                                 run.string() + ".log");
 }
 

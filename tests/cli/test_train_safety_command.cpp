@@ -1,13 +1,16 @@
-// Never lose a run, through `style4d train`: --resume without a loadable checkpoint refuses and
-// leaves every result byte-identical (a run killed before its first checkpoint, with nothing to
-// lose, starts again); a damaged newest checkpoint falls back to the previous one and says so;
-// settings out of range are refused from run.json (resume and render), --set and the command line
-// in one format; a second writer is refused while the run lock is held.
+// Never lose a run, through `style4d train`: a finished run is never trained again, whatever state
+// its checkpoints are in; continuing a stopped run without a loadable checkpoint refuses and leaves
+// every result byte-identical (a run killed before its first checkpoint, with nothing to lose,
+// starts again); a damaged newest checkpoint falls back to the previous one and says so; settings out
+// of range are refused from run.json (resume and render) and --set in one format, and from the command
+// line named by their flag; a second writer is refused while the run lock is held.
 #include <doctest/doctest.h>
 
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -55,6 +58,15 @@ fs::path copy_of_base(const std::string& name) {
   return run;
 }
 
+// A copy of the base run as a run stopped before its end leaves it: train.json says "complete": false.
+fs::path copy_of_interrupted(const std::string& name) {
+  const fs::path run = copy_of_base(name);
+  nlohmann::json train = nlohmann::json::parse(test::read_text(run / "train.json"));
+  train["complete"] = false;
+  std::ofstream(run / "train.json") << train.dump(2);
+  return run;
+}
+
 // Every file of a run (its lock aside) by relative path, with its bytes.
 std::map<std::string, std::string> contents(const fs::path& run) {
   std::map<std::string, std::string> out;
@@ -95,8 +107,43 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 }  // namespace
 
+TEST_CASE("a finished run is never trained again: continuing it says so, exits 0 and changes no byte") {
+  struct Case {
+    const char* name;
+    std::function<void(const fs::path&)> damage;
+  };
+  const Case cases[] = {
+      {"intact", [](const fs::path&) {}},
+      {"newest_damaged", [](const fs::path& r) { damage_array(r / "checkpoint" / "state.s4dckpt", "means"); }},
+      {"newest_missing", [](const fs::path& r) { fs::remove(r / "checkpoint" / "state.s4dckpt"); }},
+      {"both_missing", [](const fs::path& r) { fs::remove_all(r / "checkpoint"); }},
+      {"both_damaged", [](const fs::path& r) {
+         damage_array(r / "checkpoint" / "state.s4dckpt", "means");
+         damage_array(r / "checkpoint" / "state.prev.s4dckpt", "means");
+       }},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const fs::path run = copy_of_base(std::string("finished_") + c.name);
+    c.damage(run);
+    const auto before = contents(run);
+    REQUIRE(before.count("geometry/gaussians.ply") == 1);
+    bool ok = false;
+    std::string log = run_train("--run " + run.string(), base().dir / "l_finished", ok);
+    CHECK_MESSAGE(ok, log);
+    CHECK_MESSAGE(contains(log, run.string() + ": finished (train.json: complete); nothing to continue, its results are "
+                                "unchanged"), log);
+    CHECK(contents(run) == before);
+    // The old spelling does the same, with one line saying it is old.
+    log = run_train("--resume " + run.string(), base().dir / "l_finished_old", ok);
+    CHECK_MESSAGE(ok, log);
+    CHECK_MESSAGE(contains(log, "style4d: warning: --resume RUN is an old spelling; use --run RUN"), log);
+    CHECK(contents(run) == before);
+  }
+}
+
 TEST_CASE("resume without a loadable checkpoint refuses and leaves train.json, the PLY and loss.csv byte-identical") {
-  const fs::path run = copy_of_base("no_checkpoint");
+  const fs::path run = copy_of_interrupted("no_checkpoint");
   fs::remove(run / "checkpoint" / "state.s4dckpt");
   fs::remove(run / "checkpoint" / "state.prev.s4dckpt");
   const auto before = contents(run);
@@ -120,7 +167,7 @@ TEST_CASE("resume without a loadable checkpoint refuses and leaves train.json, t
   CHECK(contents(run) == truncated);
 
   // Both checkpoints damaged: refused, naming both, nothing written.
-  const fs::path damaged = copy_of_base("both_damaged");
+  const fs::path damaged = copy_of_interrupted("both_damaged");
   damage_array(damaged / "checkpoint" / "state.s4dckpt", "means");
   damage_array(damaged / "checkpoint" / "state.prev.s4dckpt", "sh.adam_v");
   const auto both = contents(damaged);
@@ -133,7 +180,7 @@ TEST_CASE("resume without a loadable checkpoint refuses and leaves train.json, t
 }
 
 TEST_CASE("resume falls back to the previous checkpoint when the newest is damaged, in one line, and keeps it") {
-  const fs::path run = copy_of_base("fallback");
+  const fs::path run = copy_of_interrupted("fallback");
   const fs::path newest = run / "checkpoint" / "state.s4dckpt", prev = run / "checkpoint" / "state.prev.s4dckpt";
   CHECK(run::read_checkpoint(newest).meta.at("iteration") == 40);
   CHECK(run::read_checkpoint(prev).meta.at("iteration") == 30);
@@ -179,7 +226,7 @@ TEST_CASE("settings in run.json outside their range are refused on resume and on
   for (const Case& c : cases) {
     const std::string key = c.key;
     CAPTURE(key);
-    const fs::path run = copy_of_base(std::string("bad_") + c.key);
+    const fs::path run = copy_of_interrupted(std::string("bad_") + c.key);
     nlohmann::json j = read_json(run / "run.json");
     j["settings"][c.key] = c.value;
     std::ofstream(run / "run.json") << j.dump(2);
@@ -197,7 +244,7 @@ TEST_CASE("settings in run.json outside their range are refused on resume and on
     CHECK_MESSAGE(contains(render_log, c.message), render_log);
   }
   // A run.json of the wrong JSON type names the file.
-  const fs::path run = copy_of_base("bad_types");
+  const fs::path run = copy_of_interrupted("bad_types");
   nlohmann::json j = read_json(run / "run.json");
   j["settings"] = "fast";
   std::ofstream(run / "run.json") << j.dump(2);
@@ -212,16 +259,16 @@ TEST_CASE("settings in run.json outside their range are refused on resume and on
   CHECK_MESSAGE(contains(log, (run / "run.json").string() + ": expected a JSON object with 'data' and 'settings'"), log);
 }
 
-TEST_CASE("settings from the command line and from --set are refused in the same format") {
+TEST_CASE("settings from the command line, named by their flag, and from --set are refused as usage errors") {
   const std::string out = (base().dir / "never").string();
   const std::string start = "--data " + base().data.string() + " --out " + out + " --preset fast ";
   const std::pair<const char*, const char*> cases[] = {
-      {"--batch 0", "command line: field 'fine_batch' = 0: must be at least 1"},
-      {"--budget 0", "command line: field 'budget' = 0: must be at least 1"},
-      {"--sh-degree 9", "command line: field 'sh_degree' = 9: must be 0..3"},
-      {"--downscale 0", "command line: field 'downscale' = 0: must be at least 1"},
-      {"--lr-scale -1", "command line: field 'lr_scale' = -1: a learning rate must be a finite number > 0"},
-      {"--checkpoint-every 0", "command line: field 'checkpoint_every' = 0: must be at least 1"},
+      {"--batch 0", "style4d train: error: --batch 0: must be at least 1"},
+      {"--budget 0", "style4d train: error: --budget 0: must be at least 1"},
+      {"--sh-degree 9", "style4d train: error: --sh-degree 9: must be 0..3"},
+      {"--downscale 0", "style4d train: error: --downscale 0: must be at least 1"},
+      {"--lr-scale -1", "style4d train: error: --lr-scale -1: a learning rate must be a finite number > 0"},
+      {"--checkpoint-every 0", "style4d train: error: --checkpoint-every 0: must be at least 1"},
       {"--set sh_degree=9", "--set: field 'sh_degree' = 9: must be 0..3"},
       {"--set iterations=-5", "--set: field 'iterations' = -5: must not be negative"},
       {"--set means_lr=1e999", "--set: field 'means_lr' = 1e999: expected a JSON value"},
@@ -232,9 +279,9 @@ TEST_CASE("settings from the command line and from --set are refused in the same
   };
   for (const auto& [args, message] : cases) {
     CAPTURE(args);
-    bool ok = true;
-    const std::string log = run_train(start + args, base().dir / "l_args", ok);
-    CHECK_FALSE(ok);
+    const int code = test::exit_code(test::run_style4d("train", start + args, base().dir / "l_args"));
+    const std::string log = test::read_text(base().dir / "l_args");
+    CHECK(code == 2);  // a usage error
     CHECK_MESSAGE(contains(log, message), log);
     CHECK_FALSE(fs::exists(out));  // refused before anything is created
   }
@@ -272,7 +319,7 @@ TEST_CASE("a second writer is refused at once while the run lock is held") {
     CHECK_MESSAGE(contains(log, fresh.string() + held_by_me), log);
     CHECK(run::empty_but_for_lock(fresh));
   }
-  // Released: the same resume goes ahead (the run is finished, so it only evaluates and saves).
+  // Released: the same resume goes ahead (the run is finished, so it says so and writes nothing).
   bool ok = false;
   const std::string log = run_train("--resume " + run.string(), base().dir / "l_unlocked", ok);
   CHECK_MESSAGE(ok, log);

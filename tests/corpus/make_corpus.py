@@ -115,7 +115,7 @@ def define_cameras():
 
 
 def dataset_case(name, reader, build, expect, exit=2, untouched=()):
-    case(name, reader, "{EXE} check-data {CASE}/data", expect, build, exit, untouched)
+    case(name, reader, "{EXE} check-data --data {CASE}/data", expect, build, exit, untouched)
 
 
 def with_data(damage, src="data"):
@@ -236,7 +236,7 @@ def define_images():
             copytree(base + "/data/cam00", d + "/frames")
             damage(d + "/frames")
         return build
-    sf = "{EXE} stylize-frames --in {CASE}/frames --style {CASE}/style.png --out {CASE}/out"
+    sf = "{EXE} stylize-frames --in {CASE}/frames --style-image {CASE}/style.png --out {CASE}/out"
 
     def style_case(name, data, expect, known=None):
         def build(d, base):
@@ -266,7 +266,7 @@ def define_images():
                r"frames/0002\.png: 20x10, but the first frame is 32x24")
     frame_case("png_frame_alpha_other_size", lambda r: write(r + "/0002.png", png(10, 10, 6)),
                r"frames/0002\.png: 10x10, but the first frame is 32x24")
-    bench = "{EXE} bench --frames {CASE}/frames --original {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/out"
+    bench = "{EXE} bench --stylized {CASE}/frames --original {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/out"
     frame_case("png_bench_frame_truncated", lambda r: truncate(r + "/0000.png", 50),
                r"frames/0000\.png: corrupt PNG: truncated", bench)
     # Grey and 16-bit frames are read (data::FrameReader); one of another size is refused.
@@ -289,7 +289,7 @@ def define_images():
 
 def define_safetensors():
     W = "weights/vgg_normalised.safetensors"
-    sty = "{EXE} stylize-frames --in {BASE}/data/cam00 --style {BASE}/style.png --out {CASE}/out --stylizer adain --weights {CASE}/weights"
+    sty = "{EXE} stylize-frames --in {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/out --stylizer adain --weights {CASE}/weights"
 
     def st(name, data, expect, known=None):
         def build(d, base):
@@ -328,7 +328,7 @@ def define_safetensors():
     st("safetensors_nan_weight",
        safetensors([(FIRST, "F32", [3, 3, 1, 1], [0.0] * 8 + [float("nan")]), ("0.bias", "F32", [3], [0.0] * 3)]),
        r"vgg_normalised\.safetensors: tensor '0\.weight' holds a non-finite value")
-    bench = ("{EXE} bench --frames {BASE}/data/cam00 --original {BASE}/data/cam00 --style-image {BASE}/style.png "
+    bench = ("{EXE} bench --stylized {BASE}/data/cam00 --original {BASE}/data/cam00 --style-image {BASE}/style.png "
              "--out {CASE}/out --metric-weights {CASE}/weights")
 
     def mw(name, data, expect):
@@ -345,9 +345,17 @@ RUN_FILES = ["run/run.json", "run/train.json", "run/geometry/gaussians.ply", "ru
              "run/checkpoint/state.prev.s4dckpt"]
 
 
+def stopped(run):
+    """The base run as a run stopped before its end leaves it (train.json says complete: false): a
+    finished run is never trained again, so continuing only reads checkpoints of a stopped one."""
+    edit_json(run + "/train.json", lambda j: j.__setitem__("complete", False))
+
+
 def run_case(name, reader, damage, expect, cmd=RESUME, exit=1, untouched=None, known=None):
     def build(d, base):
         copytree(base + "/run", d + "/run")
+        if cmd == RESUME:
+            stopped(d + "/run")
         damage(d + "/run")
     u = [f for f in (RUN_FILES if untouched is None else untouched)]
     case(name, reader, cmd, expect, build, exit, u, known)
@@ -459,70 +467,73 @@ def cli_case(name, cmd, expect, exit=2, build=None, untouched=()):
 
 
 def define_command_lines():
-    cli_case("cli_synth_bad_size", "{EXE} synth --out {CASE}/o --size 32by24", r"--size: expected WxH \(for example 160x120\), got '32by24'", 1)
-    cli_case("cli_synth_cams_text", "{EXE} synth --out {CASE}/o --cams ten", r"--cams: expected an integer, got 'ten'", 1)
-    cli_case("cli_synth_unknown_option", "{EXE} synth --out {CASE}/o --colour red", r"unknown option --colour", 1)
-    cli_case("cli_train_no_data", "{EXE} train --out {CASE}/run", r"missing required option --data", 1)
-    cli_case("cli_train_iters_negative", "{EXE} train --data {BASE}/data --out {CASE}/run --iters -5", r"--iters: expected a non-negative integer, got '-5'", 1)
-    cli_case("cli_train_bad_preset", "{EXE} train --data {BASE}/data --out {CASE}/run --preset turbo", r"--preset: unknown preset 'turbo'", 1)
-    cli_case("cli_train_set_unknown_key", "{EXE} train --data {BASE}/data --out {CASE}/run --set warp=1", r"--set: expected KEY=VALUE .*got 'warp=1'", 1)
-    cli_case("cli_train_out_exists", "{EXE} train --data {BASE}/data --out {CASE}/run --iters 5",
+    cli_case("cli_synth_bad_size", "{EXE} synth --out {CASE}/o --size 32by24", r"--size: expected WxH \(for example 160x120\), got '32by24'")
+    cli_case("cli_synth_cams_text", "{EXE} synth --out {CASE}/o --cams ten", r"--cams: expected an integer, got 'ten'")
+    cli_case("cli_synth_unknown_option", "{EXE} synth --out {CASE}/o --colour red", r"unknown option --colour")
+    cli_case("cli_train_no_data", "{EXE} train --run {CASE}/run", r"--run .*run: no run to continue there \(no run\.json\); "
+             r"a new run needs --data DIR")
+    cli_case("cli_train_iters_negative", "{EXE} train --data {BASE}/data --run {CASE}/run --iters -5", r"--iters: expected a non-negative integer, got '-5'")
+    cli_case("cli_train_bad_preset", "{EXE} train --data {BASE}/data --run {CASE}/run --preset turbo", r"--preset: unknown preset 'turbo'")
+    cli_case("cli_train_set_unknown_key", "{EXE} train --data {BASE}/data --run {CASE}/run --set warp=1", r"--set: expected KEY=VALUE .*got 'warp=1'")
+    cli_case("cli_train_out_exists", "{EXE} train --data {BASE}/data --run {CASE}/run --iters 5",
              r"run already exists and is not empty", 1, lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
-    cli_case("cli_train_resume_changes_iters", "{EXE} train --resume {CASE}/run --iters 50",
-             r"--iters cannot change a run being resumed", 1, lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
-    cli_case("cli_render_no_out", "{EXE} render --run {BASE}/run --path test", r"missing required option --out", 1)
-    cli_case("cli_render_bad_path", "{EXE} render --run {BASE}/run --path sideways --out {CASE}/o", r"--path: expected test, spiral or train:CAM .*got 'sideways'", 1)
+    cli_case("cli_train_resume_changes_iters", "{EXE} train --run {CASE}/run --iters 50",
+             r"--iters cannot change a run being continued", 2, lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
+    cli_case("cli_render_no_out", "{EXE} render --run {BASE}/run --path test", r"missing required option --out")
+    cli_case("cli_render_bad_path", "{EXE} render --run {BASE}/run --path sideways --out {CASE}/o", r"--path: expected test, spiral, train:CAM .*got 'sideways'")
     cli_case("cli_render_alpha_out_of_range", "{EXE} render --run {BASE}/run --path test --mix original --alpha 2 --out {CASE}/o",
-             r"--alpha: expected a number in \[0, 1\], got '2'", 1)
-    cli_case("cli_export_ply_time_out_of_range", "{EXE} export-ply --run {BASE}/run --time 3 --out {CASE}/o.ply", r"--time: expected a value in \[0, 1\]", 1)
-    cli_case("cli_stylize_no_style", "{EXE} stylize --run {BASE}/run", r"missing required option --style", 1)
-    cli_case("cli_stylize_bad_method", "{EXE} stylize --run {BASE}/run --style {BASE}/style.png --method best", r"method 'best' is not full, colors or scratch", 1)
+             r"--alpha: expected a number in \[0, 1\], got '2'")
+    cli_case("cli_export_ply_time_out_of_range", "{EXE} export-ply --run {BASE}/run --time 3 --out {CASE}/o.ply", r"--time: expected a value in \[0, 1\]")
+    cli_case("cli_stylize_no_style", "{EXE} stylize --run {BASE}/run", r"missing required option --style-image")
+    cli_case("cli_stylize_bad_method", "{EXE} stylize --run {BASE}/run --style-image {BASE}/style.png --method best",
+             r"method 'best' is not full, colors or scratch")
     cli_case("cli_stylize_frames_bad_stylizer",
-             "{EXE} stylize-frames --in {BASE}/data/cam00 --style {BASE}/style.png --out {CASE}/o --stylizer magic",
-             r"unknown stylizer 'magic'", 1)
-    cli_case("cli_make_style_small", "{EXE} make-style --out {CASE}/s.png --size 4", r"--size: 4 is below 32", 1)
-    cli_case("cli_bench_no_out", "{EXE} bench --frames {BASE}/data/cam00 --original {BASE}/data/cam00", r"missing required option --out", 1)
+             "{EXE} stylize-frames --in {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/o --stylizer magic",
+             r"unknown stylizer 'magic'")
+    cli_case("cli_make_style_small", "{EXE} make-style --out {CASE}/s.png --size 4", r"--size: 4 is below 32")
+    cli_case("cli_bench_no_out", "{EXE} bench --stylized {BASE}/data/cam00 --original {BASE}/data/cam00", r"missing required option --out")
     cli_case("cli_bench_bad_uiqm",
-             "{EXE} bench --frames {BASE}/data/cam00 --original {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/o --uiqm c",
-             r"--uiqm: expected one of a, b, got 'c'", 1)
-    cli_case("cli_view_no_run", "{EXE} view", r"expected one run directory: style4d view RUN", 1)
-    cli_case("cli_view_bad_camera", "{EXE} view {BASE}/run --screenshot {CASE}/s.png --camera 99", r"--camera 99: the run's dataset has cameras 0\.\.2", 1)
-    cli_case("cli_check_data_downscale_zero", "{EXE} check-data {BASE}/data --downscale 0", r"--downscale: must be at least 1", 2)
-    cli_case("cli_sweep_unknown_verb", "{EXE} sweep fly", r"sweep fly: expected SWEEP", 1)
-    cli_case("cli_demo_unknown_option", "{EXE} demo --fast", r"unknown option --fast", 1)
-    cli_case("cli_devices_extra_argument", "{EXE} devices now", r"now", 1)
-    cli_case("cli_check_data_two_dirs", "{EXE} check-data {BASE}/data {BASE}/dnerf", r"check-data: error: ", 2)
-    cli_case("cli_export_ply_no_run", "{EXE} export-ply --time 0 --out {CASE}/o.ply", r"missing required option --run", 1)
-    cli_case("cli_render_ply_without_cameras", "{EXE} render --ply {BASE}/g.ply --out {CASE}/o", r"--cameras", 1)
+             "{EXE} bench --stylized {BASE}/data/cam00 --original {BASE}/data/cam00 --style-image {BASE}/style.png --out {CASE}/o "
+             "--uiqm c", r"--uiqm: expected one of a, b, got 'c'")
+    cli_case("cli_view_no_run", "{EXE} view", r"missing required option --run")
+    cli_case("cli_view_bad_camera", "{EXE} view --run {BASE}/run --screenshot {CASE}/s.png --camera 99",
+             r"--camera 99: the run's dataset has cameras 0\.\.2")
+    cli_case("cli_check_data_downscale_zero", "{EXE} check-data --data {BASE}/data --downscale 0", r"--downscale: must be at least 1")
+    cli_case("cli_sweep_unknown_verb", "{EXE} sweep fly", r"sweep fly: expected SWEEP")
+    cli_case("cli_demo_unknown_option", "{EXE} demo --fast", r"unknown option --fast")
+    cli_case("cli_devices_extra_argument", "{EXE} devices now", r"now")
+    cli_case("cli_check_data_two_dirs", "{EXE} check-data --data {BASE}/data {BASE}/dnerf", r"check-data: error: ", 2)
+    cli_case("cli_export_ply_no_run", "{EXE} export-ply --time 0 --out {CASE}/o.ply", r"missing required option --run")
+    cli_case("cli_render_ply_without_cameras", "{EXE} render --ply {BASE}/g.ply --out {CASE}/o", r"--cameras")
     cli_case("cli_sweep_plan_missing_spec", "{EXE} sweep plan {CASE}/nospec.json --out {CASE}/sw", r"nospec\.json", 1)
     cli_case("cli_unknown_command", "{EXE} trian", r"unknown command 'trian'", 2)
     cli_case("cli_export_ply_onto_checkpoint",
              "{EXE} export-ply --run {CASE}/run --time 0 --out {CASE}/run/checkpoint/state.s4dckpt",
-             r"--out: .*checkpoint/state\.s4dckpt is one of .*run's own files", 1,
+             r"--out: .*checkpoint/state\.s4dckpt is one of .*run's own files", 2,
              lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
-    cli_case("cli_view_screenshot_into_eval", "{EXE} view {CASE}/run --screenshot {CASE}/run/eval/shot.png",
-             r"--screenshot: .*eval/shot\.png is one of .*run's own files", 1,
+    cli_case("cli_view_screenshot_into_eval", "{EXE} view --run {CASE}/run --screenshot {CASE}/run/eval/shot.png",
+             r"--screenshot: .*eval/shot\.png is one of .*run's own files", 2,
              lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
 
     # Unwritable and full output folders: a path under a regular file, a file-size limit (ulimit -f,
     # reported as a write error like a full disk, not a signal). The real full disk is cli_disk_full.
     def a_file(d, b):
         write(d + "/file", "not a folder\n")
-    cli_case("cli_synth_out_under_file", "{EXE} synth --out {CASE}/file/o --cams 2 --frames 2 --size 32x24",
+    cli_case("cli_synth_out_under_file", "{EXE} synth --out {CASE}/file/o --cams 2 --frame-count 2 --size 32x24",
              r"Not a directory.*file/o", 1, a_file)
-    cli_case("cli_train_out_under_file", "{EXE} train --data {BASE}/data --out {CASE}/file/run --iters 5",
+    cli_case("cli_train_out_under_file", "{EXE} train --data {BASE}/data --run {CASE}/file/run --iters 5",
              r"Not a directory.*file/run", 1, a_file)
     cli_case("cli_render_out_under_file", "{EXE} render --run {BASE}/run --path test --out {CASE}/file/o",
              r"Not a directory.*file/o", 1, a_file)
     cli_case("cli_export_ply_out_under_file", "{EXE} export-ply --run {BASE}/run --time 0 --out {CASE}/file/o.ply",
              r"cannot write .*file/o\.ply: open: Not a directory", 1, a_file)
-    cli_case("cli_check_data_json_under_file", "{EXE} check-data {BASE}/data --json {CASE}/file/c.json",
+    cli_case("cli_check_data_json_under_file", "{EXE} check-data --data {BASE}/data --json {CASE}/file/c.json",
              r"cannot write .*file/c\.json: open: Not a directory", 1, a_file)
-    cli_case("cli_train_file_size_limit", "ulimit -f 16; {EXE} train --data {BASE}/data --out {CASE}/run --iters 5 --preset fast",
+    cli_case("cli_train_file_size_limit", "ulimit -f 16; {EXE} train --data {BASE}/data --run {CASE}/run --iters 5 --preset fast",
              r"run: the file size limit \(ulimit -f\) is [0-9.]+ [KM]B, a checkpoint of [0-9]+ Gaussians", 1)
-    cli_case("cli_train_resume_file_size_limit", "ulimit -f 16; {EXE} train --resume {CASE}/run",
+    cli_case("cli_train_resume_file_size_limit", "ulimit -f 16; {EXE} train --run {CASE}/run",
              r"run: the file size limit \(ulimit -f\) is [0-9.]+ [KM]B, a checkpoint of [0-9]+ Gaussians", 1,
-             lambda d, b: copytree(b + "/run", d + "/run"), RUN_FILES)
+             lambda d, b: (copytree(b + "/run", d + "/run"), stopped(d + "/run")), RUN_FILES)
     cli_case("cli_export_ply_file_size_limit", "ulimit -f 1; {EXE} export-ply --run {BASE}/run --time 0 --out {CASE}/o.ply",
              r"cannot write .*o\.ply: write: File too large", 1)
 
@@ -535,9 +546,9 @@ def make_bases(exe, base):
     def run(*args):
         subprocess.run([exe] + list(args), check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     os.makedirs(base)
-    run("synth", "--out", base + "/data", "--size", "32x24", "--cams", "3", "--frames", "3")
-    run("synth", "--out", base + "/dnerf", "--size", "32x24", "--cams", "3", "--frames", "3", "--dnerf")
-    run("train", "--data", base + "/data", "--out", base + "/run", "--iters", "20", "--fine-iters", "0", "--preset", "fast")
+    run("synth", "--out", base + "/data", "--size", "32x24", "--cams", "3", "--frame-count", "3")
+    run("synth", "--out", base + "/dnerf", "--size", "32x24", "--cams", "3", "--frame-count", "3", "--dnerf")
+    run("train", "--data", base + "/data", "--run", base + "/run", "--iters", "20", "--fine-iters", "0", "--preset", "fast")
     run("export-ply", "--run", base + "/run", "--time", "0", "--out", base + "/g.ply")
     run("make-style", "--out", base + "/style.png", "--size", "32")
 

@@ -103,12 +103,12 @@ TEST_CASE("sweep plan expands a spec into cells with their commands and dependen
   const std::vector<std::string> cmd = train.at("command");
   CHECK(cmd[0] == "train");
   CHECK(std::find(cmd.begin(), cmd.end(), "--fine-iters") != cmd.end());
-  CHECK(train.at("resume").at("command") == json({"train", "--resume", (sweep / "runs/a.fast").string()}));
+  CHECK(train.at("resume").at("command") == json({"train", "--run", (sweep / "runs/a.fast").string()}));
   const json& stylize = cells.at("stylize.a.fast.swirl.full");
   CHECK(stylize.at("after") == json({"train.a.fast"}));
   CHECK(stylize.at("resume").at("when") == (sweep / "runs/a.fast/style/swirl.full/checkpoint.s4dckpt").string());
   const std::string scmd = stylize.at("command").dump();
-  for (const std::string& part : {std::string("\"--name\",\"swirl.full\""), std::string("\"--method\",\"full\""),
+  for (const std::string& part : {std::string("\"--style\",\"swirl.full\""), std::string("\"--method\",\"full\""),
                                  std::string("\"--mlp-iters\",\"5\""), (f.root / "swirl.png").string()})
     CHECK_MESSAGE(scmd.find(part) != std::string::npos, part);
   CHECK(cells.at("bench.a.fast.swirl.full").at("after") == json({"stylize.a.fast.swirl.full"}));

@@ -65,17 +65,17 @@ std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
   if (names.empty()) {
     std::string known;
     for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
-    throw std::invalid_argument("missing required option --style: give one or more of " + run.root.string() + "'s styles (" +
+    throw UsageError("missing required option --style: give one or more of " + run.root.string() + "'s styles (" +
                                 known + ")");
   }
   std::vector<Method> out;
   for (const std::string& name : names) {
     for (const Method& m : out)
-      if (m.name == name) throw std::invalid_argument("--style " + name + ": given twice");
+      if (m.name == name) throw UsageError("--style " + name + ": given twice");
     if (std::find(run.styles.begin(), run.styles.end(), name) == run.styles.end()) {
       std::string known;
       for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
-      throw std::invalid_argument("--style " + name + ": no style " + name + " in " + run.root.string() + " (no " +
+      throw UsageError("--style " + name + ": no style " + name + " in " + run.root.string() + " (no " +
                                   run::style_file_path(run.root, name).string() + "); it has: " + known +
                                   " (train one with style4d stylize --run " + run.root.string() + " --style IMG --name " + name + ")");
     }
@@ -120,13 +120,13 @@ bench::FramesOptions sequence_options(bench::FramesOptions o, const fs::path& or
 }  // namespace
 
 int bench_run(const Args& args, bench::FramesOptions options) {
-  for (const char* o : {"frames", "name", "original", "ground-truth", "flow-dir"})
+  for (const char* o : {"stylized", "name", "original", "ground-truth", "flow-dir"})
     if (args.get(o))
-      throw std::invalid_argument(std::string("--") + o + " belongs to the --frames mode; --run renders the original scene, "
+      throw UsageError(std::string("--") + o + " belongs to the frames mode (--stylized); --run renders the original scene, "
                                   "its ground truth and its exact flow itself");
   const fs::path out = args.require("out"), renders = out / "renders";
   const int spiral_frames = parse_number<int>("spiral-frames", args.get_or("spiral-frames", std::to_string(protocols::kDefaultSpiralFrames)));
-  if (spiral_frames < 2) throw std::invalid_argument("--spiral-frames: expected at least 2 (the warp loss needs a pair), got " +
+  if (spiral_frames < 2) throw UsageError("--spiral-frames: expected at least 2 (the warp loss needs a pair), got " +
                                                      std::to_string(spiral_frames));
   const scene::TrainedRun run = scene::read_trained_run(args.require("run"));
   const std::vector<Method> methods = methods_of(args, run);

@@ -1,4 +1,4 @@
-// style4d bench: Style4D-Bench. Frames mode, --frames A [--name N] [--frames A2 --name N2 ...]
+// style4d bench: Style4D-Bench. Frames mode, --stylized A [--name N] [--stylized A2 --name N2 ...]
 // --original B --style-image S --out DIR, scores frames another program made; run mode, --run RUN
 // --style NAME [--style NAME2 ...] --out DIR, renders a trained run's styles first (bench_run.cpp);
 // merge, --merge DIR1 DIR2 ... --out DIR, puts the reports of a sweep's jobs in one table.
@@ -22,13 +22,15 @@ namespace s4d::cli {
 namespace {
 
 const std::vector<OptionSpec> kSpecs = {
-    {"frames", "stylised frames: a folder of PNGs or a video (.mp4); repeat for several methods", true, "A"},
-    {"name", "method label for the matching --frames (default: its file name); repeat in the same order", true, "NAME"},
+    group("frames mode"),
+    {"stylized", "stylised frames: a folder of PNGs or a video (.mp4); repeat for several methods", true, "A", {"frames"}},
+    {"name", "method label for the matching --stylized (default: its file name); repeat in the same order", true, "NAME"},
     {"original", "original-scene render of the same cameras and times (PNG folder or video)", true, "B"},
     {"style-image", "the style image the methods were given (--run: default the copy each style keeps, RUN/style/NAME/style_image.png)", true, "S"},
-    {"out", "report folder: report.json, report.md, report.csv, plots/, contact_sheet.png", true, "DIR"},
+    {"out", "report folder: report.json, report.md, report.csv, plots/, contact_sheet.png (every mode)", true, "DIR"},
     {"scene", "scene label (default: the --original file name; --run: the run folder's name)", true, "NAME"},
     {"ground-truth", "captured frames matching --original; enables psnr", true, "C"},
+    group("metrics"),
     {"uiqm", "UIQM variant: a (FUnIE-GAN, default) or b (xueleichen)", true, "a|b"},
     {"warp-norm", "warp loss per-pixel error: l1 (Style4D, default) or l2 (Lai et al.)", true, "l1|l2"},
     {"flow", "flow for the warp loss: dis (OpenCV; frames mode's default), raft (--raft), exact (--flow-dir; run mode's "
@@ -52,10 +54,12 @@ const std::vector<OptionSpec> kSpecs = {
                "the pyiqa bridge (OUT/bridge: request.json, response.json, bridge.log)", true, "PY"},
     {"bridge-script", "the bridge script to run instead of the embedded tools/pyiqa_bridge.py (same protocol)", true, "FILE"},
     {"bridge-metrics", "the keys to ask the bridge for, comma-separated (default: all seven)", true, "LIST"},
-    {"run", "run mode: a trained run, rendered along the test and spiral protocols", true, "RUN"},
-    {"style", "a style of --run (style4d stylize --name), or original; repeat for several methods", true, "NAME"},
+    group("run mode"),
+    {"run", "a trained run, rendered along the test and spiral protocols", true, "RUN"},
+    {"style", "a style of --run (style4d stylize --style), or original; repeat for several methods", true, "NAME"},
     {"spiral-frames", "run mode: frames of the spiral video (default 120)", true, "N"},
-    {"merge", "merge mode: report folders (or their report.json) of earlier benches, one per job", true, "DIR..."},
+    group("merge mode"),
+    {"merge", "report folders (or their report.json) of earlier benches, one per job", true, "DIR..."},
 };
 
 template <class T>
@@ -67,7 +71,7 @@ T choose(const Args& args, const std::string& option, const std::vector<std::pai
     if (*v == name) return value;
     names += (names.empty() ? "" : ", ") + name;
   }
-  throw std::invalid_argument("--" + option + ": expected one of " + names + ", got '" + *v + "'");
+  throw UsageError("--" + option + ": expected one of " + names + ", got '" + *v + "'");
 }
 
 // The scoring options both modes share; `flow` is the mode's default flow source.
@@ -87,7 +91,7 @@ bench::FramesOptions options_from(const Args& args, bench::FlowSource flow) {
   if (auto names = args.get("raft-inputs")) {
     const size_t comma = names->find(',');
     if (comma == std::string::npos || comma == 0 || comma + 1 == names->size())
-      throw std::invalid_argument("--raft-inputs: expected two names separated by a comma, got '" + *names + "'");
+      throw UsageError("--raft-inputs: expected two names separated by a comma, got '" + *names + "'");
     o.raft_inputs = {names->substr(0, comma), names->substr(comma + 1)};
   }
   return o;
@@ -100,12 +104,12 @@ std::optional<bench::BridgeOptions> bridge_options(const Args& args, const std::
   const auto python = args.get("python");
   if (!python) {
     for (const char* o : {"bridge-script", "bridge-metrics"})
-      if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --python PY (the bridge's interpreter)");
+      if (args.get(o)) throw UsageError(std::string("--") + o + ": needs --python PY (the bridge's interpreter)");
     return std::nullopt;
   }
   bench::BridgeOptions b{*python, std::nullopt, out / "bridge", bench::bridge_keys()};
   if (auto script = args.get("bridge-script")) {
-    if (!std::filesystem::is_regular_file(*script)) throw std::invalid_argument("--bridge-script " + *script + ": no such file");
+    if (!std::filesystem::is_regular_file(*script)) throw UsageError("--bridge-script " + *script + ": no such file");
     b.script = *script;
   }
   if (auto list = args.get("bridge-metrics")) {
@@ -119,11 +123,11 @@ std::optional<bench::BridgeOptions> bridge_options(const Args& args, const std::
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
         std::string known;
         for (const std::string& k : keys) known += (known.empty() ? "" : ", ") + k;
-        throw std::invalid_argument("--bridge-metrics: '" + key + "' is not a bridge key (" + known + ")");
+        throw UsageError("--bridge-metrics: '" + key + "' is not a bridge key (" + known + ")");
       }
       if (std::find(b.metrics.begin(), b.metrics.end(), key) == b.metrics.end()) b.metrics.push_back(key);
     }
-    if (b.metrics.empty()) throw std::invalid_argument("--bridge-metrics: empty list");
+    if (b.metrics.empty()) throw UsageError("--bridge-metrics: empty list");
   }
   // A key the native networks compute is not asked of the bridge.
   std::erase_if(b.metrics, [&](const std::string& k) { return learned != nullptr && learned->computes(k); });
@@ -138,7 +142,7 @@ std::optional<bench::NativeLearnedOptions> learned_options(const Args& args) {
   const auto dir = args.get("metric-weights");
   if (!dir) {
     for (const char* o : {"gram-vgg", "lpips-net", "lpips-input"})
-      if (args.get(o)) throw std::invalid_argument(std::string("--") + o + ": needs --metric-weights DIR (the folder holding the network)");
+      if (args.get(o)) throw UsageError(std::string("--") + o + ": needs --metric-weights DIR (the folder holding the network)");
     return std::nullopt;
   }
   const auto net = choose<metrics::LpipsNet>(args, "lpips-net", {{"vgg", metrics::LpipsNet::vgg}, {"alex", metrics::LpipsNet::alex}},
@@ -153,10 +157,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
   const Args args(argv, kSpecs);
   if (args.help()) {
     std::cout << usage("bench",
-                       "--frames A [--name N ...] --original B --style-image S --out DIR | --run RUN --style NAME "
+                       "--stylized A [--name N ...] --original B --style-image S --out DIR | --run RUN --style NAME "
                        "[--style NAME2 ...] --out DIR | --merge DIR1 DIR2 ... --out DIR",
                        "Style4D-Bench. Frames mode: the weight-free metrics (uiqm, content_ssim, warp_loss, psnr with "
-                       "--ground-truth) of each --frames video against --original. Run mode: renders RUN's test and "
+                       "--ground-truth) of each --stylized video against --original. Run mode: renders RUN's test and "
                        "spiral protocols for the original scene and each --style into DIR/renders and scores them the "
                        "same way (warp_loss on the spiral, the rest on the test cameras). Merge: one table from the "
                        "report.json of several runs of bench (a sweep's jobs). Learned metrics: content_lpips, "
@@ -168,8 +172,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
     return 0;
   }
   if (args.get("merge")) {
-    for (const char* o : {"run", "frames"})
-      if (args.get(o)) throw std::invalid_argument(std::string("--merge reads finished reports; --") + o + " belongs to another mode");
+    for (const char* o : {"run", "stylized"})
+      if (args.get(o)) throw UsageError(std::string("--merge reads finished reports; --") + o + " belongs to another mode");
     std::vector<std::filesystem::path> reports;
     // --merge A B C (a shell glob) and --merge A --merge B both work.
     for (const std::string& r : args.get_all("merge")) reports.emplace_back(r);
@@ -179,15 +183,15 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::cerr << "bench: merged " << reports.size() << " report(s) into " << (out / "report.json").string() << ", report.md, report.csv\n";
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   if (args.get("run")) return bench_run(args, options_from(args, bench::FlowSource::exact));
   for (const char* o : {"style", "spiral-frames"})
-    if (args.get(o)) throw std::invalid_argument(std::string("--") + o + " belongs to the --run mode");
-  const std::vector<std::string> frames = args.get_all("frames"), names = args.get_all("name");
-  if (frames.empty()) throw std::invalid_argument("missing required option --frames (see --help)");
+    if (args.get(o)) throw UsageError(std::string("--") + o + " belongs to the --run mode");
+  const std::vector<std::string> frames = args.get_all("stylized"), names = args.get_all("name");
+  if (frames.empty()) throw UsageError("missing required option --stylized (see --help)");
   if (!names.empty() && names.size() != frames.size())
-    throw std::invalid_argument("--name: given " + std::to_string(names.size()) + " times for " + std::to_string(frames.size()) +
-                                " --frames; give one per --frames, in the same order, or none");
+    throw UsageError("--name: given " + std::to_string(names.size()) + " times for " + std::to_string(frames.size()) +
+                                " --stylized; give one per --stylized, in the same order, or none");
   const std::filesystem::path out = args.require("out"), style_image = args.require("style-image");
   io::read_png(style_image);  // fails naming the file when it is missing or not a PNG
   bench::ReportContext context{args.get_or("scene", ""), style_image.stem().string(), style_image,

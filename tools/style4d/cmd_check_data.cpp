@@ -1,4 +1,4 @@
-// style4d check-data DIR [--downscale N] [--json FILE]: loads a dataset as `train` would and reports
+// style4d check-data --data DIR [--downscale N] [--json FILE]: loads a dataset as `train` would and reports
 // its layout, cameras, frames, resolution, times, bounds and point cloud, then every problem found
 // (s4d/data/dataset_check.h), each as "error|warning: FILE: field: message".
 // Exit 0: no errors; 1: errors (printed); 2: the dataset cannot be loaded at all, or bad arguments.
@@ -15,6 +15,7 @@ namespace s4d::cli {
 
 int cmd_check_data(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
+      {"data", "the dataset directory (`check-data DIR` is the old spelling)", true, "DIR"},
       {"downscale", "integer image downscale factor, as train --downscale (default 1)", true, "N"},
       {"json", "also write the summary and the problems as JSON to FILE", true, "FILE"},
   };
@@ -23,7 +24,7 @@ int cmd_check_data(const std::vector<std::string>& argv) {
   try {
     Args args(argv, specs);
     if (args.help()) {
-      std::cout << usage("check-data", "DIR [--downscale N] [--json FILE]",
+      std::cout << usage("check-data", "--data DIR [--downscale N] [--json FILE]",
                          "Loads the dataset in DIR (DyNeRF/Neu3D frames or videos, D-NeRF, ...) as `train` does and\n"
                          "prints the layout found, cameras, frames per camera, resolution, time range, camera\n"
                          "bounds and point cloud, then every problem, one per line: 'error: FILE: field: message'\n"
@@ -35,13 +36,13 @@ int cmd_check_data(const std::vector<std::string>& argv) {
                          specs);
       return 0;
     }
-    if (args.positionals().size() != 1) {
-      throw std::invalid_argument(args.positionals().empty() ? "missing the dataset directory DIR"
-                                                             : "unexpected argument '" + args.positionals()[1] + "'");
-    }
-    dir = args.positionals().front();
+    if (args.positionals().size() > 1 || (args.get("data") && !args.positionals().empty()))
+      throw UsageError("unexpected argument '" + args.positionals().back() + "'");
+    if (!args.positionals().empty()) warn_deprecated("check-data DIR", "check-data --data DIR");
+    if (args.positionals().empty() && !args.get("data")) throw UsageError("missing the dataset: --data DIR");
+    dir = args.positionals().empty() ? *args.get("data") : args.positionals().front();
     if (auto v = args.get("downscale")) options.downscale = parse_number<int>("downscale", *v);
-    if (options.downscale < 1) throw std::invalid_argument("--downscale: must be at least 1");
+    if (options.downscale < 1) throw UsageError("--downscale: must be at least 1");
     json_path = args.get_or("json", "");
   } catch (const std::invalid_argument& e) {
     std::cerr << "style4d check-data: error: " << e.what() << "\n";

@@ -26,7 +26,7 @@ int cmd_devices(const std::vector<std::string>& argv) {
                        specs);
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   const auto devices = engine::list_devices();
   const char* override_spec = std::getenv("S4D_DEVICE");
   int chosen = -1;

@@ -39,7 +39,7 @@ int cmd_export_ply(const std::vector<std::string>& argv) {
   tools::refuse_run_output(out, run_dir, "out");
   const std::string time_text = args.get_or("time", "0");
   const double time = parse_number<double>("time", time_text);
-  if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1], got '" + time_text + "'");
+  if (!(time >= 0 && time <= 1)) throw UsageError("--time: expected a value in [0, 1], got '" + time_text + "'");
 
   const scene::TrainedRun run = scene::read_trained_run(run_dir);
   engine::Context ctx;

@@ -7,6 +7,7 @@
 #include "args.h"
 #include "commands.h"
 #include "s4d/frame_stylizers/builtin_style.h"
+#include "s4d/util/free_memory.h"
 
 namespace s4d::cli {
 
@@ -24,11 +25,15 @@ int cmd_make_style(const std::vector<std::string>& argv) {
                        specs);
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   const std::string out = args.require("out");
   const int size = parse_number<int>("size", args.get_or("size", "384"));
-  if (size < 32) throw std::invalid_argument("--size: " + std::to_string(size) + " is below 32");
+  if (size < 32) throw UsageError("--size: " + std::to_string(size) + " is below 32");
   const uint64_t seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
+  // The canvas, the image and the PNG's rows (3 + 3 floats and 3 bytes a pixel, the encoded file beside).
+  const uint64_t pixels = uint64_t(size) * uint64_t(size);
+  util::require_memory("--size " + std::to_string(size), pixels * 30, "painting " + std::to_string(size) + "x" +
+                       std::to_string(size) + " pixels");
   io::write_png(out, frame_stylizers::builtin_style(size, seed));
   std::cout << "wrote " << out << " (" << size << "x" << size << ")\n";
   return 0;

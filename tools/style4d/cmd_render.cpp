@@ -44,38 +44,44 @@ std::array<float, 3> parse_background(const std::string& text) {
   std::istringstream in(text);
   char comma = 0;
   if (!(in >> bg[0] >> comma >> bg[1] >> comma >> bg[2]) || !in.eof())
-    throw std::invalid_argument("--background: expected R,G,B (for example 0,0,0 or 1,1,1), got '" + text + "'");
+    throw UsageError("--background: expected R,G,B (for example 0,0,0 or 1,1,1), got '" + text + "'");
   return bg;
 }
 
 int cmd_render(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
+      group("a trained run (--run)"),
       {"run", "a training run directory (style4d train): render one of its protocols", true, "RUN"},
-      {"path", "--run: test (each test camera over the test times), spiral (around the scene over t in [0,1]) "
-               "or train:CAM (training camera CAM, e.g. train:cam01, over its times)", true, "PATH"},
-      {"style", "--run: render this trained style instead of the original scene", true, "NAME"},
+      {"path", "test (each test camera over the test times), spiral (around the scene over t in [0,1]),\n"
+               "                        train:CAM (training camera CAM, e.g. train:cam01, over its times) or a camera\n"
+               "                        path FILE.json with a time per frame (the viewer records them)", true, "PATH"},
+      {"style", "render this trained style instead of the original scene", true, "NAME"},
       mix_spec(),
       alpha_spec(),
-      {"format", "--run: png (default), exr (R, G, B, A, Z) or mp4 (one video per sequence)", true, "FORMAT"},
-      {"frames", "--run --path spiral: number of frames (default 120)", true, "N"},
-      {"flow", "--run: also write the renderer's exact optical flow, flow/fw_NNNN.exr and bw_NNNN.exr", false, ""},
+      {"format", "png (default), exr (R, G, B, A, Z) or mp4 (one video per sequence)", true, "FORMAT"},
+      {"spiral-frames", "--path spiral: number of frames (default 120)", true, "N", {"frames"}},
+      {"flow", "also write the renderer's exact optical flow, flow/fw_NNNN.exr and bw_NNNN.exr", false, ""},
+      group("a 3DGS PLY (--ply)"),
       {"ply", "standard 3DGS PLY (binary little endian)", true, "FILE"},
-      {"cameras", "--ply: NeRF-style transforms.json (OpenGL camera-to-world)", true, "FILE"},
-      {"sh-degree", "--ply: render with at most this SH degree (default: all the PLY stores)", true, "D"},
-      {"size", "--ply: image size for cameras without w/h (default: required in the JSON)", true, "WxH"},
+      {"cameras", "NeRF-style transforms.json (OpenGL camera-to-world)", true, "FILE"},
+      {"sh-degree", "render with at most this SH degree (default: all the PLY stores)", true, "D"},
+      {"size", "image size for cameras without w/h (default: required in the JSON)", true, "WxH"},
+      group("both"),
       {"out", "output directory (created)", true, "DIR"},
       {"background", "background colour R,G,B in [0,1] (default: --run the run's, --ply 0,0,0)", true, "R,G,B"},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage(
-        "render", "--run RUN --path test|spiral|train:CAM --out DIR [--style NAME [--mix NAME2 --alpha A]] [--format png|exr|mp4] [--frames N] [--flow]\n"
+        "render", "--run RUN --path test|spiral|train:CAM|FILE.json --out DIR [--style NAME [--mix NAME2 --alpha A]]\n"
+                  "       [--format png|exr|mp4] [--spiral-frames N] [--flow]\n"
                   "       style4d render --ply FILE --cameras transforms.json --out DIR",
         "--run: renders a trained run along a protocol. test: one sequence per test camera, fixed, at\n"
         "every test-view time, in DIR/<camera>/; spiral: around the scene (a spiral in front of a\n"
         "forward-facing rig, a helix around a surrounding one, both looking at the point nearest to all\n"
         "training cameras' axes) while time runs over [0, 1]; train:CAM: training camera CAM over its\n"
-        "times. Frames are NNNN.png, NNNN.exr or video.mp4; --flow adds flow/fw_NNNN.exr (frame k to\n"
+        "times; FILE.json: a camera path, each frame with its camera and time (a path recorded in\n"
+        "`style4d view` replays through the 4D run and any style or blend; docs/protocols.md). Frames are NNNN.png, NNNN.exr or video.mp4; --flow adds flow/fw_NNNN.exr (frame k to\n"
         "k+1) and flow/bw_NNNN.exr (k+1 to k), channels u and v in pixels, exact from the Gaussians'\n"
         "motion. DIR/frames.json lists every frame's time and camera; DIR/render.json the summary.\n"
         "--mix NAME2 --alpha A renders the blend (1 - A) NAME + A NAME2 of two styles of the run (either\n"
@@ -87,10 +93,10 @@ int cmd_render(const std::vector<std::string>& argv) {
         specs);
     return 0;
   }
-  if (args.get("run") && args.get("ply")) throw std::invalid_argument("--run and --ply are two modes; give one");
+  if (args.get("run") && args.get("ply")) throw UsageError("--run and --ply are two modes; give one");
   if (args.get("run")) return render_run(args);
-  for (const char* o : {"path", "style", "mix", "alpha", "format", "frames", "flow"})
-    if (args.get(o) || args.flag(o)) throw std::invalid_argument(std::string("--") + o + " needs --run RUN");
+  for (const char* o : {"path", "style", "mix", "alpha", "format", "spiral-frames", "flow"})
+    if (args.get(o) || args.flag(o)) throw UsageError(std::string("--") + o + " needs --run RUN");
   return render_ply(args);
 }
 
@@ -99,7 +105,7 @@ int render_ply(const Args& args) {
   const std::filesystem::path out = args.require("out");
   const std::array<float, 3> background = parse_background(args.get_or("background", "0,0,0"));
   const int sh_degree = parse_number<int>("sh-degree", args.get_or("sh-degree", "-1"));
-  if (sh_degree < -1 || sh_degree > 3) throw std::invalid_argument("--sh-degree: expected 0, 1, 2 or 3");
+  if (sh_degree < -1 || sh_degree > 3) throw UsageError("--sh-degree: expected 0, 1, 2 or 3");
 
   const std::optional<std::pair<int, int>> default_size =
       args.get("size") ? std::optional(parse_size("size", *args.get("size"))) : std::nullopt;

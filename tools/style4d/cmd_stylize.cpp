@@ -1,4 +1,4 @@
-// style4d stylize --run RUN --style IMG [--stylizer NAME] [--name NAME] [--method full|colors|scratch]
+// style4d stylize --run RUN --style-image IMG [--style NAME] [--stylizer NAME] [--method full|colors|scratch]
 // ...: stages 3 and 4 of Style4D on a trained run (s4d/style_gaussians/stylize_run.h), then the
 // measurement of the result (s4d/bench/style_eval.h). SIGINT or SIGTERM writes a
 // checkpoint and exits with 130; the same command continues it.
@@ -29,7 +29,7 @@ float parse_float(const std::string& option, const std::string& text) {
     if (used == text.size()) return v;
   } catch (const std::exception&) {
   }
-  throw std::invalid_argument("--" + option + ": expected a number, got '" + text + "'");
+  throw UsageError("--" + option + ": expected a number, got '" + text + "'");
 }
 
 // Method scratch retrains 4DGS with the run's settings: stage 4's options would do nothing there.
@@ -37,11 +37,11 @@ void refuse_stage4_options(const Args& args) {
   for (const char* option : {"style-setting", "mlp-iters", "batch", "checkpoint-every", "tv-weight", "mlp-lr", "mlp-lr-final",
                              "depth-input", "depth-scale", "mlp-init", "region"})
     if (args.get(option))
-      throw std::invalid_argument(std::string("--") + option + ": a stage-4 option; method scratch retrains 4DGS with the "
+      throw UsageError(std::string("--") + option + ": a stage-4 option; method scratch retrains 4DGS with the "
                                   "run's settings (its length: --iters)");
   for (const char* flag : {"input-sigmoid", "freeze-colors"})
     if (args.flag(flag))
-      throw std::invalid_argument(std::string("--") + flag + ": a stage-4 option; method scratch retrains 4DGS with the "
+      throw UsageError(std::string("--") + flag + ": a stage-4 option; method scratch retrains 4DGS with the "
                                   "run's settings (its length: --iters)");
 }
 
@@ -62,7 +62,7 @@ style_gaussians::StyleConfig config_from_args(const Args& args) {
   if (auto v = args.get("mlp-lr-final")) c.mlp_lr_final = parse_float("mlp-lr-final", *v);
   if (auto v = args.get("depth-input")) {
     const std::optional<run::DepthInput> input = run::parse_depth_input(*v);
-    if (!input) throw std::invalid_argument("--depth-input: expected ndc or relative, got '" + *v + "'");
+    if (!input) throw UsageError("--depth-input: expected ndc or relative, got '" + *v + "'");
     c.depth_input = *input;
   }
   if (auto v = args.get("depth-scale")) c.depth_scale = parse_float("depth-scale", *v);
@@ -71,7 +71,7 @@ style_gaussians::StyleConfig config_from_args(const Args& args) {
     std::istringstream in(*v);
     std::string item;
     while (std::getline(in, item, ',')) c.region.push_back(parse_float("region", item));
-    if (c.region.size() != 6) throw std::invalid_argument("--region: expected x0,y0,z0,x1,y1,z1 (six numbers), got '" + *v + "'");
+    if (c.region.size() != 6) throw UsageError("--region: expected x0,y0,z0,x1,y1,z1 (six numbers), got '" + *v + "'");
   }
   c.input_sigmoid = args.flag("input-sigmoid");
   c.train_colors = !args.flag("freeze-colors");
@@ -85,13 +85,20 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   std::string names;
   for (const std::string& n : frame_stylizers::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
   const std::vector<OptionSpec> specs = {
+      group("what to stylize"),
       {"run", "a trained run (style4d train)", true, "RUN"},
-      {"style", "the style image, e.g. assets/styles/builtin.png", true, "IMG"},
-      {"name", "the style's name in RUN/style/ (default: the image's file name without extension)", true, "NAME"},
+      {"style-image", "the style image, e.g. assets/styles/builtin.png", true, "IMG"},
+      {"style", "the style's name in RUN/style/, as render, view and bench name it (default: the image's file\n"
+                "                        name without extension); --style IMG without --style-image is the old spelling\n"
+                "                        of --style-image IMG", true, "NAME"},
+      {"name", "old spelling of --style NAME", true, "NAME"},
+      {"restart", "discard stage 4's state of this style and train again (stage-3 frames stay cached)", false, ""},
+      group("stage 3: the 2D stylizer"),
       {"stylizer", "stage 3's 2D stylizer: " + names + " (default patch)", true, "NAME"},
       {"weights", "network stylizers (adain, adaattn, mccnet, hgst): the folder of their .safetensors files", true, "DIR"},
       {"style-size", "network stylizers: the style image's shorter side in pixels (default 512)", true, "N"},
       {"strength", "stage 3: 0 keeps the content, 1 the full stylization (default 1)", true, "S"},
+      group("stage 4: the Style Gaussians"),
       {"method", "full (per-Gaussian MLPs, the paper), colors (no MLPs), scratch (4DGS retrained on the "
                  "stylized frames) (default full)", true, "M"},
       {"style-setting", "stage 4's defaults: tuned (ours) or paper (Style4D's: MLPs from the start, their learning "
@@ -115,12 +122,12 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"region", "stylize only the Gaussians whose centre lies in this world box (min then max corner); "
                  "the rest keep the original look", true, "x0,y0,z0,x1,y1,z1"},
       {"freeze-colors", "method full: train only the MLPs, keep the run's colours and opacities", false, ""},
+      group("measurement"),
       {"spiral-frames", "frames of the spiral render that measures consistency (default: the clip's frame count)", true, "N"},
-      {"restart", "discard stage 4's state of this style and train again (stage-3 frames stay cached)", false, ""},
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("stylize", "--run RUN --style IMG [--name NAME] [--stylizer NAME] [--method full|colors|scratch] [--iters N] ...",
+    std::cout << usage("stylize", "--run RUN --style-image IMG [--style NAME] [--stylizer NAME] [--method full|colors|scratch] [--iters N] ...",
                        "Stages 3 and 4 of Style4D: stylizes every training camera's frames with a 2D stylizer,\n"
                        "then trains the run's Style Gaussians (geometry frozen; per Gaussian a colour and opacity\n"
                        "change and a tiny MLP on time and ray-hit depth) against them with L1 + TV. Results in\n"
@@ -129,12 +136,26 @@ int cmd_stylize(const std::vector<std::string>& argv) {
                        specs);
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   style_gaussians::StylizeRequest req;
   req.run = args.require("run");
-  req.style_image = args.require("style");
-  req.name = args.get_or("name", "");
-  req.config = config_from_args(args);
+  if (args.get("style-image")) {
+    req.style_image = *args.get("style-image");
+    if (args.get("style") && args.get("name")) throw UsageError("--name is the old spelling of --style NAME; give one");
+    if (args.get("name")) warn_deprecated("--name NAME", "--style NAME");
+    req.name = args.get("style") ? *args.get("style") : args.get_or("name", "");
+  } else {  // the old grammar: --style IMG [--name NAME]
+    if (!args.get("style")) throw UsageError("missing required option --style-image (see --help)");
+    warn_deprecated("--style IMG", "--style-image IMG");
+    if (args.get("name")) warn_deprecated("--name NAME", "--style NAME");
+    req.style_image = *args.get("style");
+    req.name = args.get_or("name", "");
+  }
+  try {
+    req.config = config_from_args(args);
+  } catch (const std::invalid_argument& e) {  // a setting, method or value the options name wrongly
+    throw UsageError(e.what());
+  }
   if (auto v = args.get("iters"); v && req.config.method == run::StyleMethod::scratch)
     req.scratch_iterations = parse_number<uint32_t>("iters", *v);
   req.restart = args.flag("restart");

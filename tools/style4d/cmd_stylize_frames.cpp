@@ -1,6 +1,7 @@
-// style4d stylize-frames --in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]
+// style4d stylize-frames --in DIR|VIDEO --style-image IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]
 // [--style-size N] [--strength S] [--seed N]: restyles one camera's frames in time order with a
 // frame stylizer (s4d_frame_stylizers).
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -21,7 +22,7 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   for (const std::string& n : frame_stylizers::stylizer_names()) names += (names.empty() ? "" : ", ") + n;
   const std::vector<OptionSpec> specs = {
       {"in", "a folder of PNG frames (sorted by name) or a video (.mp4, .avi, .mov, .mkv)", true, "DIR|VIDEO"},
-      {"style", "the style image (PNG, JPEG, ...), e.g. assets/styles/builtin.png", true, "IMG"},
+      {"style-image", "the style image (PNG, JPEG, ...), e.g. assets/styles/builtin.png", true, "IMG", {"style"}},
       {"out", "a folder (one PNG per frame, the input's names) or a .mp4 video (mp4v, lossy)", true, "DIR|VIDEO"},
       {"stylizer", "which stylizer: " + names + " (default patch)", true, "NAME"},
       {"weights", "network stylizers: the folder of their .safetensors weights (docs/stylization.md, \"Network stylizers\")", true,
@@ -33,7 +34,7 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("stylize-frames",
-                       "--in DIR|VIDEO --style IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]\n"
+                       "--in DIR|VIDEO --style-image IMG --out DIR|VIDEO [--stylizer NAME] [--weights DIR]\n"
                        "    [--style-size N] [--strength S] [--seed N]",
                        "Restyles one camera's frames, in time order, after a style image. The default stylizer\n"
                        "(patch) needs no weights: texture synthesis from the style's patches (Elad & Milanfar\n"
@@ -43,27 +44,31 @@ int cmd_stylize_frames(const std::vector<std::string>& argv) {
                        specs);
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
-  const std::string in = args.require("in"), style_path = args.require("style"), out = args.require("out");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
+  const std::string in = args.require("in"), style_path = args.require("style-image"), out = args.require("out");
   if (std::filesystem::exists(out) && std::filesystem::equivalent(in, out))
-    throw std::invalid_argument("--out " + out + " is the input; it would overwrite the frames");
+    throw UsageError("--out " + out + " is the input; it would overwrite the frames");
   frame_stylizers::StylizeSettings settings;
   const std::string strength_text = args.get_or("strength", "1");
   try {
     size_t used = 0;
     settings.strength = std::stof(strength_text, &used);
-    if (used != strength_text.size()) throw std::invalid_argument("trailing characters");
+    if (used != strength_text.size()) throw UsageError("trailing characters");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--strength: expected a number in [0, 1], got '" + strength_text + "'");
+    throw UsageError("--strength: expected a number in [0, 1], got '" + strength_text + "'");
   }
   if (!(settings.strength >= 0.0f && settings.strength <= 1.0f))
-    throw std::invalid_argument("--strength: " + strength_text + " is outside [0, 1]");
+    throw UsageError("--strength: " + strength_text + " is outside [0, 1]");
   settings.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   frame_stylizers::NetworkOptions network;
   network.weights = args.get_or("weights", "");
   network.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));
-  if (network.style_size < 0) throw std::invalid_argument("--style-size: expected 0 or more pixels");
-  const auto stylizer = frame_stylizers::make_stylizer(args.get_or("stylizer", "patch"), network);
+  if (network.style_size < 0) throw UsageError("--style-size: expected 0 or more pixels");
+  const std::string stylizer_name = args.get_or("stylizer", "patch");
+  const std::vector<std::string> known = frame_stylizers::stylizer_names();
+  if (std::find(known.begin(), known.end(), stylizer_name) == known.end())
+    throw UsageError("--stylizer: unknown stylizer '" + stylizer_name + "' (available: " + names + ")");
+  const auto stylizer = frame_stylizers::make_stylizer(stylizer_name, network);
 
   const io::ImageF style = io::read_image_rgb(style_path);
   const FrameSequence input = read_frame_sequence(in);

@@ -49,7 +49,7 @@ void only(const Args& args, const std::string& verb, std::initializer_list<const
     bool ok = false;
     for (const char* a : allowed) ok = ok || s.name == a;
     if (!ok && (s.takes_value ? args.get(s.name).has_value() : args.flag(s.name)))
-      throw std::invalid_argument("--" + s.name + " does not apply to sweep " + verb);
+      throw UsageError("--" + s.name + " does not apply to sweep " + verb);
   }
 }
 
@@ -64,7 +64,7 @@ int cmd_sweep(const std::vector<std::string>& argv) {
   const std::vector<std::string>& pos = args.positionals();
   const std::string verb = pos[0];
   auto need = [&](size_t n, const std::string& what) {
-    if (pos.size() != n + 1) throw std::invalid_argument("sweep " + verb + ": expected " + what);
+    if (pos.size() != n + 1) throw UsageError("sweep " + verb + ": expected " + what);
   };
   if (verb == "plan") {
     need(1, "SPEC.json --out SWEEP");
@@ -74,7 +74,7 @@ int cmd_sweep(const std::vector<std::string>& argv) {
     if (fs::exists(out / "manifest.json")) {
       const sweep::Manifest old = sweep::read_manifest(out);
       if (sweep::to_json(old).at("cells") != sweep::to_json(m).at("cells"))
-        throw std::invalid_argument((out / "manifest.json").string() +
+        throw UsageError((out / "manifest.json").string() +
                                     ": the sweep folder holds another plan (other cells); plan into a new --out, or remove it");
     }
     sweep::write_manifest(m);
@@ -109,7 +109,7 @@ int cmd_sweep(const std::vector<std::string>& argv) {
     sweep::write_report(m, args.get_or("out", (m.root / "report").string()));
     return 0;
   }
-  throw std::invalid_argument("unknown sweep command '" + verb + "' (plan, slurm, local, status, report, cell)");
+  throw UsageError("unknown sweep command '" + verb + "' (plan, slurm, local, status, report, cell)");
 }
 
 }  // namespace s4d::cli

@@ -1,4 +1,4 @@
-// style4d synth --out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video]: renders the built-in
+// style4d synth --out DIR [--cams N] [--frame-count T] [--size WxH] [--seed S] [--video]: renders the built-in
 // dynamic scene with the independent CPU ray caster (s4d_synth) into a DyNeRF / Neu3D dataset.
 #include <cstdint>
 #include <iostream>
@@ -16,7 +16,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
       {"out", "output directory (must not exist, or be empty)", true, "DIR"},
       {"cams", "number of cameras on the arc, 2-99 (default 10)", true, "N"},
-      {"frames", "number of frames, 2-9999 (default 30)", true, "T"},
+      {"frame-count", "number of frames, 2-9999 (default 30)", true, "T", {"frames"}},
       {"size", "image size, each side 8-4096 (default 160x120)", true, "WxH"},
       {"seed", "seed of the antialiasing jitter and the point sampling (default 0)", true, "S"},
       // Continuation lines are indented to the help column of usage().
@@ -42,7 +42,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("synth", "--out DIR [--cams N] [--frames T] [--size WxH] [--seed S] [--video | --dnerf [--rgba]] [--object | --motion NAME]\n"
+    std::cout << usage("synth", "--out DIR [--cams N] [--frame-count T] [--size WxH] [--seed S] [--video | --dnerf [--rgba]] [--object | --motion NAME]\n"
                        "       [--mixed-distances] [--random-init N]",
                        "Renders the built-in dynamic scene (static textured wall and floor, a spinning sphere,\n"
                        "a box sliding along an arc, a waving sheet) with an analytic CPU ray caster into a\n"
@@ -54,11 +54,11 @@ int cmd_synth(const std::vector<std::string>& argv) {
     return 0;
   }
   if (!args.positionals().empty())
-    throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+    throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   synth::SynthOptions options;
   const std::string out = args.require("out");
   options.cams = parse_number<int>("cams", args.get_or("cams", "10"));
-  options.frames = parse_number<int>("frames", args.get_or("frames", "30"));
+  options.frames = parse_number<int>("frame-count", args.get_or("frame-count", "30"));
   std::tie(options.width, options.height) = parse_size("size", args.get_or("size", "160x120"));
   options.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   options.video = args.flag("video");
@@ -68,7 +68,11 @@ int cmd_synth(const std::vector<std::string>& argv) {
   options.rgba = args.flag("rgba");
   options.mixed_distances = args.flag("mixed-distances");
   options.random_init = parse_number<int>("random-init", args.get_or("random-init", "0"));
-  synth::check_options(options);
+  try {
+    synth::check_options(options);
+  } catch (const std::invalid_argument& e) {  // a flag out of its range
+    throw UsageError(e.what());
+  }
 
   util::Progress progress("synth", static_cast<uint64_t>(options.cams) * static_cast<uint64_t>(options.frames));
   synth::write_dataset(out, options, [&](uint64_t done, uint64_t) { progress.update(done); });

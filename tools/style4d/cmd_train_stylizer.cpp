@@ -48,7 +48,7 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
                        specs);
     return 0;
   }
-  if (!args.positionals().empty()) throw std::invalid_argument("unexpected argument '" + args.positionals().front() + "'");
+  if (!args.positionals().empty()) throw UsageError("unexpected argument '" + args.positionals().front() + "'");
   stylizer_train::StylizerTrainSettings s;
   s.content_dir = args.require("content");
   s.styles_dir = args.require("styles");
@@ -64,9 +64,9 @@ int cmd_train_stylizer(const std::vector<std::string>& argv) {
   try {
     size_t used = 0;
     s.lr = std::stod(lr, &used);
-    if (used != lr.size()) throw std::invalid_argument("trailing characters");
+    if (used != lr.size()) throw UsageError("trailing characters");
   } catch (const std::exception&) {
-    throw std::invalid_argument("--lr: expected a number, got '" + lr + "'");
+    throw UsageError("--lr: expected a number, got '" + lr + "'");
   }
   s.seed = parse_number<uint64_t>("seed", args.get_or("seed", "0"));
   s.losses = args.get_or("losses", "full");

@@ -1,5 +1,6 @@
-// style4d view RUN: the real-time viewer of a trained run (viewer/), or with --screenshot a
+// style4d view --run RUN: the real-time viewer of a trained run (viewer/), or with --screenshot a
 // headless capture of one dataset camera at one time, which needs no display and no GLFW.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -19,14 +20,41 @@
 
 namespace s4d::cli {
 
+namespace {
+
+// --camera N or --camera NAME (cam01, as render --path train:cam01 names it).
+size_t camera_index(const std::string& text, const std::vector<io::CameraView>& cameras) {
+  std::string names;
+  for (size_t k = 0; k < cameras.size() && k < 12; ++k) names += (k ? ", " : "") + cameras[k].name;
+  names += cameras.size() > 12 ? ", ..." : "";
+  if (!text.empty() && text.find_first_not_of("0123456789") == std::string::npos) {
+    const size_t index = parse_number<size_t>("camera", text);
+    if (index >= cameras.size())
+      throw UsageError("--camera " + text + ": the run's dataset has cameras 0.." + std::to_string(cameras.size() - 1) + " (" +
+                       names + ")");
+    return index;
+  }
+  for (size_t k = 0; k < cameras.size(); ++k) {
+    std::string underscored = cameras[k].name;  // D-NeRF's train/r_000 is render's train_r_000
+    std::replace(underscored.begin(), underscored.end(), '/', '_');
+    if (cameras[k].name == text || underscored == text) return k;
+  }
+  throw UsageError("--camera " + text + ": no such camera; give an index 0.." + std::to_string(cameras.size() - 1) +
+                   " or a name (" + names + ")");
+}
+
+}  // namespace
+
 int cmd_view(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
+      {"run", "the trained run to show (style4d train); `view RUN` is the old spelling", true, "RUN"},
       {"style", "style to show (default: original)", true, "NAME"},
       mix_spec(),
       alpha_spec(),
       {"screenshot", "render one frame without a window into this PNG and exit", true, "F.png"},
       {"time", "time t in [0, 1] to start at or capture (default 0)", true, "T"},
-      {"camera", "dataset camera to start from or capture (default 0)", true, "N"},
+      {"camera", "dataset camera to start from or capture: its index or its name, as render's train:CAM\n"
+                 "                        (default 0)", true, "N|NAME"},
       {"play", "start playing", false, ""},
       {"exit-after", "quit after N presented frames (tests)", true, "N"},
       {"record", "record the camera path from the first frame; written on exit as transforms.json", true, "FILE"},
@@ -37,23 +65,25 @@ int cmd_view(const std::vector<std::string>& argv) {
   };
   Args args(argv, specs);
   if (args.help()) {
-    std::cout << usage("view", "RUN [options]",
+    std::cout << usage("view", "--run RUN [options]",
                        "Shows a trained run in a window: left drag orbits, right/middle drag pans, the wheel zooms,\n"
                        "W/A/S/D/Q/E fly (Shift: faster), 1..9 and 0 snap to dataset cameras, Space plays/pauses,\n"
                        "T toggles the original and the last style, N steps to the next style, [ and ] move the blend\n"
                        "factor of the panel's second style (--mix; the panel has a slider), P saves a screenshot,\n"
-                       "R starts/stops recording the camera path (a transforms.json that\n"
-                       "`style4d render --ply RUN/geometry/gaussians.ply --cameras FILE` replays), Esc quits.\n"
+                       "R starts/stops recording the camera path (a transforms.json with a time per frame that\n"
+                       "`style4d render --run RUN --path FILE` replays through the 4D run and any style), Esc quits.\n"
                        "With --screenshot it renders one frame through the same renderer without a window.",
                        specs);
     return 0;
   }
-  if (args.positionals().size() != 1) throw std::invalid_argument("expected one run directory: style4d view RUN");
-  const std::filesystem::path run_dir = args.positionals()[0];
+  if (args.positionals().size() > 1 || (args.get("run") && !args.positionals().empty()))
+    throw UsageError("unexpected argument '" + args.positionals().back() + "'");
+  if (!args.positionals().empty()) warn_deprecated("view RUN", "view --run RUN");
+  const std::filesystem::path run_dir = args.positionals().empty() ? args.require("run") : args.positionals()[0];
   const std::string time_text = args.get_or("time", "0");
   const double time = parse_number<double>("time", time_text);
-  if (!(time >= 0 && time <= 1)) throw std::invalid_argument("--time: expected a value in [0, 1], got '" + time_text + "'");
-  const size_t camera = parse_number<size_t>("camera", args.get_or("camera", "0"));
+  if (!(time >= 0 && time <= 1)) throw UsageError("--time: expected a value in [0, 1], got '" + time_text + "'");
+  const std::string camera_text = args.get_or("camera", "0");
   const scene::StyleChoice style = parse_style_choice(args);
   if (auto png = args.get("screenshot")) tools::refuse_run_output(*png, run_dir, "screenshot");
   if (auto dir = args.get("out-dir")) tools::refuse_run_output(*dir, run_dir, "out-dir");
@@ -62,9 +92,10 @@ int cmd_view(const std::vector<std::string>& argv) {
   const std::string budget_text = args.get_or("frame-budget-ms", exit_after ? "0" : "100");
   const double frame_budget_ms = parse_number<double>("frame-budget-ms", budget_text);
   if (!(frame_budget_ms >= 0))
-    throw std::invalid_argument("--frame-budget-ms: expected 0 (always full resolution) or a time in ms, got '" +
+    throw UsageError("--frame-budget-ms: expected 0 (always full resolution) or a time in ms, got '" +
                                 budget_text + "'");
   const scene::TrainedRun run = scene::read_trained_run(run_dir);
+  const size_t camera = camera_index(camera_text, viewer::dataset_cameras(run.dataset));
 
   if (args.get("screenshot")) {
     engine::Context ctx;

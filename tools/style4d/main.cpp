@@ -1,5 +1,5 @@
-// style4d: one program, one subcommand per job (the contract is in ARCHITECTURE.md). Errors print
-// one line "style4d: error: ..." and exit non-zero.
+// style4d: one program, one subcommand per job (docs/commands.md). Errors print one line
+// "style4d COMMAND: error: ..." and exit 1; a command line that cannot run as given exits 2.
 #include <csignal>
 #include <exception>
 #include <functional>
@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "args.h"
 #include "commands.h"
+#include "completion.h"
 
 namespace {
 
@@ -16,6 +18,9 @@ struct Command {
   const char* summary;
   std::function<int(const std::vector<std::string>&)> run;
 };
+
+// Handled by main itself, beside the command table.
+const std::vector<std::string> kBuiltins = {"help", "completion"};
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> list = {
@@ -45,16 +50,46 @@ const std::vector<Command>& commands() {
 }
 
 void print_help() {
-  std::cout << "usage: style4d COMMAND [options]   (style4d COMMAND --help for details)\n\n"
+  std::cout << "usage: style4d COMMAND [options]   (style4d help COMMAND, or style4d COMMAND --help, for details)\n\n"
                "Style4D on Vulkan: 4D Gaussian splatting, 4D stylization and the Style4D-Bench metrics.\n\n"
                "commands:\n";
-  for (const auto& c : commands()) {
-    const std::string name = c.name;
-    std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ') << c.summary << "\n";
-  }
+  auto line = [](const std::string& name, const std::string& summary) {
+    std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ') << summary << "\n";
+  };
+  for (const auto& c : commands()) line(c.name, c.summary);
+  std::cout << "\nthe program:\n";
+  line("help COMMAND", "a command's options, grouped (as COMMAND --help)");
+  line("completion bash", "a bash completion script: source <(style4d completion bash)");
+  line("--version", "the program's version");
   std::cout << "\nenvironment:\n"
                "  S4D_DEVICE=<index|name>   choose the Vulkan device (default: discrete > integrated > CPU)\n"
                "  S4D_VALIDATION=1          enable the Vulkan validation layer\n";
+}
+
+const Command* find_command(const std::string& name) {
+  for (const auto& c : commands())
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
+int unknown_command(const std::string& name) {
+  std::vector<std::string> names = kBuiltins;
+  for (const auto& c : commands()) names.emplace_back(c.name);
+  const std::string near = s4d::cli::nearest(name, names);
+  std::cerr << "style4d: error: unknown command '" << name << "'" << (near.empty() ? "" : "; did you mean '" + near + "'?")
+            << " (style4d --help lists the commands)\n";
+  return 2;
+}
+
+int completion(const std::vector<std::string>& args) {
+  if (args.size() != 1 || args[0] != "bash") {
+    std::cerr << "style4d completion: error: expected the shell: style4d completion bash (bash is the one supported)\n";
+    return 2;
+  }
+  std::vector<s4d::cli::CommandEntry> entries;
+  for (const auto& c : commands()) entries.push_back({c.name, c.run});
+  std::cout << s4d::cli::bash_completion(entries, kBuiltins);
+  return 0;
 }
 
 }  // namespace
@@ -64,21 +99,37 @@ int main(int argc, char** argv) {
   // disk, not kill the process halfway through a file.
   std::signal(SIGXFSZ, SIG_IGN);
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || (args[0] == "help" && args.size() == 1)) {
     print_help();
     return args.empty() ? 2 : 0;
   }
+  if (args[0] == "--version") {
+    std::cout << "style4d " << S4D_VERSION << "\n";
+    return 0;
+  }
+  if (args[0] == "completion") return completion({args.begin() + 1, args.end()});
+  if (args[0] == "help") {  // help COMMAND: the command's own --help
+    if (args.size() != 2) {
+      std::cerr << "style4d help: error: expected one command: style4d help COMMAND\n";
+      return 2;
+    }
+    args = {args[1], "--help"};
+  }
   const std::string name = args[0];
   args.erase(args.begin());
-  for (const auto& c : commands()) {
-    if (name != c.name) continue;
-    try {
-      return c.run(args);
-    } catch (const std::exception& e) {
-      std::cerr << "style4d " << name << ": error: " << e.what() << "\n";
-      return 1;
-    }
+  const Command* c = find_command(name);
+  if (!c) return unknown_command(name);
+  try {
+    return c->run(args);
+  } catch (const s4d::cli::UsageError& e) {
+    std::cerr << "style4d " << name << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "style4d " << name << ": error: " << e.what() << "\n";
+    return 1;
+  } catch (const s4d::cli::OptionTable& table) {  // --list-options (the completion asks it): one option a line
+    for (const auto& o : table.specs)
+      if (!o.name.empty()) std::cout << "--" << o.name << "\n";
+    return 0;
   }
-  std::cerr << "style4d: error: unknown command '" << name << "' (style4d --help lists the commands)\n";
-  return 2;
 }

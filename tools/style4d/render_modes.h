@@ -11,7 +11,7 @@ namespace s4d::cli {
 
 // --ply FILE --cameras transforms.json --out DIR [--background] [--sh-degree] [--size]
 int render_ply(const Args& args);
-// --run RUN --path test|spiral|train:CAM --out DIR [--style] [--format] [--frames] [--flow] [--background]
+// --run RUN --path test|spiral|train:CAM|FILE.json --out DIR [--style] [--format] [--spiral-frames] [--flow] [--background]
 int render_run(const Args& args);
 
 // "R,G,B" with three numbers; an error naming --background otherwise.

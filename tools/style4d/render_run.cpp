@@ -1,5 +1,6 @@
-// style4d render --run RUN --path test|spiral|train:CAM --out DIR: a trained run along a render
-// protocol (bench/protocols), with its frames.json, optional exact flow, and DIR/render.json.
+// style4d render --run RUN --path test|spiral|train:CAM|FILE.json --out DIR: a trained run along a
+// render protocol or a camera path (bench/protocols), with its frames.json, optional exact flow, and
+// DIR/render.json.
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -21,16 +22,22 @@ namespace s4d::cli {
 
 int render_run(const Args& args) {
   for (const char* o : {"ply", "cameras", "sh-degree", "size"})
-    if (args.get(o)) throw std::invalid_argument(std::string("--") + o + " belongs to the --ply mode, not --run");
+    if (args.get(o)) throw UsageError(std::string("--") + o + " belongs to the --ply mode, not --run");
   const std::filesystem::path run = args.require("run"), out = args.require("out");
-  const protocols::PathSpec path = protocols::parse_path(args.require("path"));
+  protocols::PathSpec path;
+  try {
+    path = protocols::parse_path(args.require("path"));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   protocols::RenderOptions options;
   options.format = protocols::parse_format(args.get_or("format", "png"));
   options.flow = args.flag("flow");
-  if (args.get("frames") && path.kind != protocols::PathSpec::Kind::spiral)
-    throw std::invalid_argument("--frames sets the spiral's length; test and train:CAM render at the dataset's times");
-  const int frames = parse_number<int>("frames", args.get_or("frames", std::to_string(protocols::kDefaultSpiralFrames)));
-  if (frames < 1) throw std::invalid_argument("--frames: expected at least 1, got " + std::to_string(frames));
+  if (args.get("spiral-frames") && path.kind != protocols::PathSpec::Kind::spiral)
+    throw UsageError("--spiral-frames sets the spiral's length; test, train:CAM and a path file render at their own times");
+  const int frames =
+      parse_number<int>("spiral-frames", args.get_or("spiral-frames", std::to_string(protocols::kDefaultSpiralFrames)));
+  if (frames < 1) throw UsageError("--spiral-frames: expected at least 1, got " + std::to_string(frames));
 
   const auto start = std::chrono::steady_clock::now();
   engine::Context ctx;

@@ -5,14 +5,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "args.h"
 #include "s4d/run/run_dir.h"
 
 namespace s4d::tools {
 
-// Throws std::invalid_argument "--OPTION: PATH is inside RUN's own files (...); choose another path".
+// Throws cli::UsageError "--OPTION: PATH is inside RUN's own files (...); choose another path".
 inline void refuse_run_output(const std::filesystem::path& out, const std::filesystem::path& run, const std::string& option) {
   if (run::RunDir{run}.owns(out)) {
-    throw std::invalid_argument("--" + option + ": " + out.string() + " is one of " + run.string() +
+    throw cli::UsageError("--" + option + ": " + out.string() + " is one of " + run.string() +
                                 "'s own files (run.json, train.json, loss.csv, checkpoint/, geometry/, eval/, style/); "
                                 "choose another path");
   }

@@ -15,16 +15,16 @@ OptionSpec alpha_spec() {
 
 scene::StyleChoice parse_style_choice(const Args& args) {
   scene::StyleChoice choice{.style = args.get_or("style", "original"), .mix = args.get_or("mix", "")};
-  if (args.get("mix") && choice.mix.empty()) throw std::invalid_argument("--mix: expected a style name");
+  if (args.get("mix") && choice.mix.empty()) throw UsageError("--mix: expected a style name");
   if (args.get("mix") && !args.get("alpha"))
-    throw std::invalid_argument("--mix " + choice.mix + " needs --alpha A, the weight of " + choice.mix + " in [0, 1]");
+    throw UsageError("--mix " + choice.mix + " needs --alpha A, the weight of " + choice.mix + " in [0, 1]");
   if (!args.get("alpha")) return choice;
-  if (!args.get("mix")) throw std::invalid_argument("--alpha needs --mix NAME, the style to blend --style with");
+  if (!args.get("mix")) throw UsageError("--alpha needs --mix NAME, the style to blend --style with");
   const std::string text = *args.get("alpha");
   char* end = nullptr;
   choice.alpha = std::strtof(text.c_str(), &end);
   if (text.empty() || *end != '\0' || !(choice.alpha >= 0.0f && choice.alpha <= 1.0f))
-    throw std::invalid_argument("--alpha: expected a number in [0, 1], got '" + text + "'");
+    throw UsageError("--alpha: expected a number in [0, 1], got '" + text + "'");
   return choice;
 }
 

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <set>
 
+#include "args.h"
 #include "sweep.h"
 
 namespace s4d::cli::sweep {
@@ -20,7 +21,7 @@ extern "C" void stop_pool(int) { g_stop = 1; }
 }  // namespace
 
 int run_local(const Manifest& m, int jobs) {
-  if (jobs < 1) throw std::invalid_argument("--jobs: must be at least 1");
+  if (jobs < 1) throw UsageError("--jobs: must be at least 1");
   std::vector<const Cell*> pending;
   for (const Cell& c : m.cells)
     if (!cell_done(m, c)) pending.push_back(&c);

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "args.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::cli::sweep {
@@ -31,7 +32,7 @@ nlohmann::json read_json(const fs::path& file) {
 const Cell& Manifest::cell(const std::string& id) const {
   for (const Cell& c : cells)
     if (c.id == id) return c;
-  throw std::invalid_argument("no cell '" + id + "' in " + (root / "manifest.json").string() + " (style4d sweep status lists them)");
+  throw UsageError("no cell '" + id + "' in " + (root / "manifest.json").string() + " (style4d sweep status lists them)");
 }
 
 std::vector<const Cell*> Manifest::stage_cells(const std::string& stage) const {

@@ -201,13 +201,13 @@ Manifest plan(const fs::path& spec_file, const fs::path& out, const fs::path& pr
       const fs::path run = m.root / "runs" / key;
       Cell t;
       t.id = "train." + key, t.stage = "train", t.scene = scene, t.preset = preset;
-      t.command = {"train", "--data", data.string(), "--out", run.string(), "--preset", preset, "--downscale", std::to_string(downscale)};
+      t.command = {"train", "--data", data.string(), "--run", run.string(), "--preset", preset, "--downscale", std::to_string(downscale)};
       if (int n = spec.int_or(train, "iters", "train", 0, 1)) append(t.command, {"--iters", std::to_string(n)});
       if (int n = spec.int_or(train, "fine_iters", "train", 0, 1)) append(t.command, {"--fine-iters", std::to_string(n)});
       append(t.command, spec.strings(train, "args", "train"));
       append(t.command, spec.strings(d, "train_args", field));
       t.resume_when = (run / "run.json").string();
-      t.resume_command = {"train", "--resume", run.string()};
+      t.resume_command = {"train", "--run", run.string()};
       t.clean = {run.string()};
       t.outputs = {(run / "train.json").string()};
       for (const Style& s : styles)
@@ -216,7 +216,7 @@ Manifest plan(const fs::path& spec_file, const fs::path& out, const fs::path& pr
           Cell st;
           st.id = "stylize." + cell, st.stage = "stylize", st.scene = scene, st.preset = preset, st.style = s.name, st.method = me.name;
           st.after = {t.id};
-          st.command = {"stylize", "--run", run.string(), "--style", s.image.string(), "--name", name};
+          st.command = {"stylize", "--run", run.string(), "--style-image", s.image.string(), "--style", name};
           append(st.command, me.args);
           append(st.command, spec.strings(stylize, "args", "stylize"));
           // A killed stylize continues from its checkpoint when given the same command again.

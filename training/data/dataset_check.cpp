@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 using detail::Problems;
 using detail::ViewSource;
 using detail::check_cameras;
+using detail::check_frame_content;
 using detail::check_images;
 using detail::check_times;
 using detail::fill_summary;
@@ -104,6 +105,7 @@ DatasetReport check_dataset(const Dataset& dataset) {
   check_images(dataset, sources, problems, report.summary);
   check_cameras(dataset, sources, problems, report.summary);
   check_times(dataset, sources, problems);
+  check_frame_content(dataset, problems);
   if (report.summary.test_views == 0) {
     problems.warning(dataset.root, "split", "no test views: training will report no test PSNR or SSIM");
   }

@@ -1,6 +1,7 @@
 // Private to s4d_data: what the parts of check_dataset share (dataset_check.cpp: where each view's
-// values came from and the checks' order; dataset_check_images.cpp, dataset_check_poses.cpp: the
-// checks; dataset_check_summary.cpp: the summary and its text and JSON forms).
+// values came from and the checks' order; dataset_check_images.cpp, dataset_check_poses.cpp,
+// dataset_check_frames.cpp: the checks; dataset_check_summary.cpp: the summary and its text and JSON
+// forms).
 #pragma once
 
 #include <array>
@@ -72,6 +73,7 @@ void check_images(const Dataset& dataset, const std::vector<ViewSource>& sources
 void check_cameras(const Dataset& dataset, const std::vector<ViewSource>& sources, Problems& problems,
                    DatasetSummary& summary);
 void check_times(const Dataset& dataset, const std::vector<ViewSource>& sources, Problems& problems);
+void check_frame_content(const Dataset& dataset, Problems& problems);
 void fill_summary(const Dataset& dataset, DatasetSummary& s);
 
 }  // namespace s4d::data::detail

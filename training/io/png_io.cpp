@@ -20,6 +20,7 @@
 #include "file_read.h"
 #include "s4d/io/image_io.h"
 #include "s4d/util/atomic_file.h"
+#include "s4d/util/free_memory.h"
 
 namespace s4d::io {
 namespace {
@@ -231,6 +232,10 @@ ImageF read_png(const std::filesystem::path& path) {
     detail::fail(path, "IHDR: " + std::to_string(shape.width) + "x" + std::to_string(shape.height) +
                            " is over the limit of " + std::to_string(kMaxPixels) + " pixels");
   }
+  // The decoded rows, their floats and the RGB copy most callers make: asked for before any of it.
+  const uint64_t pixels_count = uint64_t{shape.width} * shape.height;
+  util::require_memory(path.string(), shape.row_bytes * uint64_t{shape.height} + pixels_count * (shape.channels + 3) * 4,
+                       "decoding its " + std::to_string(shape.width) + "x" + std::to_string(shape.height) + " pixels");
 
   std::vector<png_byte> pixels(shape.row_bytes * shape.height);
   std::vector<png_bytep> rows(shape.height);

@@ -38,14 +38,20 @@ std::string show_all(const Range& values) {
 
 struct Checker {
   const std::string& source;
+  const std::map<std::string, std::string>& flags;
 
+  [[noreturn]] void refuse(const char* key, const std::string& value, const std::string& why) const {
+    const auto flag = flags.find(key);
+    if (flag != flags.end()) throw std::runtime_error(flag->second + " " + value + ": " + why);
+    throw std::runtime_error(setting_error(source, key, value, why));
+  }
   template <class T>
   void require(bool ok, const char* key, const T& value, const std::string& why) const {
-    if (!ok) throw std::runtime_error(setting_error(source, key, show(value), why));
+    if (!ok) refuse(key, show(value), why);
   }
   template <class Range>
   void require_all(bool ok, const char* key, const Range& values, const std::string& why) const {
-    if (!ok) throw std::runtime_error(setting_error(source, key, show_all(values), why));
+    if (!ok) refuse(key, show_all(values), why);
   }
   void at_least(const char* key, uint32_t v, uint32_t lo) const { require(v >= lo, key, v, "must be at least " + std::to_string(lo)); }
   void interval(const char* key, uint32_t v) const { require(v >= 1, key, v, "must be at least 1 (an interval in iterations)"); }
@@ -70,8 +76,8 @@ std::string setting_error(const std::string& source, const std::string& key, con
   return source + ": field '" + key + "' = " + value + ": " + why;
 }
 
-void validate(const TrainConfig& c, const std::string& source) {
-  const Checker check{source};
+void validate(const TrainConfig& c, const std::string& source, const std::map<std::string, std::string>& flags) {
+  const Checker check{source, flags};
   // Data and schedule.
   check.at_least("iterations", c.iterations, 1);
   check.require(c.downscale >= 1, "downscale", c.downscale, "must be at least 1");

@@ -51,7 +51,7 @@ TrainedField read_trained_field(const fs::path& file, const run::TrainConfig& co
     throw std::runtime_error(file.string() + ": the run is incomplete: the checkpoint is from the " + stage +
                              " stage (iteration " + std::to_string(iteration) + " of " +
                              std::to_string(config.iterations) + ") and the 4DGS stage has not started; finish it "
-                             "with `style4d train --resume " + run_root.string() + "`");
+                             "with `style4d train --run " + run_root.string() + "`");
   TrainedField out;
   out.fine_iteration = iteration;
   out.field = run::field_config(config, meta_field<std::array<float, 3>>(cp.meta, "aabb_min", "three floats", file),

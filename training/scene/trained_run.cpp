@@ -1,7 +1,10 @@
 #include "s4d/scene/trained_run.h"
 
 #include <algorithm>
+#include <fstream>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/run/run_dir.h"
@@ -24,7 +27,7 @@ run::StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
     std::string known;
     for (const std::string& s : run.styles) known += (known.empty() ? "" : ", ") + s;
     throw std::runtime_error("no style " + style + " in " + run.root.string() + "; it has: " + known +
-                             " (train one with style4d stylize --run " + run.root.string() + " --style IMG)");
+                             " (train one with style4d stylize --run " + run.root.string() + " --style-image IMG)");
   }
   return run::read_style_file(run::style_file_path(run.root, style));
 }
@@ -40,11 +43,18 @@ run::StyleFile read_run_style(const TrainedRun& run, const std::string& style) {
 TrainedRun read_trained_run(const fs::path& root) {
   const run::RunDir run{root};
   if (!fs::is_directory(root))
-    throw std::runtime_error(root.string() + " is not a directory; train one with `style4d train --data DIR --out " +
+    throw std::runtime_error(root.string() + " is not a directory; train a run there with `style4d train --data DIR --run " +
                              root.string() + "`");
+  // A folder of other files (a dataset, say) is not trained into: the run goes in a folder of its own.
+  std::error_code ec;
+  const bool run_files = fs::exists(run.train_json()) || fs::exists(run.checkpoint().parent_path()) ||
+                         fs::exists(run.gaussians_ply().parent_path());
+  if (!fs::exists(run.run_json()) && !run_files && !fs::is_empty(root, ec))
+    throw std::runtime_error(root.string() + " is not a training run (no run.json); if it is a dataset, train a run from it "
+                             "with `style4d train --data " + root.string() + " --run NEW_RUN_DIR`");
   if (!fs::exists(run.run_json()))
     incomplete(root, {run.run_json().string() + ": missing (what was trained from what)"},
-               "train one with `style4d train --data DIR --out " + root.string() + "`");
+               "train a run there with `style4d train --data DIR --run " + root.string() + "`");
   run::RunJson j = run::read_run_json(run);  // names the file and the field
   TrainedRun out;
   out.root = root;
@@ -60,10 +70,16 @@ TrainedRun read_trained_run(const fs::path& root) {
   const fs::path data_path = j.data;
   const bool no_data = !fs::exists(data_path);
   if (no_data) missing.push_back(data_path.string() + ": missing (the dataset that run.json's field 'data' names)");
+  // A finished run (train.json: complete) is not trained again: what it lost cannot be finished.
+  std::ifstream train_json(run.train_json());
+  const nlohmann::json train = nlohmann::json::parse(train_json, nullptr, false);
+  const bool finished = train.is_object() && train.value("complete", false);
   if (!missing.empty())
     incomplete(root, missing,
                no_data && missing.size() == 1 ? "put the dataset back or correct 'data' in " + run.run_json().string()
-                                              : "finish it with `style4d train --resume " + root.string() + "`");
+               : finished ? "the run finished, and what is missing cannot be rebuilt from the rest; train a new run "
+                            "with `style4d train --data DIR --run NEW_RUN_DIR`"
+                          : "finish it with `style4d train --run " + root.string() + "`");
   data::LoadOptions load{.downscale = out.config.downscale, .background = out.config.background, .probe_background = false};
   if (!out.config.frames.empty()) load.frames = data::parse_frame_range(out.config.frames, run.run_json().string() + ": frames");
   out.dataset = data::load_dataset(data_path, load);

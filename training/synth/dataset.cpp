@@ -72,7 +72,7 @@ void vary_distances(std::vector<PinholeCamera>& cameras, Vec3 centre) {
 
 void check_options(const SynthOptions& o) {
   check_range("--cams", o.cams, 2, kMaxCams);
-  check_range("--frames", o.frames, 2, kMaxFrames);
+  check_range("--frame-count", o.frames, 2, kMaxFrames);
   check_range("--size width", o.width, kMinSide, kMaxSide);
   check_range("--size height", o.height, kMinSide, kMaxSide);
   check_range("samples per axis", o.samples_per_axis, 1, 16);

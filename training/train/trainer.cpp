@@ -84,7 +84,7 @@ std::optional<run::LoadedCheckpoint> checkpoint_to_resume(const run::RunDir& run
     throw std::runtime_error(run.checkpoint().string() + ": missing, and so is " + run.previous_checkpoint().string() +
                              "; " + run.root.string() + " holds results (" + results +
                              ") that training it again from the start would overwrite, so it is not resumed (train a "
-                             "new run with --out, or delete " + run.root.string() + " to train this one again)");
+                             "new run with another --run, or delete " + run.root.string() + " to train this one again)");
   std::cerr << run.root.string() << ": no checkpoint yet (the run stopped before its first) and no results to lose; "
             << "training it from the start\n";
   return std::nullopt;
@@ -124,8 +124,8 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   run::validate(config_, "training settings");
   // The folder's .lock is the caller's run lock (run_lock.h), taken before the run is created.
   if (fs::exists(run_dir) && !(fs::is_directory(run_dir) && run::empty_but_for_lock(run_dir)))
-    throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with --resume or choose "
-                                "another --out");
+    throw std::invalid_argument(run_dir.string() + " already exists and is not empty; continue it with style4d train --run " +
+                                run_dir.string() + " or choose another --run");
   dataset_ = loaded ? std::move(*loaded) : data::load_dataset(data_dir, load_options(config_, false));
   config_.background = dataset_.background;
   if (!dataset_.background_conflict.empty())
@@ -190,6 +190,8 @@ std::unique_ptr<Trainer> Trainer::resume(engine::Context& ctx, const fs::path& r
   const run::RunDir run{run_dir};
   if (!fs::exists(run.run_json()))
     throw std::runtime_error(run.run_json().string() + ": missing; " + run_dir.string() + " is not a training run");
+  if (run_finished(run_dir))
+    throw std::runtime_error(run.train_json().string() + ": the run is finished (complete); its results are not trained again");
   return std::unique_ptr<Trainer>(new Trainer(ctx, run, run::read_run_json(run)));
 }
 
@@ -207,7 +209,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
             .test_every = m.config.test_every,
             .checkpoint_every = m.config.checkpoint_every,
             .test_name = "test_psnr",
-            .resume_hint = "continue with style4d train --resume " + m.run.root.string(),
+            .resume_hint = "continue with style4d train --run " + m.run.root.string(),
             .checkpoint = m.run.checkpoint()};
   }
   uint32_t iteration() const override { return m.iteration; }

@@ -30,6 +30,12 @@ nlohmann::json previous_stage_ms(const fs::path& train_json) {
 
 }  // namespace
 
+bool run_finished(const fs::path& run_dir) {
+  std::ifstream in(run::RunDir{run_dir}.train_json());
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_object() && j.value("complete", false) == true;
+}
+
 Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir) {
   if (!fine())
     return evaluator.evaluate(rast, [&](const data::View&) { return gaussians->params(active_degree()); }, views, frames,

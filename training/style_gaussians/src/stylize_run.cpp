@@ -83,7 +83,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   out.name = req.name.empty() ? req.style_image.stem().string() : req.name;
   const std::string& name = out.name;
   if (name.empty() || name == "original" || name.find('/') != std::string::npos)
-    throw std::invalid_argument("--name '" + name + "': a style needs a plain name other than 'original'");
+    throw std::invalid_argument("--style '" + name + "': a style needs a plain name other than 'original'");
   out.style_image = io::read_image_rgb(req.style_image);
   const io::ImageF& style_image = out.style_image;
   out.stylizer = frame_stylizers::make_stylizer(req.config.stylizer,
@@ -106,7 +106,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
       fs::remove_all(out.dir / stale);
   else if (!previous.is_null() && without_image_path(previous) != without_image_path(request))
     throw std::invalid_argument("style " + name + " of " + run.root.string() + " was started with other settings (" +
-                                out.dir.string() + "/request.json); pass --restart to train it again, or another --name");
+                                out.dir.string() + "/request.json); pass --restart to train it again, or another --style NAME");
   fs::create_directories(out.dir);
   util::write_file_atomic(out.dir / "request.json", request.dump(2) + "\n");
   // The style image travels with the style (bench's style metrics read it), 8-bit as its key hashes it.

@@ -8,7 +8,12 @@
 //   train:CAM  one sequence fixed at training camera CAM (camera_name below: "cam03" for DyNeRF,
 //              "train_r_005" for D-NeRF) at every training-view time of that camera (D-NeRF: of all
 //              training views).
+//   FILE.json  one sequence along a camera path with a time per frame: a transforms.json as the
+//              viewer records it (R, or view --record) and io::write_nerf_cameras writes; each frame
+//              gives its camera (transform_matrix, fl_x, fl_y, cx, cy, w, h) and "time" in [0, 1]
+//              (docs/protocols.md, "Camera paths").
 #pragma once
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -29,20 +34,24 @@ struct Sequence {
 };
 
 struct PathSpec {
-  enum class Kind { test, spiral, train };
+  enum class Kind { test, spiral, train, file };
   Kind kind = Kind::test;
   std::string camera;  // train:CAM's CAM
-  std::string text() const;  // "test", "spiral", "train:CAM"
+  std::filesystem::path file;  // FILE.json
+  std::string text() const;  // "test", "spiral", "train:CAM", the file's path
 };
 
-// Parses "test", "spiral" or "train:CAM"; std::invalid_argument naming the accepted forms otherwise.
+// Parses "test", "spiral", "train:CAM" or a path ending in .json; std::invalid_argument naming the
+// accepted forms otherwise.
 PathSpec parse_path(const std::string& text);
 
 inline constexpr int kDefaultSpiralFrames = 120;  // LLFF's render_path_spiral default N_views
 
 // The sequences of a path over `dataset`. `spiral_frames` (>= 1) is the spiral's frame count.
 // Throws std::invalid_argument when the dataset has no test views (test), no training camera named
-// CAM (the message lists them), or a rig the spiral cannot be built from (camera_rig.h).
+// CAM (the message lists them), or a rig the spiral cannot be built from (camera_rig.h); a camera
+// path file is read as read_nerf_cameras reads it (std::runtime_error naming the file, frame and
+// field), and a frame without a time is refused.
 std::vector<Sequence> build_protocol(const data::Dataset& dataset, const PathSpec& path, int spiral_frames);
 
 // The physical camera a view belongs to: the camera folder for DyNeRF ("cam03"); for D-NeRF, where

@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -108,8 +109,9 @@ deform::FieldConfig field_config(const TrainConfig& config, const std::array<flo
 // throws std::runtime_error "SOURCE: field 'KEY' = VALUE: why" for the first setting outside its
 // range (ranges per key in train_config_check.cpp; the deformation field's are the kernels' limits,
 // s4d_deform.h). SOURCE says where the settings came from: a file (RUN/run.json), "--set",
-// "command line", "preset fast".
-void validate(const TrainConfig& config, const std::string& source);
+// "command line", "preset fast". `flags` maps a setting to the command-line option that set it: a
+// setting refused there is named as the user wrote it, "--downscale 0: must be at least 1".
+void validate(const TrainConfig& config, const std::string& source, const std::map<std::string, std::string>& flags = {});
 
 // The message format of settings errors: "SOURCE: field 'KEY' = VALUE: why".
 std::string setting_error(const std::string& source, const std::string& key, const std::string& value,

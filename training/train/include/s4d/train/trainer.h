@@ -42,6 +42,10 @@ inline constexpr uint32_t kDegenerateGaussians = 16;
 // Test renders within this of an empty render's PSNR show nothing of the scene.
 inline constexpr double kDegenerateMarginDb = 1.0;
 
+// Whether the run in `run_dir` has finished: its train.json says complete. A finished run's results
+// are the only copy of its final model, so it is never trained again (Trainer::resume refuses it).
+bool run_finished(const std::filesystem::path& run_dir);
+
 class Trainer {
  public:
   // A new run into `run_dir`, which must not exist or be empty (a run is never overwritten).
@@ -51,6 +55,7 @@ class Trainer {
           const std::filesystem::path& run_dir, std::optional<data::Dataset> loaded = std::nullopt);
   // Continues the run in `run_dir` from its checkpoint (or from the previous one when that is damaged);
   // refuses when neither loads and the run has results, restarts a run killed before its first checkpoint.
+  // Refuses a finished run (run_finished), whatever state its checkpoints are in.
   static std::unique_ptr<Trainer> resume(engine::Context& ctx, const std::filesystem::path& run_dir);
   ~Trainer();
 
