@@ -22,11 +22,13 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
   }
   if (!(fps > 0)) throw std::invalid_argument(path.string() + ": fps must be positive");
   encoder_ = std::make_unique<Encoder>();
-  encoder_->writer.open(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                        cv::Size(width, height));
+  const bool webm = path.extension() == ".webm";
+  const int fourcc = webm ? cv::VideoWriter::fourcc('V', 'P', '9', '0') : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  encoder_->writer.open(path.string(), cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height));
   if (!encoder_->writer.isOpened()) {
-    detail::fail(path, "cannot open an mp4v (MPEG-4 Part 2) encoder through OpenCV's FFmpeg backend: OpenCV is "
-                       "built without FFmpeg or the encoder, or the file cannot be written");
+    detail::fail(path, std::string("cannot open an ") + (webm ? "VP9 (WebM)" : "mp4v (MPEG-4 Part 2)") +
+                           " encoder through OpenCV's FFmpeg backend: OpenCV is built without FFmpeg or the encoder, "
+                           "or the file cannot be written");
   }
 }
 
