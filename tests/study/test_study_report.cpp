@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "s4d/study/study_report.h"
+#include "s4d/study/study_stats.h"
 #include "s4d/study/vote_store.h"
 
 using namespace s4d::study;
