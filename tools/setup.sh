@@ -12,6 +12,7 @@ packages=(
   glslc spirv-tools
   libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libopenexr-dev libopencv-dev
   libglfw3-dev libimgui-dev xvfb xauth
+  libcpp-httplib-dev libsqlite3-dev
 )
 missing=()
 for p in "${packages[@]}"; do

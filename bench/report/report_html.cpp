@@ -174,7 +174,7 @@ for (const row of document.querySelectorAll(".videos")) {
   clock.addEventListener("timeupdate", follow);
   clock.addEventListener("seeked", follow);
   clock.addEventListener("play", () => { for (const v of others) v.play().catch(() => {}); });
-  clock.addEventListener("pause", () => { for (const v of others) v.pause(); });
+  clock.addEventListener("pause", () => { for (const v of others) { v.pause(); v.currentTime = clock.currentTime; } });
   row.parentElement.querySelector("button").addEventListener("click", () => {
     for (const v of row.querySelectorAll("video")) v.currentTime = 0;
     clock.play().catch(() => {});

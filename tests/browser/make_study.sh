@@ -25,4 +25,4 @@ run stylize-frames --in "$cam" --style "$style" --out "$out/frames/patch" --stre
 run stylize-frames --in "$cam" --style "$style" --out "$out/frames/patch_half" --strength 0.5
 run bench --frames "$out/frames/patch" --name patch --frames "$out/frames/patch_half" --name patch_half \
   --original "$cam" --style-image "$style" --scene synth --out "$out/bench_video"
-run study plan --bench "$out/bench_4d" --bench "$out/bench_video" --out "$out/study" --participants "$participants" --seed 1
+run study plan --bench "$out/bench_4d" --bench "$out/bench_video" --out "$out/study" --participants "$participants" --seed 1 --fps 8
