@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-#include "s4d/bench/webm_video.h"
+#include "s4d/data/webm_video.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::bench {
@@ -243,7 +243,7 @@ void write_report_html(const fs::path& out, const nlohmann::json& report, int ma
         h << "<p>n/a, because " << escape(v.frames.empty() ? std::string("no sequence was recorded") : v.frames.string() + " no longer exists")
           << "</p>";
       } else {
-        encode_webm(v.frames, max_video_frames, 30, scratch);
+        data::encode_webm(v.frames, max_video_frames, 30, scratch);
         h << "<video muted loop autoplay playsinline src=\"data:video/webm;base64," << base64(read_bytes(scratch)) << "\"></video>";
         fs::remove(scratch);
       }

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "s4d/bench/webm_video.h"
+#include "s4d/data/webm_video.h"
 #include "study_media.h"
 
 namespace s4d::study {
@@ -208,7 +208,7 @@ Study plan_study(const PlanOptions& o) {
       const Item v = s.items[pairs[f % pairs.size()]];
       const int picks = want / static_cast<int>(pairs.size()) + (static_cast<int>(f % pairs.size()) < want % static_cast<int>(pairs.size()) ? 1 : 0);
       const int j = f / static_cast<int>(pairs.size());
-      const int n = std::min(bench::webm_frame_count(frames_of(v.media[0]), o.max_frames), bench::webm_frame_count(frames_of(v.media[1]), o.max_frames));
+      const int n = std::min(data::webm_frame_count(frames_of(v.media[0]), o.max_frames), data::webm_frame_count(frames_of(v.media[1]), o.max_frames));
       const int index = static_cast<int>((j + 0.5) * n / picks);
       Item it = v;
       it.id = new_id('f');
@@ -263,14 +263,14 @@ Study plan_study(const PlanOptions& o) {
   fs::create_directories(o.out);
   for (const auto& [frames, webm] : videos) {
     const std::map<int, fs::path>& picks = stills[frames];
-    bench::encode_webm(frames, o.max_frames, o.fps, o.out / webm, [&](int index, const io::ImageF& frame) {
+    data::encode_webm(frames, o.max_frames, o.fps, o.out / webm, [&](int index, const io::ImageF& frame) {
       if (auto it = picks.find(index); it != picks.end()) {
         fs::create_directories((o.out / it->second).parent_path());
         io::write_png(o.out / it->second, frame);
       }
     });
   }
-  bench::encode_webm(frames_of(first.media[0]), o.max_frames, o.fps, o.out / broken.media[1],
+  data::encode_webm(frames_of(first.media[0]), o.max_frames, o.fps, o.out / broken.media[1],
                      [&](int index, io::ImageF& frame) { corrupt_frame(frame, index, o.seed); });
   for (const auto& [media, source] : style_images) {
     fs::create_directories((o.out / media).parent_path());

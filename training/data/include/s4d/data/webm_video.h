@@ -6,7 +6,7 @@
 
 #include "s4d/io/image_io.h"
 
-namespace s4d::bench {
+namespace s4d::data {
 
 // The frames encode_webm would encode: the sequence's count, capped at max_frames.
 int webm_frame_count(const std::filesystem::path& sequence, int max_frames);
@@ -18,4 +18,4 @@ int webm_frame_count(const std::filesystem::path& sequence, int max_frames);
 int encode_webm(const std::filesystem::path& sequence, int max_frames, double fps, const std::filesystem::path& webm,
                 const std::function<void(int, io::ImageF&)>& each_frame = {});
 
-}  // namespace s4d::bench
+}  // namespace s4d::data

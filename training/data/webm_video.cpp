@@ -1,4 +1,4 @@
-#include "s4d/bench/webm_video.h"
+#include "s4d/data/webm_video.h"
 
 #include <algorithm>
 #include <memory>
@@ -7,7 +7,7 @@
 #include "s4d/data/frame_reader.h"
 #include "s4d/data/video_writer.h"
 
-namespace s4d::bench {
+namespace s4d::data {
 
 namespace {
 
@@ -26,24 +26,24 @@ io::ImageF even_sides(const io::ImageF& im) {
 }  // namespace
 
 int webm_frame_count(const std::filesystem::path& sequence, int max_frames) {
-  return std::min(data::FrameReader(sequence).size(), max_frames);
+  return std::min(FrameReader(sequence).size(), max_frames);
 }
 
 int encode_webm(const std::filesystem::path& sequence, int max_frames, double fps, const std::filesystem::path& webm,
                 const std::function<void(int, io::ImageF&)>& each_frame) {
-  data::FrameReader reader(sequence);
+  FrameReader reader(sequence);
   const int n = std::min(reader.size(), max_frames);
   if (n == 0) throw std::runtime_error(sequence.string() + ": no frames");
   if (webm.has_parent_path()) std::filesystem::create_directories(webm.parent_path());
-  std::unique_ptr<data::VideoWriter> writer;
+  std::unique_ptr<VideoWriter> writer;
   for (int k = 0; k < n; ++k) {
     io::ImageF frame = reader.next_counted();
     if (each_frame) each_frame(k, frame);
     const io::ImageF even = even_sides(frame);
-    if (!writer) writer = std::make_unique<data::VideoWriter>(webm, even.width, even.height, fps);
+    if (!writer) writer = std::make_unique<VideoWriter>(webm, even.width, even.height, fps);
     writer->write(even);
   }
   return n;
 }
 
-}  // namespace s4d::bench
+}  // namespace s4d::data
