@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 
 constexpr size_t kMaxVoteBytes = 4096;        // a vote is about 150 bytes
 constexpr size_t kMaxRequestBytes = 64 * 1024;  // httplib refuses larger bodies before reading them
+constexpr size_t kThreads = 48;
 constexpr int64_t kClockSlackMs = 60 * 1000;
 constexpr int64_t kMaxShownAgeMs = 7LL * 24 * 3600 * 1000;
 
@@ -140,6 +141,10 @@ void serve_study(const ServeOptions& o, const std::atomic<bool>& stop, const std
   }
 
   httplib::Server server;
+  // A participant's page holds a connection open between votes (keep-alive): threads for a full lab
+  // at once, and idle connections let go after 2 s.
+  server.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
+  server.set_keep_alive_timeout(2);
   server.set_payload_max_length(kMaxRequestBytes);
   server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;  // a handler's own refusal
