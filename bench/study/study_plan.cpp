@@ -83,6 +83,7 @@ std::string method_name(const std::string& method, const std::string& style) {
 }
 
 void add_report(const fs::path& given, const PlanOptions& o, std::map<GroupKey, std::map<std::string, Sequence>>& groups) {
+  if (!fs::exists(given)) throw std::runtime_error(given.string() + ": does not exist (a bench output folder, or its report.json)");
   const fs::path file = fs::is_directory(given) ? given / "report.json" : given;
   const nlohmann::json report = read_json(file);
   if (!report.contains("results") || !report.at("results").is_array())

@@ -1,6 +1,7 @@
 #include "s4d/data/video_writer.h"
 
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <stdexcept>
@@ -24,7 +25,12 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
   encoder_ = std::make_unique<Encoder>();
   const bool webm = path.extension() == ".webm";
   const int fourcc = webm ? cv::VideoWriter::fourcc('V', 'P', '9', '0') : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  // WebM stores no codec tags, so OpenCV warns that 'VP90' is "not supported" and then encodes VP9
+  // by the tag's codec id anyway: that warning is silenced, errors are not.
+  const cv::utils::logging::LogLevel level = cv::utils::logging::getLogLevel();
+  if (webm) cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   encoder_->writer.open(path.string(), cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height));
+  cv::utils::logging::setLogLevel(level);
   if (!encoder_->writer.isOpened()) {
     detail::fail(path, std::string("cannot open an ") + (webm ? "VP9 (WebM)" : "mp4v (MPEG-4 Part 2)") +
                            " encoder through OpenCV's FFmpeg backend: OpenCV is built without FFmpeg or the encoder, "
