@@ -153,6 +153,8 @@ void serve_study(const ServeOptions& o, const std::atomic<bool>& stop, const std
     else refuse(res, res.status, "request refused");
   });
   server.Get("/", [](const httplib::Request&, httplib::Response& res) { res.set_content(kStudyPage, "text/html; charset=utf-8"); });
+  // Browsers ask for an icon; "none" keeps their consoles free of 404s.
+  server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& res) { res.status = 204; });
   if (!server.set_mount_point("/media", (o.study / "media").string()))
     throw std::runtime_error((o.study / "media").string() + ": missing (the study's videos and frames; `style4d study plan` writes them)");
   server.set_file_extension_and_mimetype_mapping("webm", "video/webm");

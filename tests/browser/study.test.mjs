@@ -64,6 +64,7 @@ test("a participant completes the study in the browser; the report gives exactly
         const stored = page.waitForResponse((r) => r.url().endsWith("/api/vote"));
         await page.keyboard.press(key);
         assert.equal((await stored).status(), 201);
+        await page.waitForFunction(() => document.body.dataset.saving === undefined);
         given.push({ item, criterion, chosen });
       }
     }
