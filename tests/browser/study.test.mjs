@@ -21,7 +21,7 @@ test("a participant completes the study in the browser; the report gives exactly
   const person = study.participants[0];
   const server = await serve(dir);
   const browser = await launch();
-  const problems = [];
+  const problems = [], given = [];
   try {
     const page = await browser.newPage();
     page.on("console", (m) => { if (m.type() === "error") problems.push(m.text()); });
@@ -31,7 +31,6 @@ test("a participant completes the study in the browser; the report gives exactly
     await page.type("#code", person.code.toLowerCase());  // codes are case-insensitive on the page
     await page.keyboard.press("Enter");
     await page.waitForSelector("#study:not([hidden])");
-    const given = [];
     let checkedPlayback = false;
     for (const [n, placement] of person.order.entries()) {
       await page.waitForFunction((k) => document.getElementById("status").textContent.includes(`pair ${k} of`), {}, n + 1);
@@ -79,9 +78,8 @@ test("a participant completes the study in the browser; the report gives exactly
   const report = JSON.parse(fs.readFileSync(path.join(dir, "report", "study_report.json"), "utf8"));
   assert.equal(report.participants.included, 1);
   assert.equal(report.participants.excluded, 0);
-  const votes = await (async () => given)();
   for (const table of report.tables) {
-    const mine = votes.filter((v) => !v.item.check && v.item.part === table.part && v.item.kind === table.kind && v.criterion === table.criterion);
+    const mine = given.filter((v) => !v.item.check && v.item.part === table.part && v.item.kind === table.kind && v.criterion === table.criterion);
     const decisive = mine.filter((v) => v.chosen !== "same");
     assert.equal(table.votes, decisive.length, `${table.part}/${table.kind}/${table.criterion}: decisive votes`);
     assert.equal(table.ties, mine.length - decisive.length);
