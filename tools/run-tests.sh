@@ -6,8 +6,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # Test-only packages: a single-node Slurm for the sweep's Slurm back end (tests/sweep/slurm_cluster.sh);
 # clang-14 with its sanitizer runtimes and libFuzzer for the readers' fuzz smoke run (tests/fuzz/build_and_smoke.sh);
-# PyTorch for the learned metrics' references and the weight converter's test (tests/metrics_nn/torch_reference.py).
-test_packages=(slurm-wlm munge clang-14 libclang-rt-14-dev libfuzzer-14-dev python3-torch python3-torchvision)
+# PyTorch for the learned metrics' references and the weight converter's test (tests/metrics_nn/torch_reference.py);
+# Chromium for the browser tests of the study page and report.html (tests/browser, with node and npm).
+test_packages=(slurm-wlm munge clang-14 libclang-rt-14-dev libfuzzer-14-dev python3-torch python3-torchvision chromium)
 missing=()
 for p in "${test_packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -21,6 +22,12 @@ if [ ${#missing[@]} -gt 0 ]; then
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 tools/setup.sh
+# The browser tests' npm packages (puppeteer-core, pinned by tests/browser/package-lock.json).
+if command -v npm >/dev/null; then
+  (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error)
+else
+  echo "[run-tests] npm not found: the browser tests will be skipped" >&2
+fi
 build_dir="${S4D_BUILD_DIR:-build}"
 if [ "${S4D_TEST_DEVICE:-lavapipe}" = "lavapipe" ]; then
   icd=$(ls /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -1)

@@ -13,6 +13,7 @@ packages=(
   libglm-dev nlohmann-json3-dev doctest-dev libpng-dev libjpeg-dev libopenexr-dev libopencv-dev
   libglfw3-dev libimgui-dev xvfb xauth
   patchelf  # tools/package.sh
+  libcpp-httplib-dev libsqlite3-dev
 )
 missing=()
 for p in "${packages[@]}"; do

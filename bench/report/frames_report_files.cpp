@@ -5,6 +5,7 @@
 #include "s4d/bench/frames_report.h"
 #include "s4d/bench/line_plot.h"
 #include "s4d/bench/metric_catalog.h"
+#include "s4d/bench/report_html.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::bench {
@@ -30,11 +31,13 @@ void write_report_files(const std::filesystem::path& out, const nlohmann::json& 
                   line_plot(e.label + " per " + x + " (" + (e.higher_is_better ? "higher" : "lower") + " is better)", x, key, series));
   }
 
-  if (methods.empty() || methods[0].samples.empty()) return;
-  std::vector<SheetRow> rows = {{"original", methods[0].original_samples}};
-  for (const auto& m : methods)
-    if (m.name != "original") rows.push_back({m.name, m.samples});  // a method scoring the original is that row
-  io::write_png(out / "contact_sheet.png", contact_sheet(rows, methods[0].sample_index));
+  if (!methods.empty() && !methods[0].samples.empty()) {
+    std::vector<SheetRow> rows = {{"original", methods[0].original_samples}};
+    for (const auto& m : methods)
+      if (m.name != "original") rows.push_back({m.name, m.samples});  // a method scoring the original is that row
+    io::write_png(out / "contact_sheet.png", contact_sheet(rows, methods[0].sample_index));
+  }
+  write_report_html(out, report);
 }
 
 }  // namespace s4d::bench

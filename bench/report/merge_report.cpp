@@ -1,4 +1,5 @@
 #include "s4d/bench/merge_report.h"
+#include "s4d/bench/report_html.h"
 
 #include <fstream>
 #include <stdexcept>
@@ -66,6 +67,7 @@ void write_merged_report(const std::filesystem::path& out, const nlohmann::json&
   util::write_file_atomic(out / "report.json", merged.dump(2) + "\n");
   util::write_file_atomic(out / "report.md", report_markdown(merged));
   util::write_file_atomic(out / "report.csv", report_csv(merged));
+  write_report_html(out, merged);
 }
 
 }  // namespace s4d::bench

@@ -56,5 +56,6 @@ TEST_CASE("demo runs every stage of the pipeline and reports each stage's time a
   const std::string md = test::read_text(out / "report.md");
   for (const char* section : {"## Stages", "## Stages 1-2", "## Stages 3-4", "## Style4D-Bench", "## Videos", "| builtin |"})
     CHECK_MESSAGE(md.find(section) != std::string::npos, section);
+  CHECK(fs::file_size(out / "bench" / "report.html") > 1000);  // the bench's page, linked from report.md
   fs::remove_all(dir);
 }

@@ -15,6 +15,7 @@ int cmd_make_style(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
 int cmd_stylize(const std::vector<std::string>& args);
 int cmd_stylize_frames(const std::vector<std::string>& args);
+int cmd_study(const std::vector<std::string>& args);
 int cmd_sweep(const std::vector<std::string>& args);
 int cmd_synth(const std::vector<std::string>& args);
 int cmd_train(const std::vector<std::string>& args);

@@ -94,7 +94,8 @@ std::string report_markdown(const DemoRecord& r) {
      << "). Rows: content, stage-3 frames, Style4D renders of " << cam0 << " over time:\n\n"
      << "![contact sheet](run/style/builtin/contact_sheet.png)\n";
   md << "\n## Style4D-Bench\n\nThe test camera over all times and a spiral around the scene while time advances, for the "
-     << "original scene and the style (full report with conventions, per-frame curves and CSV: [bench/report.md](bench/report.md)).\n\n"
+     << "original scene and the style (full report with conventions, per-frame curves and CSV: [bench/report.md](bench/report.md); in a browser, with the "
+     << "videos side by side and a sortable table: [bench/report.html](bench/report.html)).\n\n"
      << bench::report_table_markdown(r.bench) << "\n![bench frames](bench/contact_sheet.png)\n";
   md << "\n## Videos\n\n";
   for (const std::string& v : r.videos) md << "- [" << v << "](" << v << ")\n";

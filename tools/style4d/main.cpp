@@ -44,6 +44,8 @@ const std::vector<Command>& commands() {
        s4d::cli::cmd_bench},
       {"sweep", "a benchmark sweep (scenes x styles x methods) as cells: plan, run on Slurm or locally, status, merged table",
        s4d::cli::cmd_sweep},
+      {"study", "the user study: plan pairs from bench outputs, serve them to participants, report the vote shares",
+       s4d::cli::cmd_study},
       {"demo", "run the whole pipeline on the built-in scene and style, with a report", s4d::cli::cmd_demo},
   };
   return list;

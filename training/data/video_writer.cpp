@@ -25,7 +25,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& path, int width, int heigh
   video_plugin::Encoder* writer = video_plugin::api(name.c_str()).open_encoder(name.c_str(), fps, width, height);
   encoder_ = std::make_unique<Encoder>(Encoder{std::unique_ptr<video_plugin::Encoder>(writer)});
   if (!encoder_->writer) {
-    detail::fail(path, "cannot open an mp4v (MPEG-4 Part 2) encoder through OpenCV's FFmpeg backend: OpenCV is "
+    detail::fail(path, std::string("cannot open an ") + (path.extension() == ".webm" ? "VP9 (WebM)" : "mp4v (MPEG-4 Part 2)") + " encoder through OpenCV's FFmpeg backend: OpenCV is "
                        "built without FFmpeg or the encoder, or the file cannot be written");
   }
 }

@@ -2,7 +2,9 @@
 // The FFmpeg backend is named: left to choose, OpenCV also tries GStreamer, which prints warnings
 // for every file it cannot open.
 #include <memory>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/videoio.hpp>
+#include <string>
 
 #include "video_plugin.h"
 
@@ -25,10 +27,21 @@ class OpenCvCapture final : public Capture {
   cv::VideoCapture capture_;
 };
 
+bool is_webm(const std::string& path) { return path.size() >= 5 && path.compare(path.size() - 5, 5, ".webm") == 0; }
+
+// VP9 in WebM for browsers (they do not play mp4v); mp4v in MP4 otherwise.
 class OpenCvEncoder final : public Encoder {
  public:
-  OpenCvEncoder(const char* path, double fps, int width, int height)
-      : writer_(path, cv::CAP_FFMPEG, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps, cv::Size(width, height)) {}
+  OpenCvEncoder(const char* path, double fps, int width, int height) {
+    const bool webm = is_webm(path);
+    const int fourcc = webm ? cv::VideoWriter::fourcc('V', 'P', '9', '0') : cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+    // WebM stores no codec tags, so OpenCV warns that 'VP90' is "not supported" and then encodes VP9
+    // by the tag's codec id anyway: that warning is silenced, errors are not.
+    const cv::utils::logging::LogLevel level = cv::utils::logging::getLogLevel();
+    if (webm) cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
+    writer_.open(path, cv::CAP_FFMPEG, fourcc, fps, cv::Size(width, height));
+    cv::utils::logging::setLogLevel(level);
+  }
   bool opened() const { return writer_.isOpened(); }
   void write(const cv::Mat& bgr) override { writer_.write(bgr); }
 

@@ -1,6 +1,7 @@
 // Writes RGB frames into an .mp4 video, the DyNeRF / Neu3D camNN.mp4 layout, with OpenCV's FFmpeg
-// backend and the MPEG-4 Part 2 encoder (fourcc mp4v), the one every FFmpeg build has. mp4v is
-// lossy: 8 bits per channel, chroma at half resolution (4:2:0), about 1 bit per pixel (OpenCV 4.6
+// backend and the MPEG-4 Part 2 encoder (fourcc mp4v), the one every FFmpeg build has; or, for a
+// path ending in .webm, VP9 in WebM (FFmpeg's libvpx), which browsers play: Chromium plays no mp4v.
+// mp4v is lossy: 8 bits per channel, chroma at half resolution (4:2:0), about 1 bit per pixel (OpenCV 4.6
 // offers no quality setting for it), so decoded frames differ from the written ones: by about 3 levels
 // of 255 on average on smooth content, 6-11 on the synthetic scene's textures, more at sharp edges.
 #pragma once
