@@ -108,11 +108,11 @@ TEST_CASE("usage errors exit 2 in every command, other errors 1") {
       {"stylize", "--run r"},
       {"bench", "--out o --original a --style-image s"},
       {"check-data", ""},
-      {"sweep", "frobnicate x"},
+      {"sweep", "fly"},                                        // a verb without its sweep folder
   };
   for (const auto& [command, args] : usage_errors) {
-    CAPTURE(command);
-    CAPTURE(args);
+    const std::string line = std::string(command) + " " + args;
+    CAPTURE(line);
     std::string out;
     CHECK(style4d(command, args, out) == 2);
     CHECK_MESSAGE(lines_with(out, ": error: ") == 1, out);

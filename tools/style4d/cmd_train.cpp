@@ -144,7 +144,12 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
       j[key] = text;  // a bare word: a string setting such as the preset name
     }
   }
-  run::TrainConfig out = run::config_from_json(j, "--set");  // validated again with the --set values
+  run::TrainConfig out;
+  try {
+    out = run::config_from_json(j, "--set");  // validated again with the --set values
+  } catch (const std::runtime_error& e) {
+    throw UsageError(e.what());
+  }
   out.background_given = background_given;
   return out;
 }
