@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "s4d/io/image_io.h"
+#include "study_dirs.h"
 #include "s4d/study/study_plan.h"
 
 using namespace s4d;
@@ -18,12 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_study_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using s4d::study::test::fresh;
 
 // n frames of w x h whose colour encodes the method and the frame index.
 void frames(const fs::path& dir, int n, int w, int h, float method) {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "study_dirs.h"
 #include "s4d/study/study_report.h"
 #include "s4d/study/study_stats.h"
 #include "s4d/study/vote_store.h"
@@ -17,12 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_study_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using s4d::study::test::fresh;
 
 // Methods A, B, C in Part 1: three video pairs, one frame pair, the two attention checks.
 Study three_methods() {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "synth_dirs.h"
 #include "s4d/data/npy.h"
 #include "s4d/io/image_io.h"
 #include "s4d/synth/dataset.h"
@@ -18,12 +19,7 @@ using namespace s4d::synth;
 
 namespace {
 
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_synth_" + name);
-  fs::remove_all(d);
-  fs::remove_all(fs::path(d) += ".partial");
-  return d;
-}
+using s4d::synth::test::fresh;
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "synth_dirs.h"
 #include "s4d/data/dataset.h"
 #include "s4d/io/image_io.h"
 #include "s4d/synth/bodies.h"
@@ -22,12 +23,7 @@ using namespace s4d::synth;
 
 namespace {
 
-fs::path fresh(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("s4d_fixture_" + name);
-  fs::remove_all(d);
-  fs::remove_all(fs::path(d) += ".partial");
-  return d;
-}
+using s4d::synth::test::fresh;
 
 nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
