@@ -131,7 +131,7 @@ bool interrupt_and_resume(const fs::path& run, int signal, const fs::path& dir) 
     const nlohmann::json partial = read_json(run / "train.json");
     CHECK(partial["complete"] == false);
     CHECK((partial["stage"] == "static" || partial["iteration"].get<int>() < 40));
-    CHECK(test::read_text(dir / "parted.log").find("--resume") != std::string::npos);
+    CHECK(test::read_text(dir / "parted.log").find("style4d train --run ") != std::string::npos);
   } else {
     CHECK(WIFSIGNALED(status));
     CHECK_NOTHROW(run::read_checkpoint(run / "checkpoint" / "state.s4dckpt"));  // the last one is intact

@@ -151,7 +151,7 @@ TEST_CASE("D-NeRF test path: each test view's camera over every test-view time")
 }
 
 TEST_CASE("bad paths are refused with the accepted forms or the camera names") {
-  CHECK_THROWS_WITH_AS(parse_path("orbit"), doctest::Contains("expected test, spiral or train:CAM"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(parse_path("orbit"), doctest::Contains("expected test, spiral, train:CAM (a training camera name such as train:cam01) or a camera path FILE.json"), std::invalid_argument);
   CHECK_THROWS_AS(parse_path("train:"), std::invalid_argument);
   CHECK_THROWS_WITH_AS(build_protocol(synth_dataset(), parse_path("train:cam00"), 0),
                        doctest::Contains("the training cameras are cam01, cam02, cam03"), std::invalid_argument);

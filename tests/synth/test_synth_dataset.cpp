@@ -107,7 +107,7 @@ TEST_CASE("bad options are refused before anything is written") {
   CHECK_THROWS_WITH_AS(write_dataset(dir, o), doctest::Contains("--cams"), std::invalid_argument);
   o = {};
   o.frames = 1;
-  CHECK_THROWS_WITH_AS(write_dataset(dir, o), doctest::Contains("--frames"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(write_dataset(dir, o), doctest::Contains("--frame-count"), std::invalid_argument);
   o = {};
   o.width = 4;
   CHECK_THROWS_AS(write_dataset(dir, o), std::invalid_argument);

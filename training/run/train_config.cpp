@@ -18,7 +18,8 @@ TrainConfig preset_config(const std::string& name) {
   c.seed_views = 4;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from
-    // step 500 every 100 with one opacity reset at its end, then the fine stage's 14,000 steps
+    // step 500 every 100 (its opacity reset at step 3,000 falls in the stage's last densification
+    // interval, where the trainer skips resets), then the fine stage's 14,000 steps
     // (DyNeRF; its D-NeRF scenes take 20,000: --fine-iters 20000).
     c.iterations = 3000;
     return c;

@@ -132,7 +132,10 @@ void Trainer::Impl::densify_if_due() {
     still_count = 0;  // the Gaussians moved in memory: the split is measured again when due
     seed_missing_content(when);
   }
-  // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000).
-  if (!fine() && it % config.opacity_reset_every == 0) densifier.reset_opacity(*gaussians);
+  // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000). A reset
+  // within the stage's last densification interval would leave no steps to recover: the static
+  // model would end nearly transparent (`default`'s 3,000-step stage resets at its last step).
+  if (!fine() && it % config.opacity_reset_every == 0 && it + config.densify_every <= config.iterations)
+    densifier.reset_opacity(*gaussians);
 }
 }  // namespace s4d::train
