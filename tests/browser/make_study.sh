@@ -18,7 +18,7 @@ run() { echo "+ style4d $*" >>"$log"; "$style4d" "$@" >>"$log" 2>&1 || { echo "m
 run synth --out "$out/data" --cams 3 --frames 6 --size 48x36
 run train --data "$out/data" --out "$out/run" --preset fast --iters 30 --fine-iters 30
 run stylize --run "$out/run" --style "$style" --name full --iters 30 --mlp-iters 10 --spiral-frames 12
-run stylize --run "$out/run" --style "$style" --name colors --method colors --iters 30 --spiral-frames 12
+run stylize --run "$out/run" --style "$style" --name colors --method colors --iters 30 --mlp-iters 10 --spiral-frames 12
 run bench --run "$out/run" --style full --style colors --spiral-frames 12 --out "$out/bench_4d"
 cam=$(ls -d "$out/data"/cam00* | head -1)
 run stylize-frames --in "$cam" --style "$style" --out "$out/frames/patch" --strength 1
