@@ -51,7 +51,7 @@ TEST_CASE("reading an image names the file on failure") {
   const test::TempDir dir("read_image");
   CHECK_THROWS_WITH_AS(io::read_image_rgb(dir / "missing.png"), doctest::Contains("missing.png"), std::runtime_error);
   std::ofstream(dir / "junk.jpg") << "not an image";
-  CHECK_THROWS_WITH_AS(io::read_image_rgb(dir / "junk.jpg"), doctest::Contains("junk.jpg: not a PNG, JPEG or BMP image"),
+  CHECK_THROWS_WITH_AS(io::read_image_rgb(dir / "junk.jpg"), doctest::Contains("junk.jpg: not a readable image (PNG, JPEG or BMP)"),
                        std::runtime_error);
   std::ofstream(dir / "cut.jpg", std::ios::binary) << "\xff\xd8\xff\xe0";  // a JPEG's first bytes, then nothing
   CHECK_THROWS_WITH_AS(io::read_image_rgb(dir / "cut.jpg"), doctest::Contains("cut.jpg: corrupt JPEG"), std::runtime_error);

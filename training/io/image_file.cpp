@@ -42,7 +42,7 @@ ImageF read_image_rgb(const std::filesystem::path& path) {
   if (head == "\x89PNG\r\n\x1a\n") return to_rgb(path, read_png(path));
   if (head.starts_with("\xff\xd8\xff")) return read_jpeg(path);
   if (head.starts_with("BM")) return read_bmp(path);
-  detail::fail(path, "not a PNG, JPEG or BMP image");
+  detail::fail(path, "not a readable image (PNG, JPEG or BMP)");
 }
 
 ImageF resize_image(const ImageF& image, int width, int height) {
