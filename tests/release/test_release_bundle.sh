@@ -7,7 +7,8 @@
 # as the dynamic loader logs it (LD_DEBUG), must be
 #   - in the bundle, or
 #   - glibc's or the dynamic loader (tools/release/system-libs.txt), or
-#   - the ICD's library (library_path in the VK_ICD_FILENAMES file) or one it needs (its ldd closure).
+#   - the ICD's library (library_path in the VK_ICD_FILENAMES file), a system implicit Vulkan layer's,
+#     or one they need (their ldd closure).
 # Usage: test_release_bundle.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1 src=$2
@@ -38,10 +39,24 @@ step stylize stylize --run "$work/run" --style "$work/style.png" --name s --iter
 step bench bench --run "$work/run" --style s --spiral-frames 2 --out "$work/bench"
 [ -f "$work/bench/report.json" ] || { echo "FAIL: bench wrote no report.json"; exit 1; }
 
-# The libraries the system may provide: the ICD's library and its closure, glibc's.
-icd_lib=$(sed -n 's/.*"library_path" *: *"\([^"]*\)".*/\1/p' "$icd")
-case "$icd_lib" in /*) ;; *) icd_lib=$(dirname "$icd")/$icd_lib ;; esac
-{ realpath "$icd_lib"; ldd "$icd_lib" | awk '$2 == "=>" { print $3 }' | xargs -r realpath; } | sort -u > "$work/icd_libs"
+# The libraries the system may provide: the ICD's library and its closure, the implicit Vulkan
+# layers the system installs (the loader loads them for every Vulkan program, e.g. Mesa's device
+# select layer) and theirs, glibc's.
+vulkan_lib() {  # the library_path of a Vulkan manifest, made absolute
+  local lib
+  lib=$(sed -n 's/.*"library_path" *: *"\([^"]*\)".*/\1/p' "$1")
+  case "$lib" in /*) ;; */*) lib=$(dirname "$1")/$lib ;; *) lib=$(ldconfig -p | awk -v n="$lib" '$1 == n { print $NF; exit }') ;; esac
+  echo "$lib"
+}
+{
+  for manifest in "$icd" /usr/share/vulkan/implicit_layer.d/*.json /etc/vulkan/implicit_layer.d/*.json; do
+    [ -f "$manifest" ] || continue
+    lib=$(vulkan_lib "$manifest")
+    [ -n "$lib" ] && [ -e "$lib" ] || continue
+    realpath "$lib"
+    ldd "$lib" | awk '$2 == "=>" { print $3 }' | xargs -r realpath
+  done
+} | sort -u > "$work/icd_libs"
 grep -v '^#' "$src/tools/release/system-libs.txt" > "$work/glibc_names"
 
 # Each loaded library's path: the file named when its link map is made, or else the last file the
