@@ -14,6 +14,9 @@ start=$(date +%s)
 # leaks are the fuzz targets' job (tests/fuzz, readers only); here ASan checks memory errors.
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:halt_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# ASan intercepts dlopen, and the lookup then uses the interceptor's RUNPATH, not the program's: the
+# video plugin (libs4d_video.so, beside the programs) is found through the library path instead.
+export LD_LIBRARY_PATH="$1${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
 cmake -S "$source_dir" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" \
   -DS4D_SANITIZE=ON -DS4D_BUILD_VIEWER=OFF -DS4D_BUILD_TESTS=ON > "$build_dir.configure.log" 2>&1 ||
@@ -22,8 +25,8 @@ cmake -S "$source_dir" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE
 mapfile -t unit_tests < <(comm -12 <(ctest --test-dir "$build_dir" -N -L unit | sed -n 's/^ *Test *#[0-9]*: //p' | sort) \
   <(ninja -C "$build_dir" -t targets all | sed -n 's|^\(.*/\)\{0,1\}\([A-Za-z0-9_]*\): CXX_EXECUTABLE_LINKER.*|\2|p' | sort))
 [ ${#unit_tests[@]} -gt 0 ] || { echo "[sanitize] FAIL: no unit tests found"; exit 1; }
-echo "[sanitize] building style4d and ${#unit_tests[@]} unit tests with ASan + UBSan"
-cmake --build "$build_dir" --target style4d "${unit_tests[@]}" -j "$(nproc)" > "$build_dir.build.log" 2>&1 ||
+echo "[sanitize] building style4d, its video plugin and ${#unit_tests[@]} unit tests with ASan + UBSan"
+cmake --build "$build_dir" --target style4d s4d_video "${unit_tests[@]}" -j "$(nproc)" > "$build_dir.build.log" 2>&1 ||
   { tail -40 "$build_dir.build.log"; echo "[sanitize] FAIL: build"; exit 1; }
 echo "[sanitize] built in $(( $(date +%s) - start )) s"
 status=0
