@@ -261,7 +261,7 @@ def self_test():
         return d
 
     # Planted phrases are split across string literals ("iss" "ue") so this file passes its own checks.
-    issue, machine = "iss" "ue 21", "/wo" "rk/shared/data"
+    issue, machine = "iss" "ue 21", "/ho" "me/alice/captures"
     clean = {
         "README.md": "# Product\n\nSee [the manual](docs/a.md#time-and-memory), [code](src/x.cpp) and\n"
                      "<https://arxiv.org/abs/2308.04079>; a local server <http://localhost:8000/>.\n\n    [an example, not a link](missing.md)\n",

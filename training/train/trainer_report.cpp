@@ -105,12 +105,12 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"densify_log", densify_log},
                       {"prune_floor", prune_floor_why},
                       {"device", ctx.info().name},
-                      {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this session's
+                      {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},  // this process's
                       {"data", fs::absolute(dataset.root).string()},
                       {"dataset", facts},
                       {"settings", run::to_json(config)}};
   if (!r.degenerate.empty()) j["degenerate"] = r.degenerate;
-  // This session's step times; a session that trained no step (resuming a finished run) keeps the last.
+  // This process's step times; a process that trained no step (resuming a finished run) keeps the last.
   if (stage_timer && timed_steps > 0) {
     j["stage_ms"] = run::stage_ms_json(stage_timer->totals(), timed_steps);
     const double steps = static_cast<double>(timed_steps);

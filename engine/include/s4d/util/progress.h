@@ -23,7 +23,7 @@ class Progress {
   void finish(const std::vector<std::pair<std::string, double>>& values = {});
 
   // Measures the rate (and so the ETA) from `step` now on: a resumed or rolled-back loop's steps
-  // before it were not done in this session.
+  // before it were not done by this process.
   void restart_rate(uint64_t step);
 
   double elapsed_s() const;
