@@ -13,7 +13,7 @@
 
 namespace s4d::cli {
 
-// One pipeline stage: wall seconds in this session (0 when an earlier session finished it) and the
+// One pipeline stage: wall seconds in this process (0 when an earlier process finished it) and the
 // peak of device memory its buffers held.
 struct DemoStage {
   std::string name, what;

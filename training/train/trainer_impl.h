@@ -70,7 +70,7 @@ struct Trainer::Impl {
   // measured and again after densification.
   uint32_t still_count = 0;
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
-  // Times the stages of this session's steps (train.json "stage_ms"); set while run() runs.
+  // Times the stages of this process's steps (train.json "stage_ms"); set while run() runs.
   engine::StageTimer* stage_timer = nullptr;
   uint64_t timed_steps = 0;
   uint64_t step_submissions = 0, step_host_waits = 0;  // over the timed steps (engine::Context counters)

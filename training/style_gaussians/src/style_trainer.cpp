@@ -119,7 +119,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   uint32_t region_count = 0;
   uint32_t done = 0;  // steps done
   double seconds_before = 0;
-  std::chrono::steady_clock::time_point start;  // of this session's run()
+  std::chrono::steady_clock::time_point start;  // of this process's run()
   train::Recovery recovery_state;
   run::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
   double last_loss = 0;
