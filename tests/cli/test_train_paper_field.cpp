@@ -24,14 +24,17 @@ TEST_CASE("train --preset default trains the paper's width-128, five-head field,
                             dir / "synth.log") == 0);
   const fs::path run = dir / "run";
   REQUIRE_MESSAGE(test::run_style4d("train", "--data " + (dir / "d").string() + " --out " + run.string() +
-                                                 " --preset default --iters 60 --fine-iters 10 --batch 1",
+                                                 " --preset default --iters 60 --fine-iters 30 --batch 1",
                                     dir / "train.log") == 0,
                   test::read_text(dir / "train.log"));
   const nlohmann::json j = nlohmann::json::parse(test::read_text(run / "train.json"));
   CHECK(j["stage"] == "fine");
   // The 4DGS stage starts from the static fit; garbage offsets (a kernel stopped early, NaN) would
-  // fall below it. Measured on lavapipe (Mesa 22.3.6): 15.74 dB after 4DGS against 14.36 static.
-  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.5);
+  // fall below it. The stage's fresh Adam state and restarted position learning rate (4DGaussians'
+  // recipe) first cost the fit: 17.56 dB after 10 fine steps. Measured on lavapipe (Mesa 22.3.6) after
+  // 30: 19.19 dB against 18.90 static, and 13.16 dB on the moving box against 12.73.
+  CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);
+  CHECK(j["moving"]["psnr"].get<double>() > j["static"]["moving"]["psnr"].get<double>() + 0.2);
 
   // Every head's output layer got a gradient: its Adam second moment is not all zero.
   const gpu::DeformShape s = deform::deform_shape(run::field_config(run::preset_config("default"), {-1, -1, -1}, {1, 1, 1}));
