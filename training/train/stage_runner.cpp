@@ -48,7 +48,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     }
     const double loss = stage.step();
     if (!std::isfinite(loss)) {
-      roll_back(stage, "the loss became non-finite at iteration " + std::to_string(stage.iteration()));
+      recover(stage, "the loss became non-finite at iteration " + std::to_string(stage.iteration()), stage.divergence());
       progress.restart_rate(stage.iteration());
       continue;
     }
@@ -74,25 +74,50 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
 bool StageRunner::checkpoint(RunnerStage& stage) {
   try {
     stage.save(stage.seconds());
+  } catch (const StateOutOfRange& e) {  // never written
+    recover(stage, "the checkpoint at iteration " + std::to_string(stage.iteration()) + " was refused", e.divergence);
+    return false;
   } catch (const std::invalid_argument& e) {  // non-finite parameters: never written
-    roll_back(stage, e.what());
+    recover(stage, e.what(), stage.divergence());
     return false;
   }
   return true;
 }
 
-void StageRunner::roll_back(RunnerStage& stage, const std::string& why) {
+void StageRunner::recover(RunnerStage& stage, const std::string& why, const Divergence& now) {
   const StagePlan plan = stage.plan();
-  Recovery now = stage.recovery();
-  if (++now.rollbacks > kMaxRollbacks)
-    throw std::runtime_error(plan.name + ": training diverged " + std::to_string(now.rollbacks) + " times (" + why +
-                             "); the last good state is in " + plan.checkpoint.string());
-  now.lr_scale *= 0.5;
+  const std::string cause = now.found() ? why + ": " + now.where : why;
+  if (now.local && repair(stage, cause, now)) return;
+  Recovery rec = stage.recovery();
   stage.restore_last_good();
-  stage.recovery() = now;
+  stage.recovery() = rec;
   keep_log_rows(stage);
-  std::cerr << plan.name << ": " << why << "; rolled back to iteration " << stage.iteration()
-            << " and halved the learning rates (scale " << now.lr_scale << ")\n";
+  // A cause the last good state holds too comes back after every rollback: removed, or named.
+  const Divergence before = stage.divergence();
+  if (before.local && repair(stage, cause + "; the last good state holds it too", before)) return;
+  if (before.found())
+    throw std::runtime_error(plan.name + ": " + cause + "; the last good state (" + plan.checkpoint.string() +
+                             ", iteration " + std::to_string(stage.iteration()) + ") holds the cause too: " +
+                             before.where + "; training stopped");
+  if (++rec.rollbacks > kMaxRollbacks)
+    throw std::runtime_error(plan.name + ": training diverged " + std::to_string(rec.rollbacks) + " times (" + cause +
+                             "); the last good state is in " + plan.checkpoint.string());
+  rec.lr_scale *= 0.5;
+  stage.recovery() = rec;
+  std::cerr << plan.name << ": " << cause << "; rolled back to iteration " << stage.iteration()
+            << " and halved the learning rates (scale " << rec.lr_scale << ")\n";
+}
+
+bool StageRunner::repair(RunnerStage& stage, const std::string& cause, const Divergence& d) {
+  Recovery rec = stage.recovery();
+  if (rec.repairs >= kMaxRepairs) return false;
+  stage.remove_gaussians(d.gaussians);
+  ++rec.repairs, rec.removed += static_cast<uint32_t>(d.gaussians.size());
+  stage.recovery() = rec;
+  std::cerr << stage.plan().name << ": " << cause << "; removed " << (d.gaussians.size() == 1 ? "that Gaussian" : "those " + std::to_string(d.gaussians.size()) + " Gaussians")
+            << " and went on\n";
+  checkpoint(stage);  // the repaired state becomes the last good one
+  return true;
 }
 
 }  // namespace s4d::train

@@ -261,6 +261,8 @@ struct Trainer::Impl::Steps final : RunnerStage {
   }
   void save(double seconds) override { m.checkpoint(seconds); }
   void restore_last_good() override { m.restore(m.last_good); }
+  Divergence divergence() override { return m.divergence(m.snapshot(seconds())); }
+  void remove_gaussians(const std::vector<uint32_t>& rows) override { m.remove_gaussians(rows, seconds()); }
   ProgressValues final_test() override {
     test = m.evaluate(m.test_views, last() ? m.run.eval_dir() : fs::path{});
     return {{"test_psnr", test.psnr}, {"test_ssim", test.ssim}, {"gaussians", static_cast<double>(m.gaussians->size())}};
@@ -292,7 +294,8 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       return r;
     }
     if (steps.last()) {
-      if (!runner.checkpoint(steps)) throw std::runtime_error("the final state is not finite");
+      // Refused: repaired (the closing test runs again) or rolled back (the stage goes on).
+      if (!runner.checkpoint(steps)) continue;
       TrainResult r = m.result(true, steps.seconds(), std::move(steps.test));
       r.degenerate = m.degenerate_cause(r);
       m.write_result(r);

@@ -4,8 +4,10 @@
 #include <span>
 #include <stdexcept>
 
+#include "s4d/deform/field_parts.h"
 #include "s4d/deform/motion_split.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/train/split_state.h"
 #include "trainer_impl.h"
 
 namespace s4d::train {
@@ -41,7 +43,8 @@ nlohmann::json Trainer::Impl::meta(double seconds) const {
           {"rollbacks", recovery.rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
           {"deform_evaluations_unmasked", deform_evaluations_unmasked}, {"densify_log", densify_log},
-          {"prune_floor", prune_floor}, {"prune_floor_why", prune_floor_why}};
+          {"prune_floor", prune_floor}, {"prune_floor_why", prune_floor_why},
+          {"guard_repairs", recovery.repairs}, {"guard_removed", recovery.removed}};
 }
 
 run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
@@ -72,6 +75,9 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   recovery.lr_scale = cp.meta.at("lr_scale").get<double>();
   seconds_before = cp.meta.at("seconds").get<double>();
   recovery.rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
+  // Checkpoints written before the guard removed Gaussians have no counts: none removed.
+  recovery.repairs = cp.meta.value("guard_repairs", 0u);
+  recovery.removed = cp.meta.value("guard_removed", 0u);
   sampler = stage_sampler();
   sampler.load(cp.meta.at("sampler").get<std::string>());
   static_scores = cp.meta.at("static_test");
@@ -110,8 +116,23 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   }
 }
 
+Divergence Trainer::Impl::divergence(const run::Checkpoint& state) const {
+  return find_divergence(state, [this](const std::string& array, uint64_t index) {
+    const bool planes = array.rfind("field.planes", 0) == 0;
+    return field ? (planes ? deform::plane_part(field->shape(), index) : deform::mlp_part(field->shape(), index)) : "";
+  });
+}
+
+void Trainer::Impl::remove_gaussians(const std::vector<uint32_t>& rows, double seconds) {
+  run::Checkpoint cp = snapshot(seconds);
+  cp.state = train::remove_gaussians(cp.state, rows);
+  std::erase_if(cp.extra, [](const auto& e) { return e.first == "field.static_mask"; });
+  restore(cp);
+}
+
 void Trainer::Impl::checkpoint(double seconds) {
   run::Checkpoint cp = snapshot(seconds);
+  if (Divergence d = divergence(cp); d.found()) throw StateOutOfRange(std::move(d));
   run::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
   newest_damaged = false;
   io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);

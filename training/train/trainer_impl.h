@@ -24,6 +24,7 @@
 #include "s4d/optim/image_loss.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/splat/rasterizer.h"
+#include "s4d/train/divergence.h"
 #include "s4d/train/stage_runner.h"
 #include "s4d/train/trainer.h"
 #include "s4d/train/view_sampler.h"
@@ -122,8 +123,12 @@ struct Trainer::Impl {
   run::Checkpoint snapshot(double seconds) const;
   void restore(const run::Checkpoint& cp);
   // Saves the current state as the checkpoint and the PLY and makes it the last good state;
-  // std::invalid_argument when it is not finite (nothing written).
+  // StateOutOfRange when it holds values out of range (divergence.h; nothing written).
   void checkpoint(double seconds);
+  // What `state` holds out of range, the field's parts named.
+  Divergence divergence(const run::Checkpoint& state) const;
+  // The current state without these Gaussians (the still mask is measured again).
+  void remove_gaussians(const std::vector<uint32_t>& rows, double seconds);
 
   // ---- Stage 1 and what both stages' steps share (trainer_static_step.cpp).
   void set_learning_rates(uint32_t step);

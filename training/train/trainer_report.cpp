@@ -97,6 +97,7 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"seconds", r.seconds},
                       {"num_gaussians", r.num_gaussians},
                       {"rollbacks", r.rollbacks},
+                      {"guard_removed", recovery.removed},
                       {"test_views", scores_json(r.test)},
                       {"static", static_scores},
                       {"deform_evaluations", deform_evaluations},

@@ -1,5 +1,7 @@
-// One loop for every training stage (static, 4DGS fine, Style Gaussians): stop requests, rollback
-// to the last good state on a non-finite loss or checkpoint, checkpoint and test cadence, the
+// One loop for every training stage (static, 4DGS fine, Style Gaussians): stop requests, the guard
+// on a non-finite loss or a checkpoint out of range (a few Gaussians holding the cause are removed;
+// otherwise back to the last good state, or a stop naming the cause when that state holds it too),
+// checkpoint and test cadence, the
 // progress line and loss.csv (its rows hold one line per logged iteration of the state trained:
 // rows past a rollback's or a resume's state are dropped). A stage says how to step, save, restore and test
 // itself through RunnerStage; what its files hold stays its own.
@@ -9,19 +11,30 @@
 #include <filesystem>
 #include <fstream>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "s4d/train/divergence.h"
 
 namespace s4d::train {
 
 using ProgressValues = std::vector<std::pair<std::string, double>>;
 
-// What rollbacks change: a stage keeps it in its checkpoints so that a resumed run goes on with
-// the halved learning rates.
+// What rollbacks and repairs change: a stage keeps it in its checkpoints so that a resumed run goes
+// on with the halved learning rates and counts on.
 struct Recovery {
   uint32_t rollbacks = 0;
-  double lr_scale = 1;  // multiplies every learning rate
+  double lr_scale = 1;     // multiplies every learning rate
+  uint32_t repairs = 0;    // times Gaussians holding the cause were removed
+  uint32_t removed = 0;    // Gaussians removed by those repairs
+};
+
+// Thrown by RunnerStage::save when the state holds values out of range (nothing written).
+struct StateOutOfRange : std::invalid_argument {
+  explicit StateOutOfRange(Divergence d) : std::invalid_argument(d.where), divergence(std::move(d)) {}
+  Divergence divergence;
 };
 
 // What a stage is, for the runner's loop and messages.
@@ -57,11 +70,15 @@ class RunnerStage {
   virtual void after_step() {}
   // Values the progress line shows after the loss.
   virtual void add_progress(ProgressValues&) {}
-  // Writes a checkpoint and makes it the last good state; std::invalid_argument when the state is
-  // not finite (nothing written).
+  // Writes a checkpoint and makes it the last good state; StateOutOfRange (or another
+  // std::invalid_argument) when the state is not finite or out of range (nothing written).
   virtual void save(double seconds) = 0;
   // Back to the last good state, all of it (Recovery too: the runner sets it after).
   virtual void restore_last_good() = 0;
+  // What in the current state is out of range (divergence.h); nothing for a stage that cannot tell.
+  virtual Divergence divergence() { return {}; }
+  // Removes these Gaussians (ascending) from the current state: the repair of a local divergence.
+  virtual void remove_gaussians(const std::vector<uint32_t>&) {}
   // The stage's closing test over all its test views; returns what the progress line ends with.
   virtual ProgressValues final_test() = 0;
 };
@@ -74,14 +91,20 @@ class StageRunner {
 
   // Runs `stage` to its length (true) or until `stop` (then checkpoints; false).
   bool run(RunnerStage& stage, const std::atomic<bool>& stop);
-  // Saves a checkpoint; false when the state was not finite and the stage rolled back instead.
+  // Saves a checkpoint; false when the state was out of range and the stage was repaired or rolled back instead.
   bool checkpoint(RunnerStage& stage);
 
   static constexpr uint32_t kLossRowEvery = 10;
   static constexpr uint32_t kMaxRollbacks = 8;  // each halves the learning rates
+  static constexpr uint32_t kMaxRepairs = 8;
 
  private:
-  void roll_back(RunnerStage& stage, const std::string& why);
+  // `why` went wrong and `now` is what the current state holds out of range: removes a few Gaussians
+  // holding it, or rolls back (halving the learning rates); throws std::runtime_error naming the cause
+  // when the last good state holds it too, or after kMaxRollbacks.
+  void recover(RunnerStage& stage, const std::string& why, const Divergence& now);
+  // Removes `d`'s Gaussians and checkpoints the result; false once kMaxRepairs were made.
+  bool repair(RunnerStage& stage, const std::string& cause, const Divergence& d);
   // Rewrites loss.csv with its header and the complete rows the stage keeps, then appends.
   void keep_log_rows(const RunnerStage& stage);
 
