@@ -1,7 +1,8 @@
 // The stage runner (stage_runner.h) on a host-only stage: loss.csv rows and checkpoints at their
 // cadence, stop requests, rollback to the last good state on a non-finite loss or checkpoint with
 // halved learning rates (and loss.csv without the rows it discarded), a resumed stage's loss.csv,
-// and giving up after kMaxRollbacks.
+// giving up after kMaxRollbacks, and the guard: a few Gaussians holding the cause removed, a cause
+// named in the rollback's line, and a stop when the last good state holds it too.
 #include <doctest/doctest.h>
 
 #include <atomic>
@@ -9,8 +10,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unistd.h>
@@ -31,6 +34,9 @@ struct FakeStage final : train::RunnerStage {
   std::atomic<bool>* stop_after = nullptr;  // set once `stop_at` steps are done
   uint32_t stop_at = 0;
   uint32_t nan_always = 0;  // a step whose loss is always NaN
+  // What divergence() finds in the state as it is, and in the last good state once restored.
+  train::Divergence cause, good_cause;
+  std::vector<uint32_t> removed;
 
   train::StagePlan plan() const override {
     return {.name = "fake",
@@ -57,7 +63,12 @@ struct FakeStage final : train::RunnerStage {
     if (bad_save_at.erase(done)) throw std::invalid_argument("a non-finite parameter");
     saved_at = done, ++saves;
   }
-  void restore_last_good() override { done = saved_at, rec = {}; }
+  void restore_last_good() override { done = saved_at, rec = {}, cause = good_cause; }
+  train::Divergence divergence() override { return cause; }
+  void remove_gaussians(const std::vector<uint32_t>& rows) override {
+    removed.insert(removed.end(), rows.begin(), rows.end());
+    cause = good_cause = {};
+  }
   train::ProgressValues final_test() override { return {{"test", ++finals}}; }
 };
 
@@ -71,6 +82,21 @@ struct LossFile {
     return {std::istreambuf_iterator<char>(in), {}};
   }
 };
+
+// Collects what std::cerr receives while it lives.
+struct CerrCapture {
+  std::ostringstream text;
+  std::streambuf* old = std::cerr.rdbuf(text.rdbuf());
+  ~CerrCapture() { std::cerr.rdbuf(old); }
+};
+
+train::Divergence local_cause() {
+  return {.where = "out of range: 'sh' of 2 Gaussians", .gaussians = {3, 4}, .local = true};
+}
+
+train::Divergence field_cause() {
+  return {.where = "out of range: 'field.planes' at 1 entry (up to 1e+30; in level 0 plane xt)", .gaussians = {}, .local = false};
+}
 
 }  // namespace
 
@@ -139,4 +165,91 @@ TEST_CASE("a resumed stage's loss.csv keeps the complete rows up to its state an
   const std::atomic<bool> stop{false};
   CHECK(runner.run(stage, stop));
   CHECK(log.text() == "iteration,what\n10,x\n20,x\n");  // 30 came after the checkpoint; 25 steps, no row after 20
+}
+
+TEST_CASE("guard: a few Gaussians holding the cause are removed and checkpointed, with no rollback") {
+  FakeStage stage;
+  stage.nan_at = {8};
+  stage.cause = local_cause();
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  CerrCapture err;
+  CHECK(runner.run(stage, stop));
+  CHECK(stage.removed == std::vector<uint32_t>{3, 4});
+  CHECK(stage.rec.repairs == 1);
+  CHECK(stage.rec.removed == 2);
+  CHECK(stage.rec.rollbacks == 0);
+  CHECK(stage.rec.lr_scale == 1);
+  CHECK(stage.done == 25);  // went on from the step that failed
+  CHECK_MESSAGE(err.text.str().find("fake: the loss became non-finite at iteration 8: out of range: 'sh' of 2 Gaussians; "
+                                    "removed those 2 Gaussians and went on\n") != std::string::npos, err.text.str());
+}
+
+TEST_CASE("guard: a checkpoint refused for a cause the stage names is repaired the same way") {
+  FakeStage stage;
+  stage.bad_save_at = {10};
+  stage.cause = local_cause();
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  CerrCapture err;
+  CHECK(runner.run(stage, stop));
+  CHECK(stage.removed == std::vector<uint32_t>{3, 4});
+  CHECK(stage.rec.rollbacks == 0);
+  CHECK_MESSAGE(err.text.str().find("removed those 2 Gaussians and went on") != std::string::npos, err.text.str());
+}
+
+TEST_CASE("guard: a field tensor out of range is named in the rollback's line when the last good state is clean") {
+  FakeStage stage;
+  stage.nan_at = {13};
+  stage.cause = field_cause();
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  CerrCapture err;
+  CHECK(runner.run(stage, stop));
+  CHECK(stage.removed.empty());
+  CHECK(stage.rec.rollbacks == 1);
+  CHECK(stage.rec.lr_scale == 0.5);
+  CHECK_MESSAGE(err.text.str().find("fake: the loss became non-finite at iteration 13: out of range: 'field.planes' at 1 entry "
+                                    "(up to 1e+30; in level 0 plane xt); rolled back to iteration 10") != std::string::npos,
+                err.text.str());
+}
+
+TEST_CASE("guard: a cause the last good state holds too stops training at once, naming it and the checkpoint") {
+  FakeStage stage;
+  stage.nan_at = {13};
+  stage.cause = stage.good_cause = field_cause();
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  std::string what;
+  try {
+    runner.run(stage, stop);
+  } catch (const std::runtime_error& e) {
+    what = e.what();
+  }
+  CHECK_MESSAGE(what.find("the last good state (fake.s4dckpt, iteration 10) holds the cause too: out of range: "
+                          "'field.planes' at 1 entry") != std::string::npos, what);
+  CHECK_MESSAGE(what.find("training stopped") != std::string::npos, what);
+  CHECK(stage.rec.rollbacks == 0);  // no halving that could not help
+}
+
+TEST_CASE("guard: repairs stop after kMaxRepairs, and the cause is then named") {
+  FakeStage stage;
+  stage.nan_always = 3;
+  stage.rec.repairs = train::StageRunner::kMaxRepairs;
+  stage.cause = stage.good_cause = local_cause();
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  std::string what;
+  try {
+    runner.run(stage, stop);
+  } catch (const std::runtime_error& e) {
+    what = e.what();
+  }
+  CHECK(stage.removed.empty());
+  CHECK_MESSAGE(what.find("holds the cause too: out of range: 'sh' of 2 Gaussians") != std::string::npos, what);
 }
