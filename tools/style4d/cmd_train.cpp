@@ -64,7 +64,7 @@ const std::map<std::string, std::string> kFlagOfSetting = {
     {"static_motion", "--static-motion"}, {"downscale", "--downscale"}, {"max_time", "--max-time"},
     {"static_max_time", "--static-max-time"}, {"background", "--background"}, {"frames", "--frame-range"},
     {"seed", "--seed"}, {"budget", "--budget"}, {"sh_degree", "--sh-degree"}, {"lr_scale", "--lr-scale"},
-    {"checkpoint_every", "--checkpoint-every"}};
+    {"checkpoint_every", "--checkpoint-every"}, {"time_budget", "--time-budget"}};
 
 // A saved run's run.json or train.json: its settings, and the dataset it was trained on.
 struct SavedConfig {
@@ -122,6 +122,7 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   if (auto v = args.get("sh-degree")) c.sh_degree = parse_number<int>("sh-degree", *v);
   if (auto v = args.get("lr-scale")) c.lr_scale = parse_real<double>("lr-scale", *v);
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
+  if (auto v = args.get("time-budget")) c.time_budget = parse_duration("time-budget", *v);
   try {
     run::validate(c, "command line", kFlagOfSetting);
   } catch (const std::runtime_error& e) {
@@ -194,6 +195,8 @@ int cmd_train(const std::vector<std::string>& argv) {
       group("schedule"),
       {"preset", "fast | default | quality (default: fast on a CPU device such as lavapipe, default on a GPU)", true, "P"},
       {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
+      {"time-budget", "fit the run to this much training time, e.g. 90s, 20m, 1h30m: both stages' lengths and\n"
+                      "                        schedules are planned from measured step times (train.json time_budget)", true, "DURATION"},
       {"iters", "iterations of the static stage; the preset's schedules are scaled to fit", true, "N"},
       {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
       {"batch", "views per 4DGS step (default: the preset's)", true, "B"},

@@ -40,6 +40,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
   progress.restart_rate(stage.iteration());
   double test_psnr = NAN;
   for (StagePlan plan = first; stage.iteration() < plan.iterations; plan = stage.plan()) {
+    if (plan.iterations != progress.total()) progress.set_total(plan.iterations);  // re-planned (time_budget.h)
     if (stop.load()) {
       checkpoint(stage);
       std::cerr << plan.name << ": interrupted at iteration " << stage.iteration() << "; checkpoint written, "
@@ -67,6 +68,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     if (!std::isnan(test_psnr)) shown.emplace_back(plan.test_name, test_psnr);  // after the first test
     progress.update(stage.iteration(), shown);
   }
+  progress.set_total(stage.plan().iterations);
   progress.finish(stage.final_test());
   return true;
 }

@@ -104,7 +104,7 @@ void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, s
 
 }  // namespace
 
-Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d)
+Trainer::Impl::Impl(engine::Context& c, run::RunDir r, run::TrainConfig& cfg, const data::Dataset& d)
     : ctx(c), run(std::move(r)), config(cfg), dataset(d), recovery{0, cfg.lr_scale}, train_views(select_views(d, cfg, false)),
       test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
       loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
@@ -243,6 +243,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageScope timed(m.ctx, "densify");
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.mask_due()) m.update_mask();
+    m.plan_time_if_due(seconds());
   }
   void add_progress(ProgressValues& shown) override {
     shown.emplace_back("gaussians", static_cast<double>(m.gaussians->size()));
@@ -302,6 +303,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       return r;
     }
     m.begin_fine_stage(steps.test);
+    m.mark_time(steps.seconds());
     runner.checkpoint(steps);
   }
 }

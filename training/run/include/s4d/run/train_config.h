@@ -83,6 +83,10 @@ struct TrainConfig {
   // Runs.
   uint32_t test_every = 1000;
   uint32_t checkpoint_every = 1000;
+  // Seconds of training (both stages, every session) the run is fitted to: the stages' lengths and
+  // schedules are planned from measured step times (train/time_budget.h) and run.json holds the
+  // latest plan. 0: the lengths as set.
+  double time_budget = 0;
 };
 
 // "fast", "default" or "quality"; std::invalid_argument naming the preset otherwise.
