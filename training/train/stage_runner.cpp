@@ -113,10 +113,12 @@ void StageRunner::recover(RunnerStage& stage, const std::string& why, const Dive
 bool StageRunner::repair(RunnerStage& stage, const std::string& cause, const Divergence& d) {
   Recovery rec = stage.recovery();
   if (rec.repairs >= kMaxRepairs) return false;
-  stage.remove_gaussians(d.gaussians);
+  const std::string verb = stage.repair_gaussians(d.gaussians);
+  if (verb.empty()) return false;  // a stage that cannot repair
   ++rec.repairs, rec.removed += static_cast<uint32_t>(d.gaussians.size());
   stage.recovery() = rec;
-  std::cerr << stage.plan().name << ": " << cause << "; removed " << (d.gaussians.size() == 1 ? "that Gaussian" : "those " + std::to_string(d.gaussians.size()) + " Gaussians")
+  std::cerr << stage.plan().name << ": " << cause << "; " << verb << " "
+            << (d.gaussians.size() == 1 ? "that Gaussian" : "those " + std::to_string(d.gaussians.size()) + " Gaussians")
             << " and went on\n";
   checkpoint(stage);  // the repaired state becomes the last good one
   return true;

@@ -263,7 +263,10 @@ struct Trainer::Impl::Steps final : RunnerStage {
   void save(double seconds) override { m.checkpoint(seconds); }
   void restore_last_good() override { m.restore(m.last_good); }
   Divergence divergence() override { return m.divergence(m.snapshot(seconds())); }
-  void remove_gaussians(const std::vector<uint32_t>& rows) override { m.remove_gaussians(rows, seconds()); }
+  std::string repair_gaussians(const std::vector<uint32_t>& rows) override {
+    m.remove_gaussians(rows, seconds());
+    return "removed";
+  }
   ProgressValues final_test() override {
     test = m.evaluate(m.test_views, last() ? m.run.eval_dir() : fs::path{});
     return {{"test_psnr", test.psnr}, {"test_ssim", test.ssim}, {"gaussians", static_cast<double>(m.gaussians->size())}};
