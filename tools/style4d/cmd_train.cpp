@@ -131,8 +131,10 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
   nlohmann::json j = run::to_json(c);
   bool background_given = args.get("background").has_value();
+  bool fine_given = args.get("fine-iters").has_value();
   for (const std::string& kv : args.get_all("set")) {
     background_given = background_given || kv.starts_with("background=");
+    fine_given = fine_given || kv.starts_with("fine_iterations=");
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
       throw UsageError("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
@@ -152,6 +154,7 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
     throw UsageError(e.what());
   }
   out.background_given = background_given;
+  out.fine_iterations_given = fine_given;
   return out;
 }
 

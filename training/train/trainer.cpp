@@ -14,6 +14,7 @@
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/run/run_json.h"
+#include "s4d/train/scene_motion.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/run/run_size.h"
 #include "s4d/run/stage_times.h"
@@ -130,7 +131,21 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   config_.background = dataset_.background;
   if (!dataset_.background_conflict.empty())
     std::cerr << "warning: " << dataset_.root.string() << ": background: " << dataset_.background_conflict << "\n";
-  const nlohmann::json recipe = adapt_to_data(config_, dataset_);
+  nlohmann::json recipe = adapt_to_data(config_, dataset_);
+  if (config_.fine_iterations > 0) {
+    data::FrameCache frames(dataset_, kFrameCacheBytes);
+    const MotionCheck motion = check_motion(dataset_, frames);
+    recipe["deformation_field"] = motion.to_json();
+    if (motion.motion == Motion::still && config_.fine_iterations_given) {
+      recipe["deformation_field"]["trained"] = "yes: --fine-iters asked for it";
+    } else if (motion.motion == Motion::still) {
+      config_.fine_iterations = 0;
+      recipe["deformation_field"]["trained"] = "no: the 4DGS stage is skipped (--fine-iters N trains it anyway)";
+      std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped (--fine-iters N trains it anyway)\n";
+    } else {
+      recipe["deformation_field"]["trained"] = "yes";
+    }
+  }
   InitReport init;
   const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
                                                   max_initial_points(config_), config_.seed, &init);

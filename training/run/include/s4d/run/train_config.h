@@ -34,6 +34,9 @@ struct TrainConfig {
   // Whether `background` was asked for (--background, --set background=...); otherwise a new run takes
   // the dataset's (found from its frames) and stores it here. Not stored: a run's background is settled.
   bool background_given = false;
+  // Whether the fine stage's length was asked for (--fine-iters, --set fine_iterations=...);
+  // otherwise a new run whose frames show no motion skips it (train/scene_motion.h). Not stored.
+  bool fine_iterations_given = false;
   // Model.
   int sh_degree = 3;              // stored degree; the active degree grows by one every sh_up_every
   uint32_t sh_up_every = 1000;
