@@ -18,6 +18,7 @@
 #include "s4d/deform/deformation_field.h"
 #include "s4d/deform/deformed_cloud.h"
 #include "s4d/deform/motion_split.h"
+#include "expect_allclose.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
@@ -498,4 +499,83 @@ TEST_CASE("times far outside [0, 1] and Gaussians 1000x outside the field's box 
     CHECK(max_rel(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), g.v_planes) < 1e-5);
     CHECK(max_rel(ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats()), g.v_mlp) < 1e-5);
   }
+}
+
+namespace {
+
+// The field at its extremes (docs/kernel-extremes.md): forward and backward of `f` on `s` at `time`
+// against the twin, each array within `rel` of its largest twin value.
+void check_against_twin(Field& f, Scene& s, float time, double rel, const char* what) {
+  CAPTURE(what);
+  engine::Context& ctx = test::context();
+  Deformed d = run_forward(f, s, time);
+  const ref::DeformGaussians<double> r = ref::deform_forward(f.twin, to_double(s.host), double(time));
+  auto close = [&](const std::vector<float>& gpu, const std::vector<double>& twin, const char* name) {
+    test::expect_allclose(gpu, twin, {.atol = rel * test::max_magnitude(twin)}, std::string(what) + ": " + name);
+  };
+  close(ctx.download<float>(d.means, 3 * kN), r.means, "means");
+  close(ctx.download<float>(d.log_scales, 3 * kN), r.log_scales, "log_scales");
+  close(ctx.download<float>(d.quats, 4 * kN), r.quats, "quats");
+  close(ctx.download<float>(d.opacity, kN), r.opacity_logits, "opacity_logits");
+  close(ctx.download<float>(d.sh, 48 * kN), r.sh, "sh");
+  Cotangents v = make_cotangents(43);
+  run_backward(f, s, v, time);
+  const ref::DeformGrads<double> g = ref::deform_backward(f.twin, to_double(s.host), double(time), to_double(v.host));
+  close(ctx.download<float>(v.v_means, 3 * kN), g.v.means, "v_means");
+  close(ctx.download<float>(f.gpu.v_planes(), f.gpu.plane_floats()), g.v_planes, "v_planes");
+  close(ctx.download<float>(f.gpu.v_mlp(), f.gpu.mlp_floats()), g.v_mlp, "v_mlp");
+}
+
+// One plane of the field (level 0, plane 0: x-y) set to `value` on the GPU and in the twin.
+void set_plane(Field& f, float value) {
+  std::vector<float> planes = f.gpu.download_planes();
+  const uint32_t at = gpu::deform_plane_offset(f.gpu.shape(), 0, 0);
+  std::fill_n(planes.begin() + at, gpu::deform_plane_floats(f.gpu.shape(), 0, 0), value);
+  f.gpu.upload_planes(planes);
+  f.twin.planes = to_double(planes);
+}
+
+}  // namespace
+
+TEST_CASE("times exactly 0 and 1 deform like the twin, forward and backward") {
+  for (const float time : {0.0f, 1.0f}) {
+    Field f = make_field(test_config(), 41);
+    Scene s = make_scene(test_config(), 42, 0);
+    // As check_backward's 1e-5 (the time planes' first and last texels, no interpolation). Measured
+    // worst on lavapipe (Mesa 22.3.6): 4.3e-7 (forward), 1.7e-6 (v_means at t = 1).
+    check_against_twin(f, s, time, 1e-5, time == 0 ? "t = 0" : "t = 1");
+  }
+}
+
+TEST_CASE("a plane of 1e30 and a plane of denormals deform like the twin, forward and backward") {
+  {
+    Field f = make_field(test_config(), 44);
+    set_plane(f, 1e30f);  // level 0's features near 1e30, the outputs near 1e30: still finite in float
+    Scene s = make_scene(test_config(), 45, 0);
+    // Measured worst 1.5e-6 (sh) of the largest value; two planes of 1e30 would overflow float.
+    check_against_twin(f, s, kTime, 1e-5, "plane of 1e30");
+  }
+  {
+    Field f = make_field(test_config(), 46);
+    set_plane(f, 1e-40f);  // lavapipe flushes denormals to 0; the twin keeps them: level 0's features vanish in both
+    Scene s = make_scene(test_config(), 47, 0);
+    // Measured worst 9.3e-7 (v_planes) of the largest value: denormal or 0, a product of 1e-40 is lost in float rounding.
+    check_against_twin(f, s, kTime, 1e-5, "plane of denormals");
+  }
+}
+
+TEST_CASE("displacements of 1e4 deform like the twin, forward and backward") {
+  Field f = make_field(test_config(), 48);
+  std::vector<float> mlp = f.gpu.download_mlp();
+  for (float& w : mlp) w *= 10.0f;  // through three layers: displacements of about 1e4
+  f.gpu.upload_mlp(mlp);
+  f.twin.mlp = to_double(mlp);
+  Scene s = make_scene(test_config(), 49, 0);
+  const ref::DeformGaussians<double> r = ref::deform_forward(f.twin, to_double(s.host), double(kTime));
+  double largest = 0;
+  for (size_t k = 0; k < r.means.size(); ++k) largest = std::max(largest, std::abs(r.means[k] - s.host.means[k]));
+  REQUIRE(largest > 3e3);
+  REQUIRE(largest < 3e4);
+  // Float sums of terms of 1e3 against double: measured worst 9.4e-7 (v_planes) of the largest value.
+  check_against_twin(f, s, kTime, 1e-5, "displacements of 1e4");
 }
