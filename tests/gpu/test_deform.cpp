@@ -511,7 +511,7 @@ void check_against_twin(Field& f, Scene& s, float time, double rel, const char* 
   Deformed d = run_forward(f, s, time);
   const ref::DeformGaussians<double> r = ref::deform_forward(f.twin, to_double(s.host), double(time));
   auto close = [&](const std::vector<float>& gpu, const std::vector<double>& twin, const char* name) {
-    test::expect_allclose(gpu, twin, {.atol = rel * test::max_magnitude(twin)}, std::string(what) + ": " + name);
+    test::expect_allclose(gpu, twin, {.of_largest = rel}, std::string(what) + ": " + name);
   };
   close(ctx.download<float>(d.means, 3 * kN), r.means, "means");
   close(ctx.download<float>(d.log_scales, 3 * kN), r.log_scales, "log_scales");

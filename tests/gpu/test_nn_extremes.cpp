@@ -3,6 +3,7 @@
 // same float inputs.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 

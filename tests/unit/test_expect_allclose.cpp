@@ -66,3 +66,13 @@ TEST_CASE("allclose refuses arrays of different sizes and compares double with d
   CHECK(allclose_report(std::vector<double>{1.0 + 1e-12}, std::vector<double>{1.0}, {.rtol = 1e-11}, "d").ok);
   CHECK_FALSE(allclose_report(std::vector<double>{1.0 + 1e-10}, std::vector<double>{1.0}, {.rtol = 1e-11}, "d").ok);
 }
+
+TEST_CASE("allclose's of_largest scales atol by the largest |expected|, and the report says so") {
+  const std::vector<double> want = {1000.0, 0.0, -2.0};
+  // 0.05 off at 0: inside 1e-4 x 1000 = 0.1, outside 1e-5 x 1000.
+  CHECK(allclose_report(std::vector<float>{1000.0f, 0.05f, -2.0f}, want, {.of_largest = 1e-4}, "v").ok);
+  const AllcloseReport r = allclose_report(std::vector<float>{1000.0f, 0.05f, -2.0f}, want, {.of_largest = 1e-5}, "v");
+  CHECK_FALSE(r.ok);
+  CHECK(mentions(r, "v: 1 of 3 elements outside atol 0 + 1e-05 * largest |expected| 1000"));
+  CHECK(mentions(r, "worst [1]"));
+}
