@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
@@ -136,20 +137,6 @@ TEST_CASE("grad_add sums a batch's gradients exactly like the twin (a float add 
   CHECK_THROWS_AS(primitives::cmd_add(bad, da, db, n + 1), std::invalid_argument);
 }
 
-namespace {
-
-double max_rel(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0, scale = 1e-30;
-  for (size_t k = 0; k < a.size(); ++k) {
-    worst = std::max(worst, std::abs(double(a[k]) - b[k]));
-    scale = std::max(scale, std::abs(double(b[k])));
-  }
-  return worst / scale;
-}
-
-}  // namespace
-
 // Kernel tv_grad (TvLoss).
 TEST_CASE("GPU TV term adds the twin's gradient to the existing one and reports its value") {
   for (const auto& [w, h, c] : {std::array<int, 3>{37, 23, 3}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{64, 48, 3}}) {
@@ -225,15 +212,15 @@ TEST_CASE("each loss kernel matches its twin on the same inputs: ssim_hpass, ssi
   // filter (and the SSIM quotient) remains. Measured relative to each array's largest entry:
   // ssim_hpass statistics 1.4e-7, ssim_vpass maps 1.9e-7, ssim_hpass maps and loss_grad 0.
   const std::vector<float> gpu_stats = ctx.download<float>(stats_h, 5 * n);
-  CHECK(max_rel(gpu_stats, ref::ssim_hpass_stats(x, y, s)) <= 1e-6);
+  test::expect_allclose(gpu_stats, ref::ssim_hpass_stats(x, y, s), {.of_largest = 1e-6}, "gpu_stats");
   const auto v = ref::ssim_vpass(x, y, gpu_stats, s, 0.2f);
-  CHECK(max_rel(ctx.download<float>(dmaps, 3 * n), v.dmaps) <= 1e-6);
+  test::expect_allclose(ctx.download<float>(dmaps, 3 * n), v.dmaps, {.of_largest = 1e-6}, "dmaps");
   const std::vector<float> part = ctx.download<float>(partials, 2 * size_t{groups});
   double ssim_sum = 0, l1_sum = 0;
   for (uint32_t g = 0; g < groups; ++g) ssim_sum += part[2 * g], l1_sum += part[2 * g + 1];
   CHECK(ssim_sum == doctest::Approx(v.ssim_sum).epsilon(1e-5));
   CHECK(l1_sum == doctest::Approx(v.l1_sum).epsilon(1e-5));
   const std::vector<float> gpu_dmaps_h = ctx.download<float>(dmaps_h, 3 * n);
-  CHECK(max_rel(gpu_dmaps_h, ref::ssim_hpass_dmaps(dmaps_in, s)) <= 1e-6);
-  CHECK(max_rel(ctx.download<float>(grad, n), ref::loss_grad(x, y, gpu_dmaps_h, s, 0.2f)) <= 1e-6);
+  test::expect_allclose(gpu_dmaps_h, ref::ssim_hpass_dmaps(dmaps_in, s), {.of_largest = 1e-6}, "gpu_dmaps_h");
+  test::expect_allclose(ctx.download<float>(grad, n), ref::loss_grad(x, y, gpu_dmaps_h, s, 0.2f), {.of_largest = 1e-6}, "grad");
 }
