@@ -22,13 +22,6 @@ namespace {
 using s4d::test::Cam;
 using s4d::test::Scene;
 
-double max_abs_diff(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double m = 0;
-  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(double(a[i]) - double(b[i])));
-  return m;
-}
-
 // A camera at `position` looking down +z (identity rotation), 64x48, f = 60.
 Cam camera_at(float x, float y, float z) {
   Cam c;
@@ -106,10 +99,10 @@ TEST_CASE("flow_project and flow_displace match their CPU twins, including means
   CHECK(invalid > 50);  // z in [-1, 8]: about 13 % lie behind the near plane
   // Measured worst case on lavapipe (Mesa 22.3.6): 0, identical. Other devices may fuse multiply-adds;
   // with means near the plane projecting to ~1e4 px, that moves u by up to ~1e-3 (one float ulp).
-  CHECK(max_abs_diff(gpu_a, twin_a) <= 1e-3);
-  CHECK(max_abs_diff(gpu_b, twin_b) <= 1e-3);
+  s4d::test::expect_allclose(gpu_a, twin_a, {.atol = 1e-3}, "gpu_a");
+  s4d::test::expect_allclose(gpu_b, twin_b, {.atol = 1e-3}, "gpu_b");
   // flow_displace from the GPU lanes: one subtraction, bit-identical on every device.
-  CHECK(max_abs_diff(ctx.download<float>(colors, 3 * n), s4d::ref::flow_displace(gpu_a, gpu_b)) <= 0.0);
+  s4d::test::expect_allclose(ctx.download<float>(colors, 3 * n), s4d::ref::flow_displace(gpu_a, gpu_b), {}, "colors");
 }
 
 TEST_CASE("exact flow of a camera translation over a fronto-parallel plane is the analytic flow") {
