@@ -71,7 +71,7 @@ TEST_CASE("gelu at +-1e4 and beyond is x and -0 at the ends, like the twin") {
     nn::gelu_inplace(r, gx);
     return 0;
   });
-  // x exactly for large x, -0 or a denormal-sized tail for large -x: measured worst 1.5e-24 (at x = -10,
+  // x exactly for large x, -0 or a tiny tail for large -x: measured worst 1.5e-24 (at x = -10,
   // A&S 7.1.26's relative error on a value of 8e-23).
   test::expect_allclose(nn::download(context(), gx), ref::gelu(to_double(x)).v, {.atol = 1e-7, .rtol = 1e-6},
                         "gelu at 1e4");
