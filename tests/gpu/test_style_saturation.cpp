@@ -17,7 +17,6 @@ namespace {
 
 using namespace s4d;
 
-
 }  // namespace
 
 TEST_CASE("a saturated style MLP at an extreme time renders and differentiates finitely, like the twin") {
