@@ -37,6 +37,7 @@ TEST_CASE("time budget: schedules scale from the starting settings, whatever ear
   CHECK(c.densify_until == start.densify_until / 2);
   CHECK(c.fine_iterations == 3000);
   CHECK(c.fine_densify_until == start.fine_densify_until * 2);
+  CHECK(c.densify_every == start.densify_every / 2);  // the shorter stage's factor: as many densifications
   CHECK(c.lr_scale == 0.25);
   train::fit_schedules(c, start, 900, 1500);  // back to the start: exactly its schedules
   CHECK(run::to_json(c) == [&] {

@@ -30,7 +30,9 @@ double static_share(const TimeEstimate& estimate);
 uint32_t fitted_length(double deadline, double now, uint32_t done, double seconds_per_step, uint32_t start_length);
 
 // `c` with the static stage `iterations` long and the fine stage `fine` long, every schedule of
-// `start` (the run's starting settings) scaled to them (set_iterations, set_fine_iterations).
+// `start` (the run's starting settings) scaled to them (set_iterations, set_fine_iterations); a
+// shortened run's densification interval shrinks with its shorter stage, so that it densifies and
+// prunes as often as the starting schedule.
 void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t iterations, uint32_t fine);
 
 // What the trainer keeps between plans (checkpoint meta and train.json "time_budget").
