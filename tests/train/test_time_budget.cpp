@@ -8,13 +8,25 @@
 
 using namespace s4d;
 
-TEST_CASE("time budget: the static share is the estimate's split at the middle of each stage's range") {
+TEST_CASE("time budget: a fine step's cost in static steps is the estimate's, at the middle of each stage's range") {
   train::TimeEstimate e;
-  e.static_seconds_low = 10, e.static_seconds = 40;  // middle 20
-  e.fine_seconds_low = 20, e.fine_seconds = 180;     // middle 60
-  CHECK(train::static_share(e) == doctest::Approx(0.25));
-  e.fine_seconds_low = e.fine_seconds = 0;  // no fine stage
-  CHECK(train::static_share(e) == 1.0);
+  e.static_seconds_low = 10, e.static_seconds = 40;  // middle 20 over 900 steps
+  e.fine_seconds_low = 20, e.fine_seconds = 180;     // middle 60 over 1500 steps
+  run::TrainConfig c = run::preset_config("fast");
+  CHECK(train::fine_step_ratio(e, c) == doctest::Approx((60.0 / 1500) / (20.0 / 900)));
+  c.fine_iterations = 0;
+  CHECK(train::fine_step_ratio(e, c) == 0);
+}
+
+TEST_CASE("time budget: one factor on both stages makes the steps left end at the deadline") {
+  // 100 of 900 static steps done at 10 s; 0.1 s a static step, 0.3 s a fine one: scale f costs
+  // (900 f - 100) 0.1 + 1500 f 0.3 = 540 f - 10, so 260 s left (a deadline at 270 s) gives f = 0.5.
+  CHECK(train::fitted_scale(270, 10, 100, 0.1, 3.0, 900, 1500) == doctest::Approx(0.5));
+  // Past the deadline: fewer static steps than done (the stage ends now), next to no fine ones.
+  CHECK(train::fitted_scale(5, 10, 100, 0.1, 3.0, 900, 1500) * 900 < 100);
+  CHECK(train::fitted_scale(-1e3, 10, 100, 0.1, 3.0, 900, 1500) == 0);
+  CHECK(train::fitted_scale(1e9, 10, 100, 0.1, 3.0, 900, 1500) == train::kMaxStretch);
+  CHECK(train::fitted_scale(100, 0, 0, 0.0, 3.0, 900, 1500) == train::kMaxStretch);  // no step time measured
 }
 
 TEST_CASE("time budget: a stage's length fits its deadline, never below the steps done nor above the stretch cap") {
@@ -53,7 +65,7 @@ TEST_CASE("time budget: schedules scale from the starting settings, whatever ear
 
 TEST_CASE("time budget: the state round-trips through a checkpoint's JSON and refuses a broken one") {
   train::BudgetState s;
-  s.static_share = 0.3;
+  s.fine_ratio = 2.5;
   s.start = run::preset_config("fast");
   s.start.time_budget = 600;
   s.from_iteration = 40, s.from_seconds = 12.5;

@@ -6,9 +6,18 @@
 
 namespace s4d::train {
 
-double static_share(const TimeEstimate& e) {
-  const double s = std::sqrt(e.static_seconds_low * e.static_seconds), f = std::sqrt(e.fine_seconds_low * e.fine_seconds);
-  return f > 0 ? s / (s + f) : 1.0;
+double fine_step_ratio(const TimeEstimate& e, const run::TrainConfig& c) {
+  if (c.fine_iterations == 0 || c.iterations == 0) return 0;
+  const double s = std::sqrt(e.static_seconds_low * e.static_seconds) / c.iterations;
+  const double f = std::sqrt(e.fine_seconds_low * e.fine_seconds) / c.fine_iterations;
+  return s > 0 ? f / s : 0;
+}
+
+double fitted_scale(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
+                    uint32_t static_steps, uint32_t fine_steps) {
+  const double unit = seconds_per_step * (static_steps + ratio * fine_steps);  // both stages at scale 1
+  if (!(unit > 0)) return kMaxStretch;
+  return std::clamp((deadline - now + done * seconds_per_step) / unit, 0.0, kMaxStretch);
 }
 
 uint32_t fitted_length(double deadline, double now, uint32_t done, double seconds_per_step, uint32_t start_length) {
@@ -33,14 +42,14 @@ void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t 
 }
 
 nlohmann::json BudgetState::to_json() const {
-  return {{"static_share", static_share}, {"start", run::to_json(start)}, {"from_iteration", from_iteration},
+  return {{"fine_ratio", fine_ratio}, {"start", run::to_json(start)}, {"from_iteration", from_iteration},
           {"from_seconds", from_seconds}, {"plans", plans}};
 }
 
 BudgetState BudgetState::from_json(const nlohmann::json& j) {
   BudgetState s;
   try {
-    s.static_share = j.at("static_share").get<double>();
+    s.fine_ratio = j.at("fine_ratio").get<double>();
     s.start = run::config_from_json(j.at("start"), "checkpoint meta time_budget.start");
     s.from_iteration = j.at("from_iteration").get<uint32_t>();
     s.from_seconds = j.at("from_seconds").get<double>();

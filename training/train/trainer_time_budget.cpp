@@ -22,7 +22,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
   if (budget <= 0) return;
   if (!fine() && iteration < kTimeMarkAt) return;
   if (!fine() && time_plan.plans.empty() && time_plan.from_iteration < kTimeMarkAt) return mark_time(now);
-  const bool first_static = !fine() && time_plan.static_share == 0;
+  const bool first_static = !fine() && time_plan.fine_ratio == 0 && time_plan.plans.empty();
   // The fine stage's first plan comes soon: its step costs what the estimate only guessed.
   const bool first_fine = fine() && (time_plan.plans.empty() || time_plan.plans.back().at("stage") != run::stage_name(stage));
   const uint32_t steps = iteration - time_plan.from_iteration;
@@ -34,19 +34,12 @@ void Trainer::Impl::plan_time_if_due(double now) {
   const run::TrainConfig& start = time_plan.start;
   const double fine_deadline = budget * (1 - kReserveShare);
   uint32_t length = config.iterations, fine_length = config.fine_iterations;
-  if (first_static) {
-    // The growth still to come is the estimate's: each stage's mean step at the middle of its range.
-    const TimeEstimate e = estimate_time(config, per_step, gaussians->size());
-    time_plan.static_share = static_share(e);
-    const double static_step = std::sqrt(e.static_seconds_low * e.static_seconds) / config.iterations;
-    length = fitted_length(time_plan.static_share * budget, now, iteration, static_step, start.iterations);
-    if (config.fine_iterations > 0) {
-      const double fine_step = std::sqrt(e.fine_seconds_low * e.fine_seconds) / config.fine_iterations;
-      const double static_end = now + (length - iteration) * static_step;
-      fine_length = std::max<uint32_t>(1, fitted_length(fine_deadline, static_end, 0, fine_step, start.fine_iterations));
-    }
-  } else if (!fine()) {
-    length = fitted_length(time_plan.static_share * budget, now, iteration, per_step, start.iterations);
+  if (!fine()) {
+    if (first_static) time_plan.fine_ratio = fine_step_ratio(estimate_time(config, per_step, gaussians->size()), config);
+    const double f = fitted_scale(fine_deadline, now, iteration, per_step, time_plan.fine_ratio, start.iterations,
+                                  start.fine_iterations);
+    length = std::max(iteration, static_cast<uint32_t>(std::lround(f * start.iterations)));
+    if (start.fine_iterations > 0) fine_length = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * start.fine_iterations)));
   } else {
     fine_length = fitted_length(fine_deadline, now, iteration, per_step, start.fine_iterations);
   }
@@ -73,7 +66,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
 
 nlohmann::json Trainer::Impl::time_budget_json(double seconds) const {
   if (config.time_budget <= 0) return nullptr;
-  return {{"given_seconds", config.time_budget}, {"took_seconds", seconds}, {"static_share", time_plan.static_share},
+  return {{"given_seconds", config.time_budget}, {"took_seconds", seconds}, {"fine_step_ratio", time_plan.fine_ratio},
           {"plans", time_plan.plans}};
 }
 

@@ -1,10 +1,11 @@
-// --time-budget: a run fitted to the training time it is given. The static stage gets the share of
-// the budget that the run's own time estimate gives it (time_estimate.h, the middle of its range),
-// the fine stage the rest less a reserve for the closing test. Each stage's length is planned from
-// the probe's step time, then re-planned every tenth of the stage from the seconds per step measured
-// since the last plan (tests, densification and checkpoints included), so growth and a loaded
-// machine are followed; the schedules (densification window, SH steps, tests, checkpoints) scale with
-// the length, from the run's starting settings. A stage whose time is up ends at the next plan.
+// --time-budget: a run fitted to the training time it is given, keeping its recipe's shape. While
+// the static stage runs, both stages are scaled by one factor so that the static steps left (at the
+// seconds per step measured since the last plan: tests, densification and checkpoints included) and
+// the fine steps (at the static step's cost times the estimate's fine-to-static ratio, time_estimate.h)
+// end with the budget, less a reserve for the closing test. In the fine stage its own measured step
+// fits its length to the deadline. Plans come every tenth of a stage; the schedules (densification
+// window and interval, SH steps, tests, checkpoints) scale with the lengths, from the run's starting
+// settings. A stage whose time is up ends at the next plan.
 #pragma once
 #include <cstdint>
 
@@ -20,9 +21,15 @@ inline constexpr double kMaxStretch = 4.0;
 // The fine stage ends this share of the budget early, for the closing test and train.json.
 inline constexpr double kReserveShare = 0.03;
 
-// The static stage's share of the time: the estimate's split, each stage at the geometric middle
-// of its low and high end. 1 without a fine stage.
-double static_share(const TimeEstimate& estimate);
+// What a fine step costs in static steps, from the estimate: each stage's mean step at the
+// geometric middle of its low and high end. 0 without a fine stage.
+double fine_step_ratio(const TimeEstimate& estimate, const run::TrainConfig& config);
+
+// The factor on both stages' starting lengths (`static_steps`, `fine_steps`) whose steps left end at
+// `deadline`: `done` static steps were taken by `now`, each further one takes `seconds_per_step`, a
+// fine one `ratio` times that. Between 0 and kMaxStretch.
+double fitted_scale(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
+                    uint32_t static_steps, uint32_t fine_steps);
 
 // The stage's length when `done` steps took until `now` and each further one takes
 // `seconds_per_step`: as many as fit before `deadline`, at least `done` (the stage ends now), at
@@ -37,7 +44,7 @@ void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t 
 
 // What the trainer keeps between plans (checkpoint meta and train.json "time_budget").
 struct BudgetState {
-  double static_share = 0;   // 0 until the first plan
+  double fine_ratio = 0;     // a fine step in static steps (fine_step_ratio); 0 until the first plan
   run::TrainConfig start;    // the settings the run started with
   uint32_t from_iteration = 0;  // the last plan's point in the current stage
   double from_seconds = 0;
