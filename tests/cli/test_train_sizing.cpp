@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -29,9 +30,12 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
     REQUIRE(test::run_style4d("synth", "--out " + (dir / name).string() + " --cams 4 --frame-count 3 --size 48x36" + still,
                               dir / (std::string(name) + "_synth.log")) == 0);
   }
-  // The still capture: the 4DGS stage is skipped.
+  // The still capture: the 4DGS stage is skipped and its 20 steps go to the static stage. (Settings
+  // from a file, so that the fine stage's length is the recipe's, not asked for.)
+  std::ofstream(dir / "settings.json") << R"({"settings": {"preset": "fast", "iterations": 30, "fine_iterations": 20,
+      "sh_degree": 1, "budget": 15000, "densify_from": 10, "densify_until": 25, "test_every": 10, "checkpoint_every": 10}})";
   REQUIRE(test::run_style4d("train", "--data " + (dir / "still").string() + " --run " + (dir / "r_still").string() +
-                                         " --preset fast --iters 30",
+                                         " --config " + (dir / "settings.json").string(),
                             dir / "still.log") == 0);
   const std::string log = test::read_text(dir / "still.log");
   CHECK_MESSAGE(contains(log, "no deformation field: the frames show no motion: up to 0 % of a camera's pixels change "
@@ -39,6 +43,8 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   const nlohmann::json t = read_json(dir / "r_still" / "train.json");
   CHECK(t["stage"] == "static");
   CHECK(t["settings"]["fine_iterations"] == 0);
+  CHECK(t["settings"]["iterations"] == 30 + 20);
+  CHECK(t["settings"]["densify_until"] == 42);  // the static schedules scaled to its new length (25 x 50 / 30)
   CHECK(read_json(dir / "r_still" / "run.json")["settings"]["fine_iterations"] == 0);
   const nlohmann::json& field = t["dataset"]["recipe"]["deformation_field"];
   CHECK(field["motion"] == "still");

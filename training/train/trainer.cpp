@@ -139,9 +139,13 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
     if (motion.motion == Motion::still && config_.fine_iterations_given) {
       recipe["deformation_field"]["trained"] = "yes: --fine-iters asked for it";
     } else if (motion.motion == Motion::still) {
+      // Its steps go to the static stage, which then trains the Gaussians as long as both stages would.
+      run::set_iterations(config_, config_.iterations + config_.fine_iterations);
       config_.fine_iterations = 0;
-      recipe["deformation_field"]["trained"] = "no: the 4DGS stage is skipped (--fine-iters N trains it anyway)";
-      std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped (--fine-iters N trains it anyway)\n";
+      recipe["deformation_field"]["trained"] = "no: the 4DGS stage is skipped and its steps go to the static stage "
+                                               "(--fine-iters N trains it anyway)";
+      std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped and its steps go to the static stage, "
+                << config_.iterations << " steps (--fine-iters N trains it anyway)\n";
     } else {
       recipe["deformation_field"]["trained"] = "yes";
     }
