@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace s4d::run {
+namespace s4d::model {
 struct Checkpoint;
 }
 
@@ -36,6 +36,6 @@ using PartName = std::function<std::string(const std::string& array, uint64_t in
 
 // Scans every array of `state` (the Gaussians', their Adam moments and statistics, and the extra
 // arrays but masks). `part` names parts of the extra arrays; may be empty.
-Divergence find_divergence(const run::Checkpoint& state, const PartName& part = {});
+Divergence find_divergence(const model::Checkpoint& state, const PartName& part = {});
 
 }  // namespace s4d::train
