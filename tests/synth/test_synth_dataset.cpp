@@ -15,6 +15,7 @@
 #include "s4d/synth/scene.h"
 
 namespace fs = std::filesystem;
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {

@@ -19,6 +19,7 @@
 #include "s4d/synth/dataset.h"
 
 namespace fs = std::filesystem;
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {

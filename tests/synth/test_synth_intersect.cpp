@@ -7,6 +7,7 @@
 #include "s4d/synth/intersect.h"
 #include "s4d/synth/wave_sheet.h"
 
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {

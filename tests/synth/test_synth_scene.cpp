@@ -10,6 +10,7 @@
 #include "s4d/synth/render.h"
 #include "s4d/synth/scene.h"
 
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {
