@@ -26,8 +26,8 @@ constexpr size_t kMagicSize = 8;
 constexpr char kMagic1[kMagicSize + 1] = "S4DCKPT1";  // no checksums: read unverified
 constexpr char kMagic2[kMagicSize + 1] = "S4DCKPT2";  // header and per-array checksums
 
-// Every array of a checkpoint in file order, by name and address: the cloud's, the trainer's, then
-// `extra`'s (when given).
+// The per-Gaussian arrays of a checkpoint in file order, by name and address: the cloud's, then the
+// trainer's (`trainer`, one per trainer_array_names()).
 template <class Vec>
 using ArrayList = std::vector<std::pair<std::string, Vec*>>;
 
