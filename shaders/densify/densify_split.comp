@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_densify.h"
 #include "flat_group.glsl"
+#include "quat_normalise.glsl"
 
 layout(local_size_x = S4D_DENSIFY_WG) in;
 layout(push_constant) uniform Push { SplitParams p; };
@@ -41,8 +42,8 @@ void main() {
   vec3 ls = vec3(log_scales[3 * i], log_scales[3 * i + 1], log_scales[3 * i + 2]);
   vec3 d = exp(ls) * n;
   vec4 q = vec4(quats[4 * i], quats[4 * i + 1], quats[4 * i + 2], quats[4 * i + 3]);
-  float len = length(q);
-  q = len > 0.0 ? q / len : vec4(1.0, 0.0, 0.0, 0.0);
+  float norm;
+  splat_normalise_quat(q, q, norm);
   float w = q.x, x = q.y, y = q.z, z = q.w;
   // Rows of R(q), graphdeco build_rotation.
   vec3 row0 = vec3(1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y));

@@ -4,6 +4,8 @@
 #ifndef SPLAT_PROJECT_GLSL
 #define SPLAT_PROJECT_GLSL
 
+#include "quat_normalise.glsl"
+
 struct SplatProjection {
   bool visible;
   vec4 q;          // normalised (w, x, y, z)
@@ -20,22 +22,6 @@ struct SplatProjection {
   vec3 dir;        // normalize(mean - campos), for SH
   float dist;      // |mean - campos|
 };
-
-// Divides by the largest component first so tiny quaternions (1e-20 components) do not underflow;
-// zero or non-finite input gives the identity rotation and q_norm = 0.
-void splat_normalise_quat(vec4 raw, out vec4 q, out float norm) {
-  vec4 m = abs(raw);
-  float big = max(max(m.x, m.y), max(m.z, m.w));
-  if (!(big > 0.0) || isinf(big) || isnan(big)) {
-    q = vec4(1.0, 0.0, 0.0, 0.0);
-    norm = 0.0;
-    return;
-  }
-  vec4 r = raw / big;
-  float root = sqrt(dot(r, r));
-  q = r / root;
-  norm = big * root;
-}
 
 void splat_quat_to_rot(vec4 q, out float R[9]) {
   float w = q.x, x = q.y, y = q.z, z = q.w;

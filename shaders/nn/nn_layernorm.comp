@@ -17,13 +17,16 @@ layout(std430, binding = S4D_B_LN_OUT) writeonly buffer Out { float y[]; };
 void main() {
   uint t = flat_group_id() * S4D_NN_WG + gl_LocalInvocationIndex;
   if (t >= p.count) return;
-  float sum = 0.0;
-  for (uint c = 0; c < p.channels; ++c) sum += x[c * p.count + t];
-  float mean = sum / float(p.channels), centred = 0.0;
+  // Sums of x - x[0] rather than of x: a token offset by 1e4 with a unit spread would otherwise lose
+  // its mean to the float sum's rounding (measured 2e-3 of the output at 768 channels).
+  float shift = x[t], sum = 0.0;
+  for (uint c = 0; c < p.channels; ++c) sum += x[c * p.count + t] - shift;
+  float mean = sum / float(p.channels), centred = 0.0;  // of x - shift
   for (uint c = 0; c < p.channels; ++c) {
-    float d = x[c * p.count + t] - mean;
+    float d = (x[c * p.count + t] - shift) - mean;
     centred += d * d;
   }
   float inv = inversesqrt(centred / float(p.channels) + p.eps);
-  for (uint c = 0; c < p.channels; ++c) y[c * p.count + t] = (x[c * p.count + t] - mean) * inv * weight[c] + bias[c];
+  for (uint c = 0; c < p.channels; ++c)
+    y[c * p.count + t] = ((x[c * p.count + t] - shift) - mean) * inv * weight[c] + bias[c];
 }

@@ -3,7 +3,7 @@
 // continued with five more fine steps. Each Gaussian attribute and an Adam moment, in a few
 // Gaussians: named in one line, those Gaussians removed, training goes on to the end. Each field
 // tensor: named with its part, and training stops at once, since the last good state holds it; the
-// checkpoint is left as it was.
+// checkpoint is left as it was. Stage 4's per-Gaussian style: those Gaussians' style reset.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -140,4 +140,37 @@ TEST_CASE("guard: a field tensor out of range stops training at once, naming the
     CHECK_MESSAGE(contains(log, "training stopped"), log);
     CHECK(test::read_text(run / "checkpoint" / "state.s4dckpt") == before);
   }
+}
+
+TEST_CASE("guard: stage 4's style out of range in a few Gaussians is named, reset, and the style is written") {
+  const fs::path dir = base().parent_path();
+  const fs::path run = dir / "styled";
+  fs::remove_all(run);
+  fs::copy(base(), run, fs::copy_options::recursive);
+  fs::remove(run / ".lock");
+  REQUIRE(test::run_style4d("make-style", "--out " + (dir / "style.png").string() + " --size 64", dir / "make_style.log") == 0);
+  const std::string stylize = "--run " + run.string() + " --style-image " + (dir / "style.png").string() +
+                              " --style s --iters 20 --mlp-iters 10 --checkpoint-every 10 --spiral-frames 2";
+  REQUIRE_MESSAGE(test::run_style4d("stylize", stylize, dir / "stylize.log") == 0, test::read_text(dir / "stylize.log"));
+  // The finished stage's checkpoint with three Gaussians' SH deltas and one's MLP out of range; the
+  // same command again continues from it.
+  const fs::path checkpoint = run / "style" / "s" / "checkpoint.s4dckpt";
+  run::Checkpoint cp = run::read_checkpoint(checkpoint);
+  std::vector<float>& sh = extra(cp, "sh_delta");
+  const size_t width = sh.size() / cp.meta["count"].get<size_t>();
+  for (size_t g : {3, 7}) sh[g * width] = 1e30f;
+  std::vector<float>& mlp = extra(cp, "mlp");
+  mlp[11 * (mlp.size() / cp.meta["count"].get<size_t>()) + 2] = -1e20f;
+  run::write_checkpoint(checkpoint, cp);
+  fs::remove(run / "style" / "s" / "style.s4dstyle");
+  const int rc = test::run_style4d("stylize", stylize, dir / "stylize_again.log");
+  const std::string log = test::read_text(dir / "stylize_again.log");
+  REQUIRE_MESSAGE(test::exit_code(rc) == 0, log);
+  CHECK_MESSAGE(contains(log, "'sh_delta' of 2 Gaussians (up to 1e+30; first Gaussian 3)"), log);
+  CHECK_MESSAGE(contains(log, "'mlp' of 1 Gaussian (up to 1e+20; first Gaussian 11)"), log);
+  CHECK_MESSAGE(contains(log, "reset the style of those 3 Gaussians and went on"), log);
+  CHECK(fs::exists(run / "style" / "s" / "style.s4dstyle"));
+  const run::Checkpoint after = run::read_checkpoint(checkpoint);
+  CHECK(after.meta["guard_reset"] == 3);
+  CHECK(extra(const_cast<run::Checkpoint&>(after), "sh_delta")[3 * width] == 0.0f);
 }

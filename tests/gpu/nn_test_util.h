@@ -1,10 +1,9 @@
 // Helpers of the network-layer tests: seeded random tensors and weights (values away from
 // denormals, which lavapipe may flush), float -> double copies for the double twins, upload of a
-// twin tensor, and the GPU-vs-twin error measure.
+// twin tensor (comparisons go through expect_allclose.h).
 #pragma once
 #include <doctest/doctest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -13,6 +12,7 @@
 #include "s4d/engine/recorder.h"
 #include "s4d/nn/layers.h"
 #include "s4d/nn/tensor.h"
+#include "expect_allclose.h"
 #include "s4d/ref/nn_ref.h"
 #include "test_context.h"
 
@@ -78,18 +78,6 @@ inline ConvParams random_conv(uint32_t cin, uint32_t cout, uint32_t k, std::mt19
 
 inline nn::ConvWeights upload(const ConvParams& c, const std::string& name = "w") {
   return nn::upload_conv(context(), name, c.cin, c.cout, c.k, c.weight, c.bias);
-}
-
-// Largest |gpu - ref| relative to the largest |ref|; a NaN or infinity fails the test.
-inline double max_rel(const std::vector<float>& gpu, const std::vector<double>& ref) {
-  REQUIRE(gpu.size() == ref.size());
-  double worst = 0, scale = 1e-30;
-  for (size_t k = 0; k < gpu.size(); ++k) {
-    REQUIRE(std::isfinite(gpu[k]));
-    worst = std::max(worst, std::abs(gpu[k] - ref[k]));
-    scale = std::max(scale, std::abs(ref[k]));
-  }
-  return worst / scale;
 }
 
 }  // namespace s4d::test

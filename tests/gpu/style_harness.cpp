@@ -23,21 +23,6 @@ std::vector<float> DeviceStyle::download_v_mlp(engine::Context& ctx) const {
   return ctx.download<float>(v_mlp, v_mlp.size() / 4);
 }
 
-double rel_err(const std::vector<float>& a, const std::vector<float>& b, double floor) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0, scale = floor;
-  for (size_t k = 0; k < a.size(); ++k) scale = std::max(scale, std::abs(static_cast<double>(b[k])));
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
-  return worst / scale;
-}
-
-double max_abs(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
-  return worst;
-}
-
 ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool alpha_depth) {
   std::uniform_real_distribution<float> u(-1, 1);
   ref::ImageGrads<float> v;

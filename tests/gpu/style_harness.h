@@ -25,11 +25,6 @@ struct DeviceStyle {
   std::vector<float> download_v_mlp(engine::Context& ctx) const;
 };
 
-// max |a - b| / max(max |b|, floor): one scale per array (reordered float sums cannot give
-// near-zero entries of a large gradient relative accuracy).
-double rel_err(const std::vector<float>& a, const std::vector<float>& b, double floor = 1e-6);
-double max_abs(const std::vector<float>& a, const std::vector<float>& b);
-
 // Random cotangents on rgb, and on alpha and depth when `alpha_depth`.
 ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool alpha_depth);
 

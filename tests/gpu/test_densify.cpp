@@ -1,8 +1,8 @@
 // Densification on the GPU (training/densify, shaders/densify) against its CPU twin on lavapipe:
 // densify_classify + densify_map + densify_gather + densify_split on a few thousand random Gaussians
 // (every array compared), densify_demote under a budget, empty inputs and results, Adam moment
-// semantics, densify_reset_opacity, and densify_accumulate (per view and batched) after real
-// rasterizer backward passes.
+// semantics, densify_reset_opacity, densify_accumulate (per view and batched) after real
+// rasterizer backward passes, and the geometric extremes of docs/kernel-extremes.md.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -345,4 +345,35 @@ TEST_CASE("densify_accumulate adds per-view and batched statistics like the twin
   ref::densify_accumulate_batch_end(twin, twin_scratch);
   check_stats("per view, then one batch of both views");
   for (float x : test::context().download<float>(scratch, g.size() * S4D_ACCUM_SCRATCH_STRIDE)) CHECK(x == 0);
+}
+
+TEST_CASE("zero scales, zero and tiny quaternions and nearly singular covariances densify finitely, like the twin") {
+  ref::DensifyState in = random_state(300, 12);
+  const float split = std::log(0.03f);  // above dense_scale (0.01), below max_world_scale (0.045): split
+  auto set = [&](size_t i, std::array<float, 3> ls, std::array<float, 4> q) {
+    for (int k = 0; k < 3; ++k) in.param[S::kLogScales][3 * i + k] = ls[k];
+    for (int k = 0; k < 4; ++k) in.param[S::kQuats][4 * i + k] = q[k];
+    in.param[S::kOpacity][i] = 2;
+    in.stat[S::kGradCount][i] = 3, in.stat[S::kGradAccum][i] = 0.03f, in.stat[S::kMaxRadius][i] = 5;
+  };
+  for (size_t i = 0; i < 5; ++i) {
+    set(i, {split, split, split}, {0, 0, 0, 0});                      // zero quaternion: identity rotation
+    set(5 + i, {split, split, split}, {1e-20f, 2e-20f, 3e-20f, 4e-20f});  // |q|^2 of 3e-39 is a denormal
+    set(10 + i, {-100, -100, -100}, {1, 0, 0, 0});                  // exp(-100) is 0 in float: zero scales, cloned
+    set(15 + i, {split, split, std::log(1e-9f)}, {0.9f, 0.3f, 0.2f, 0.1f});  // nearly singular, tilted
+  }
+  model::TrainableGaussians g(test::context(), to_host(in, 1), "cloud");
+  densify::Densifier d(test::context());
+  const densify::DensifyRules r = rules();
+  const densify::DensifyResult res = d.densify(g, r);
+  ref::DensifyCounts c;
+  std::vector<uint32_t> slots;
+  const ref::DensifyState twin = ref::densify(in, densify::classify_params(r, 300), r.budget, r.seed, &c, &slots);
+  check_counts(res, c);
+  for (int a = 0; a < S::kAttrs; ++a)
+    for (const float x : twin.param[a]) REQUIRE(std::isfinite(x));
+  // As the random test: children's means within 1e-6 (exp, log, sin, cos on GPU and in libm).
+  const Compared cmp = compare(g.download(), twin, slots);
+  CHECK(cmp.children >= 30);  // the 15 split Gaussians above, two children each
+  CHECK(cmp.worst_child_mean <= 1e-6);
 }

@@ -24,7 +24,6 @@ namespace {
 using namespace s4d;
 using test::context;
 using test::run;
-using test::max_rel;
 using test::to_double;
 
 const nn::VggWidths kTiny{{4, 6, 8, 10, 10}};
@@ -105,7 +104,7 @@ TEST_CASE("nearest resize matches its twin, down and up, on sizes that do not di
   const auto gx = test::upload(x);
   for (const auto& [h, w] : {std::pair<uint32_t, uint32_t>{3, 4}, {14, 18}, {5, 13}, {7, 9}}) {
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::resize_nearest(r, gx, h, w); }));
-    CHECK(max_rel(gpu, ref::resize_nearest(to_double(x), h, w).v) == 0.0);  // a copy: exact
+    test::expect_allclose(gpu, ref::resize_nearest(to_double(x), h, w).v, {}, "gpu");  // a copy: exact
   }
 }
 
@@ -115,7 +114,7 @@ TEST_CASE("channel concatenation matches torch.cat") {
   const auto ga = test::upload(a, "a"), gb = test::upload(b, "b");
   const nn::Tensor* parts[] = {&ga, &gb};
   const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::concat_channels(r, parts); }));
-  CHECK(max_rel(gpu, ref::concat_channels(std::vector{to_double(a), to_double(b)}).v) == 0.0);  // copies: exact
+  test::expect_allclose(gpu, ref::concat_channels(std::vector{to_double(a), to_double(b)}).v, {}, "gpu");  // copies: exact
 }
 
 // Kernels nn_attn_scores, nn_softmax_rows, nn_attn_apply.
@@ -128,7 +127,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
         nn::download(context(), run([&](engine::Recorder& r) { return nn::attention_scores(r, gq, gk, 2, 5); }));
     const auto twin = ref::attention_scores(to_double(q), to_double(k));
     const std::vector<double> rows(twin.begin() + 2 * 10, twin.begin() + 7 * 10);
-    CHECK(max_rel(gpu, rows) < 1e-5);  // 1472 float products per score: measured 1.1e-6
+    test::expect_allclose(gpu, rows, {.of_largest = 1e-5}, "gpu");  // 1472 float products per score: measured 1.1e-6
   }
   SUBCASE("row softmax with logits up to +-80 and rows longer than a workgroup") {
     const auto s = test::random_chw(1, 3, 1000, rng, -80.0f, 80.0f);
@@ -138,7 +137,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
       return 0;
     });
     // float exp of logits shifted by the row maximum: measured 1.3e-7.
-    CHECK(max_rel(nn::download(context(), gs), ref::softmax_rows(to_double(s.v), 1000)) < 1e-5);
+    test::expect_allclose(nn::download(context(), gs), ref::softmax_rows(to_double(s.v), 1000), {.of_largest = 1e-5}, "gs");
   }
   SUBCASE("apply over 60000 style positions, the loop cap") {
     const uint32_t n_s = S4D_NN_MAX_LOOP;
@@ -163,7 +162,7 @@ TEST_CASE("attention kernels match their twins, at their loop caps too") {
     }());
     const auto gpu = nn::download(context(), out);
     const std::vector<float> chunk = {gpu[1], gpu[2], gpu[4], gpu[5]};
-    CHECK(max_rel(chunk, twin.v) < 3e-5);  // 60000-term float sums, then E[V^2] - M^2: measured 3.2e-6
+    test::expect_allclose(chunk, twin.v, {.of_largest = 3e-5}, "chunk");  // 60000-term float sums, then E[V^2] - M^2: measured 3.2e-6
   }
 }
 
@@ -178,7 +177,8 @@ TEST_CASE("the chunked attention matches its twin whatever the chunk") {
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) {
                                     return nn::attention(r, gq, gk, gv, gc, rows * 20 * sizeof(float));
                                   }));
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, rows);  // 5-term logits, 20-term sums: measured 1.3e-7
+    INFO(rows);
+    test::expect_allclose(gpu, twin.v, {.of_largest = 2e-6}, "gpu");  // 5-term logits, 20-term sums: measured 1.3e-7
   }
 }
 
@@ -205,7 +205,7 @@ TEST_CASE("AdaAttN end to end matches its twin, with odd sizes and a subsampled 
     // Each stage's float error carried through the next; the relu5_1 statistics over 3x3 and 2x2
     // maps and the softmax of logits in the tens (He-uniform f and g on normalised keys) amplify
     // it, as MCC's statistics do in test_nn_networks.cpp: measured 6.0e-5 (alpha 1), 4.6e-5.
-    CHECK(max_rel(nn::download(context(), out), twin.v) < 3e-4);
+    test::expect_allclose(nn::download(context(), out), twin.v, {.of_largest = 3e-4}, "out");
   }
 }
 
@@ -235,10 +235,8 @@ TEST_CASE("the adaattn stylizer's frames are the network's, resized back and cla
   ref::Chw<float> clamped(twin.c, twin.h, twin.w);
   for (size_t i = 0; i < twin.v.size(); ++i) clamped.v[i] = static_cast<float>(std::clamp(twin.v[i], 0.0, 1.0));
   const io::ImageF expected = io::resize_image(image(clamped), 34, 30);
-  double worst = 0;
-  for (size_t i = 0; i < expected.data.size(); ++i)
-    worst = std::max(worst, static_cast<double>(std::abs(out[0].data[i] - expected.data[i])));
-  CHECK(worst < 1e-3);  // values in [0, 1]; the network's float error as end to end: measured 2.3e-4
+  // Values in [0, 1]; the network's float error as end to end: measured 2.3e-4.
+  test::expect_allclose(out[0].data, expected.data, {.atol = 1e-3}, "frame");
 }
 
 TEST_CASE("AdaAttN weights that are missing fail naming the file and the tensor") {

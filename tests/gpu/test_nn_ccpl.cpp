@@ -19,7 +19,6 @@ namespace {
 
 using namespace s4d;
 using test::context;
-using test::max_rel;
 using test::run;
 using test::to_double;
 
@@ -76,10 +75,10 @@ TEST_CASE("the CCPL gather, the column normalisation and PatchNCE match their tw
     nn::ccpl_gather_backward(r, test::upload(dout, "dout"), gpairs, into);
     return std::pair{nn::ccpl_gather(r, test::upload(f), gpairs, 72), std::move(into)};
   });
-  CHECK(max_rel(nn::download(context(), out), ref::ccpl_gather(to_double(f), samples.anchor, samples.neighbour).v) < 1e-6);  // one float difference: measured 3.2e-8
+  test::expect_allclose(nn::download(context(), out), ref::ccpl_gather(to_double(f), samples.anchor, samples.neighbour).v, {.of_largest = 1e-6}, "out");  // one float difference: measured 3.2e-8
   auto twin_df = ref::ccpl_gather_bwd(to_double(dout), samples.anchor, samples.neighbour, 9, 10);
   for (size_t i = 0; i < twin_df.v.size(); ++i) twin_df.v[i] += prior.v[i];
-  CHECK(max_rel(nn::download(context(), df), twin_df.v) < 1e-6);  // sums of a few values: measured 4.6e-8
+  test::expect_allclose(nn::download(context(), df), twin_df.v, {.of_largest = 1e-6}, "df");  // sums of a few values: measured 4.6e-8
 
   const auto x = test::random_chw(37, 1, 70, rng), dy = test::random_chw(37, 1, 70, rng);
   auto [y, dx] = run([&](engine::Recorder& r) {
@@ -87,16 +86,16 @@ TEST_CASE("the CCPL gather, the column normalisation and PatchNCE match their tw
     return std::pair{nn::l2norm_columns(r, gx), nn::l2norm_columns_backward(r, gx, test::upload(dy, "dy"))};
   });
   // Float sums over 37 channels: measured 1.2e-7 (forward), 1.6e-7 (backward).
-  CHECK(max_rel(nn::download(context(), y), ref::l2norm_cols(to_double(x)).v) < 2e-6);
-  CHECK(max_rel(nn::download(context(), dx), ref::l2norm_cols_bwd(to_double(x), to_double(dy)).v) < 2e-6);
+  test::expect_allclose(nn::download(context(), y), ref::l2norm_cols(to_double(x)).v, {.of_largest = 2e-6}, "y");
+  test::expect_allclose(nn::download(context(), dx), ref::l2norm_cols_bwd(to_double(x), to_double(dy)).v, {.of_largest = 2e-6}, "dx");
 
   const auto scores = test::random_chw(1, 70, 70, rng);  // cosines in [-1, 1]: logits up to 1 / tau
   const float tau = 0.07f, scale = 0.3f;
   auto nce = run([&](engine::Recorder& r) { return nn::patchnce(r, test::upload(scores, "scores"), tau, scale); });
   const auto twin = ref::patchnce_rows(to_double(scores.v), 70, 1.0 / double(tau), double(scale));
   // exp of logits up to 14 in float: measured 5.5e-8 (losses), 1.7e-7 (gradient).
-  CHECK(max_rel(context().download<float>(nce.loss, 70), twin.loss) < 5e-6);
-  CHECK(max_rel(nn::download(context(), nce.grad), twin.grad) < 5e-6);
+  test::expect_allclose(context().download<float>(nce.loss, 70), twin.loss, {.of_largest = 5e-6}, "nce.loss");
+  test::expect_allclose(nn::download(context(), nce.grad), twin.grad, {.of_largest = 5e-6}, "nce.grad");
   CHECK_THROWS_AS(run([&](engine::Recorder& r) { return nn::patchnce(r, test::upload(dy, "dy"), tau, scale); }), std::invalid_argument);
 }
 
@@ -128,11 +127,11 @@ TEST_CASE("one CCPL level (heads, normalisation, PatchNCE and back) matches its 
     // Float through two Linear layers, the normalisation and exp(logits / 0.07): measured 3.2e-8
     // (value), 3.4e-7 (features), 6.6e-7 (heads).
     CHECK(std::abs(value - twin.value) / twin.value < 1e-6);
-    CHECK(max_rel(nn::download(context(), dfq), twin_dfq.v) < 1e-5);
-    CHECK(max_rel(context().download<float>(g0w, c * c), twin.grads.first.weight) < 1e-5);
-    CHECK(max_rel(context().download<float>(g0b, c), twin.grads.first.bias) < 1e-5);
-    CHECK(max_rel(context().download<float>(g1w, out * c), twin.grads.second.weight) < 1e-5);
-    CHECK(max_rel(context().download<float>(g1b, out), twin.grads.second.bias) < 1e-5);
+    test::expect_allclose(nn::download(context(), dfq), twin_dfq.v, {.of_largest = 1e-5}, "dfq");
+    test::expect_allclose(context().download<float>(g0w, c * c), twin.grads.first.weight, {.of_largest = 1e-5}, "g0w");
+    test::expect_allclose(context().download<float>(g0b, c), twin.grads.first.bias, {.of_largest = 1e-5}, "g0b");
+    test::expect_allclose(context().download<float>(g1w, out * c), twin.grads.second.weight, {.of_largest = 1e-5}, "g1w");
+    test::expect_allclose(context().download<float>(g1b, out), twin.grads.second.bias, {.of_largest = 1e-5}, "g1b");
   }
   // Weight 0 without head gradients (a set that only logs the term): the same losses, dq untouched.
   {

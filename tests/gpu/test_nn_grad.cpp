@@ -18,7 +18,6 @@ namespace {
 
 using namespace s4d;
 using test::context;
-using test::max_rel;
 using test::run;
 using test::to_double;
 
@@ -56,13 +55,13 @@ TEST_CASE("convolution input, weight and bias gradients match their twins") {
       for (double& e : b2) e *= 2;
       INFO(cin << "->" << cout << " " << h << "x" << w << " k " << k);
       // Float sums of up to 9 x 9 products against double: measured 1.3e-7.
-      CHECK(max_rel(nn::download(context(), dx), twin_dx.v) < 2e-6);
+      test::expect_allclose(nn::download(context(), dx), twin_dx.v, {.of_largest = 2e-6}, "dx");
       // Float sums over up to 1480 pixels in two chunks: measured 7.9e-7 (weights), 5.1e-7 (bias).
-      CHECK(max_rel(context().download<float>(dw, w2.size()), w2) < 2e-6);
-      CHECK(max_rel(context().download<float>(db, b2.size()), b2) < 2e-6);
+      test::expect_allclose(context().download<float>(dw, w2.size()), w2, {.of_largest = 2e-6}, "dw");
+      test::expect_allclose(context().download<float>(db, b2.size()), b2, {.of_largest = 2e-6}, "db");
       const auto fresh = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv_backward_input(r, gdy, weights); }));
       for (size_t i = 0; i < twin_dx.v.size(); ++i) twin_dx.v[i] -= prior.v[i];
-      CHECK(max_rel(fresh, twin_dx.v) < 2e-6);
+      test::expect_allclose(fresh, twin_dx.v, {.of_largest = 2e-6}, "fresh");
     }
   }
 }
@@ -77,18 +76,18 @@ TEST_CASE("ReLU, upsampling and max-pooling gradients match their twins, pooling
     nn::relu_backward(r, g, test::upload(y, "y"));
     return g;
   }));
-  CHECK(max_rel(relu, ref::relu_bwd(to_double(dy), to_double(y)).v) == 0.0);  // exact copies and zeros
+  test::expect_allclose(relu, ref::relu_bwd(to_double(dy), to_double(y)).v, {}, "relu");  // exact copies and zeros
   const auto du = test::random_chw(5, 14, 18, rng);
   const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2_backward(r, test::upload(du)); }));
   // Sums of 4 floats: measured 7.5e-8.
-  CHECK(max_rel(up, ref::upsample2_bwd(to_double(du)).v) < 1e-6);
+  test::expect_allclose(up, ref::upsample2_bwd(to_double(du)).v, {.of_largest = 1e-6}, "up");
   // Odd sizes (edge windows of 2 and 1 values) and ReLU zeros: tied windows of zeros everywhere.
   const auto px = y;
   const auto dp = test::random_chw(5, 4, 5, rng);
   const auto pool = nn::download(context(), run([&](engine::Recorder& r) {
     return nn::maxpool2_backward(r, test::upload(px), test::upload(dp, "dy"));
   }));
-  CHECK(max_rel(pool, ref::maxpool2_ceil_bwd(to_double(px), to_double(dp)).v) == 0.0);  // copies
+  test::expect_allclose(pool, ref::maxpool2_ceil_bwd(to_double(px), to_double(dp)).v, {}, "pool");  // copies
 }
 
 // Kernels nn_channel_dots, nn_mean_std_bwd (both modes), nn_squares_over_sum_bwd.
@@ -117,9 +116,9 @@ TEST_CASE("channel statistics, normalisation and sum(x^2)/sum(x) gradients match
   auto twin_norm = ref::normalise_bwd(xd, st, to_double(dy));
   for (size_t i = 0; i < prior.v.size(); ++i) twin_stats.v[i] += prior.v[i], twin_norm.v[i] += prior.v[i];
   // Float element-wise maths and sums over 300 values: measured 5.3e-8, 9.1e-8, 9.6e-8.
-  CHECK(max_rel(nn::download(context(), gstats), twin_stats.v) < 1e-6);
-  CHECK(max_rel(nn::download(context(), gnorm), twin_norm.v) < 1e-6);
-  CHECK(max_rel(nn::download(context(), gsos), ref::squares_over_sum_bwd(xd, to_double(da.v)).v) < 2e-6);
+  test::expect_allclose(nn::download(context(), gstats), twin_stats.v, {.of_largest = 1e-6}, "gstats");
+  test::expect_allclose(nn::download(context(), gnorm), twin_norm.v, {.of_largest = 1e-6}, "gnorm");
+  test::expect_allclose(nn::download(context(), gsos), ref::squares_over_sum_bwd(xd, to_double(da.v)).v, {.of_largest = 2e-6}, "gsos");
 }
 
 // Kernel nn_mse.
@@ -135,7 +134,7 @@ TEST_CASE("squared error adds scale (a - b) to the gradient and sums (a - b)^2 o
   });
   std::vector<double> twin(1000);
   for (size_t i = 0; i < twin.size(); ++i) twin[i] = prior[i] + 0.25 * (double(a[i]) - b[i]);
-  CHECK(max_rel(context().download<float>(grad, 1000), twin) < 1e-6);  // one float FMA: measured 5.3e-8
+  test::expect_allclose(context().download<float>(grad, 1000), twin, {.of_largest = 1e-6}, "grad");  // one float FMA: measured 5.3e-8
   const double sum = ref::squared_error(to_double(a), to_double(b));
   CHECK(nn::squared_error_value(context(), partials) == doctest::Approx(sum).epsilon(1e-6));  // float sums of 1000 squares: measured below 1e-7
 }
@@ -152,7 +151,7 @@ TEST_CASE("L1 total variation adds weight dTV/dx to the gradient and sums the TV
   });
   auto twin = ref::tv_l1_bwd(to_double(x));
   for (size_t i = 0; i < twin.v.size(); ++i) twin.v[i] = prior.v[i] + 0.5 * twin.v[i];
-  CHECK(max_rel(nn::download(context(), grad), twin.v) < 1e-6);  // sums of 4 signs, one FMA: measured 4.0e-8
+  test::expect_allclose(nn::download(context(), grad), twin.v, {.of_largest = 1e-6}, "grad");  // sums of 4 signs, one FMA: measured 4.0e-8
   // Float sums of 580 magnitudes: within the printed 329.135.
   CHECK(nn::squared_error_value(context(), partials) == doctest::Approx(ref::tv_l1(to_double(x))).epsilon(1e-6));
 }
@@ -170,11 +169,11 @@ TEST_CASE("3x3 average pooling, its gradient and the self-similarity term match 
     return std::tuple{nn::avgpool3(r, test::upload(x)), nn::avgpool3_backward(r, test::upload(dy, "dy")), std::move(g),
                       std::move(val)};
   });
-  CHECK(max_rel(nn::download(context(), pooled), ref::avgpool3(to_double(x)).v) < 1e-6);  // sums of 9: measured 9.7e-8
-  CHECK(max_rel(nn::download(context(), dpool), ref::avgpool3_bwd(to_double(dy)).v) < 1e-6);  // measured 1.2e-7
+  test::expect_allclose(nn::download(context(), pooled), ref::avgpool3(to_double(x)).v, {.of_largest = 1e-6}, "pooled");  // sums of 9: measured 9.7e-8
+  test::expect_allclose(nn::download(context(), dpool), ref::avgpool3_bwd(to_double(dy)).v, {.of_largest = 1e-6}, "dpool");  // measured 1.2e-7
   auto twin = ref::selfsim_bwd(to_double(v));
   for (size_t i = 0; i < twin.v.size(); ++i) twin.v[i] = prior.v[i] + 0.5 / 5 * twin.v[i];
-  CHECK(max_rel(nn::download(context(), grad), twin.v) < 1e-5);  // float sums over 585 values: measured 3.0e-8
+  test::expect_allclose(nn::download(context(), grad), twin.v, {.of_largest = 1e-5}, "grad");  // float sums over 585 values: measured 3.0e-8
   // The value from the same float sums: equal to the printed 4.98725.
   CHECK(context().download<float>(value, 1)[0] == doctest::Approx(ref::selfsim(to_double(v))).epsilon(1e-5));
 }

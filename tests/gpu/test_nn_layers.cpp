@@ -16,7 +16,6 @@ namespace {
 using namespace s4d;
 using test::context;
 using test::run;
-using test::max_rel;
 using test::to_double;
 
 }  // namespace
@@ -35,7 +34,8 @@ TEST_CASE("conv3x3 with reflection padding matches its twin, with and without Re
           nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3(r, gx, weights, relu); }));
       const auto twin = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), cout, relu);
       // Float sums of at most 144 products of O(1) terms against double: measured 2.0e-7.
-      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+      INFO(cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+      test::expect_allclose(gpu, twin.v, {.of_largest = 2e-6}, "gpu");
     }
   }
 }
@@ -54,7 +54,8 @@ TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
           nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, relu); }));
       const auto twin = ref::conv3x3_zero_pad(to_double(x), to_double(params.weight), to_double(params.bias), cout, relu);
       // Float sums of at most 144 products of O(1) terms against double: measured 2.1e-7.
-      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+      INFO(cin << "->" << cout << " " << h << "x" << w << " relu " << relu);
+      test::expect_allclose(gpu, twin.v, {.of_largest = 2e-6}, "gpu");
     }
   }
   // The zero border differs from the reflected one: the two variants must disagree at the edges.
@@ -64,7 +65,7 @@ TEST_CASE("conv3x3 with zero padding matches its twin, down to 1x1 images") {
   const auto weights = test::upload(params);
   const auto zero = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3_zero_pad(r, gx, weights, false); }));
   const auto reflect = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), 8, false);
-  CHECK(max_rel(zero, reflect.v) > 1e-2);
+  CHECK_FALSE(test::allclose_report(zero, reflect.v, {.of_largest = 1e-2}, "zero padding").ok);
 }
 
 // Kernel nn_conv_strided.
@@ -87,7 +88,8 @@ TEST_CASE("strided convolutions of any kernel size (AlexNet's 11x11 stride 4, 5x
           context(), run([&](engine::Recorder& r) { return nn::conv_strided(r, gx, weights, c.stride, c.pad, relu); }));
       const auto twin = ref::conv2d(to_double(x), to_double(params.weight), to_double(params.bias), c.cout, c.k, c.stride, c.pad, relu);
       // Float sums of at most 768 products against double: measured 6.0e-7 (the 11x11 stride-4 case).
-      CHECK_MESSAGE(max_rel(gpu, twin.v) < 2e-6, "k " << c.k << " stride " << c.stride << " " << c.h << "x" << c.w);
+      INFO("k " << c.k << " stride " << c.stride << " " << c.h << "x" << c.w);
+      test::expect_allclose(gpu, twin.v, {.of_largest = 2e-6}, "gpu");
     }
   }
   // cin * k * k past llvmpipe's loop cap is refused before recording.
@@ -110,7 +112,7 @@ TEST_CASE("conv3x3 over 1024 input channels stays under llvmpipe's loop cap") {
   const auto gpu =
       nn::download(context(), run([&](engine::Recorder& r) { return nn::conv3x3(r, gx, weights, false); }));
   const auto twin = ref::conv3x3(to_double(x), to_double(params.weight), to_double(params.bias), 8, false);
-  CHECK(max_rel(gpu, twin.v) < 1e-5);  // 9216 float products per output: measured 5.8e-7
+  test::expect_allclose(gpu, twin.v, {.of_largest = 1e-5}, "gpu");  // 9216 float products per output: measured 5.8e-7
 }
 
 // Kernel nn_conv1x1.
@@ -122,7 +124,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   const auto weights = test::upload(params);
   const auto twin = ref::conv1x1(to_double(x), to_double(params.weight), to_double(params.bias), 10, true);
   const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, gx, weights, true); }));
-  CHECK(max_rel(gpu, twin.v) < 2e-6);  // 7 products: measured 7.7e-8
+  test::expect_allclose(gpu, twin.v, {.of_largest = 2e-6}, "gpu");  // 7 products: measured 7.7e-8
 
   const auto v = test::random_chw(33, 1, 1, rng);
   const auto linear = test::random_conv(33, 20, 1, rng);
@@ -130,7 +132,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   const auto lw = test::upload(linear);
   const auto lin = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, gv, lw, false); }));
   const auto lin_twin = ref::conv1x1(to_double(v), to_double(linear.weight), to_double(linear.bias), 20, false);
-  CHECK(max_rel(lin, lin_twin.v) < 2e-6);  // 33 products: measured 1.4e-7
+  test::expect_allclose(lin, lin_twin.v, {.of_largest = 2e-6}, "lin");  // 33 products: measured 1.4e-7
 
   const auto residual = test::random_chw(10, 5, 6, rng);
   auto out = test::upload(residual, "residual");
@@ -140,7 +142,7 @@ TEST_CASE("conv1x1 matches its twin, as a Linear layer too, and accumulates into
   });
   auto expected = ref::conv1x1(to_double(x), to_double(params.weight), to_double(params.bias), 10, false);
   for (size_t i = 0; i < expected.v.size(); ++i) expected.v[i] += residual.v[i];
-  CHECK(max_rel(nn::download(context(), out), expected.v) < 2e-6);  // measured 8.0e-8
+  test::expect_allclose(nn::download(context(), out), expected.v, {.of_largest = 2e-6}, "out");  // measured 8.0e-8
 }
 
 // Kernels nn_relu, nn_maxpool, nn_avgpool2, nn_maxpool3s2, nn_upsample, nn_subsample2.
@@ -150,25 +152,25 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and su
     const auto x = test::random_chw(3, h, w, rng);
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2(r, gx); }));
-    CHECK(max_rel(pooled, ref::maxpool2_ceil(to_double(x)).v) == 0.0);
+    test::expect_allclose(pooled, ref::maxpool2_ceil(to_double(x)).v, {}, "pooled");
     const auto up = nn::download(context(), run([&](engine::Recorder& r) { return nn::upsample2(r, gx); }));
-    CHECK(max_rel(up, ref::upsample2(to_double(x)).v) == 0.0);
+    test::expect_allclose(up, ref::upsample2(to_double(x)).v, {}, "up");
     const auto sub = nn::download(context(), run([&](engine::Recorder& r) { return nn::subsample2(r, gx); }));
     const auto sub_twin = ref::subsample2(to_double(x));
     REQUIRE(sub.size() == size_t{3} * ((h + 1) / 2) * ((w + 1) / 2));
-    CHECK(max_rel(sub, sub_twin.v) == 0.0);
+    test::expect_allclose(sub, sub_twin.v, {}, "sub");
   }
   // Floor mode (torchvision's VGG) through the same kernel: odd last rows and columns are dropped.
   for (const auto& [h, w] : {std::array<uint32_t, 2>{7, 5}, {8, 6}, {2, 3}}) {
     const auto x = test::random_chw(3, h, w, rng);
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool2_floor(r, gx); }));
-    CHECK(max_rel(pooled, ref::maxpool2_floor(to_double(x)).v) == 0.0);
+    test::expect_allclose(pooled, ref::maxpool2_floor(to_double(x)).v, {}, "pooled");
     // AvgPool2d(2) (CLIP's ModifiedResNet), floor mode as well.
     const auto averaged = nn::download(context(), run([&](engine::Recorder& r) { return nn::avgpool2(r, gx); }));
     const auto average_twin = ref::avgpool2(to_double(x));
     REQUIRE(averaged.size() == size_t{3} * (h / 2) * (w / 2));
-    CHECK(max_rel(averaged, average_twin.v) < 1e-6);  // three float sums and a division by 4: measured 1.1e-7
+    test::expect_allclose(averaged, average_twin.v, {.of_largest = 1e-6}, "averaged");  // three float sums and a division by 4: measured 1.1e-7
   }
   {
     engine::Recorder rec(context(), "refused");
@@ -179,7 +181,7 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and su
     const auto x = test::random_chw(3, h, w, rng);
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::maxpool3s2(r, gx); }));
-    CHECK(max_rel(pooled, ref::maxpool3s2(to_double(x)).v) == 0.0);
+    test::expect_allclose(pooled, ref::maxpool3s2(to_double(x)).v, {}, "pooled");
   }
   // With padding 1 (ResNet's stem): floor((in - 1) / 2) + 1 outputs, border windows partly outside;
   // all-negative inputs so a padded zero winning would show.
@@ -190,7 +192,7 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and su
     const auto twin = ref::maxpool3s2(to_double(x), 1);
     REQUIRE(pooled.size() == twin.v.size());
     CHECK(twin.h == (h - 1) / 2 + 1);
-    CHECK(max_rel(pooled, twin.v) == 0.0);
+    test::expect_allclose(pooled, twin.v, {}, "pooled");
   }
   auto x = test::random_chw(2, 9, 11, rng);
   auto gx = test::upload(x);
@@ -198,7 +200,7 @@ TEST_CASE("relu, 2x2 ceil- and floor-mode max pooling, nearest upsampling and su
     nn::relu_inplace(r, gx);
     return 0;
   });
-  CHECK(max_rel(nn::download(context(), gx), ref::relu(to_double(x)).v) == 0.0);
+  test::expect_allclose(nn::download(context(), gx), ref::relu(to_double(x)).v, {}, "gx");
 }
 
 // Kernel nn_l2pool.
@@ -209,7 +211,8 @@ TEST_CASE("DISTS's L2 pooling matches its twin and the hand-computed values of a
     const auto gx = test::upload(x);
     const auto pooled = nn::download(context(), run([&](engine::Recorder& r) { return nn::l2pool(r, gx); }));
     // 9 float squares summed, then a square root: measured 6.4e-8.
-    CHECK_MESSAGE(max_rel(pooled, ref::l2pool(to_double(x), 1e-12).v) < 1e-6, h << "x" << w);
+    INFO(h << "x" << w);
+    test::expect_allclose(pooled, ref::l2pool(to_double(x), 1e-12).v, {.of_largest = 1e-6}, "pooled");
   }
   // Constant 0.8 on 4x4: every output window's weights sum to 1 inside, so sqrt(0.64) = 0.8, except
   // where the zero padding cuts the window: the top-left output sees rows and columns 0, 1 with
@@ -235,13 +238,13 @@ TEST_CASE("channel mean and std (unbiased + eps) and MCC's sum(x^2)/sum(x) match
         context().download<float>(run([&](engine::Recorder& r) { return nn::mean_std(r, gx, 1e-5f); }), 2 * size_t{c});
     // Float partial sums against double: measured 2.0e-7 (300x300).
     const std::vector<double> stats_twin = ref::mean_std(to_double(x), 1e-5);
-    CHECK(max_rel(stats, stats_twin) < 2e-6);
+    test::expect_allclose(stats, stats_twin, {.of_largest = 2e-6}, "stats");
     // global_average: the means alone, as a [c, 1, 1] tensor.
     const auto means = nn::download(context(), run([&](engine::Recorder& r) { return nn::global_average(r, gx); }));
     REQUIRE(means.size() == c);
-    CHECK(max_rel(means, std::vector<double>(stats_twin.begin(), stats_twin.begin() + c)) < 2e-6);  // as the means above
+    test::expect_allclose(means, std::vector<double>(stats_twin.begin(), stats_twin.begin() + c), {.of_largest = 2e-6}, "means");  // as the means above
     const auto a = nn::download(context(), run([&](engine::Recorder& r) { return nn::squares_over_sum(r, gx); }));
-    CHECK(max_rel(a, ref::squares_over_sum(to_double(x))) < 2e-6);  // measured 3.7e-7 (300x300)
+    test::expect_allclose(a, ref::squares_over_sum(to_double(x)), {.of_largest = 2e-6}, "a");  // measured 3.7e-7 (300x300)
   }
 }
 
@@ -260,13 +263,13 @@ TEST_CASE("adain, its content blend, normalisation, channel scaling and blending
                                     return nn::adain(r, gc, c_stats, s_stats, alpha);
                                   }));
     // The float statistics' 1e-7 error carried through: measured 1.1e-7.
-    CHECK(max_rel(gpu, ref::adain(to_double(content), cs, ss, double{alpha}).v) < 2e-6);
+    test::expect_allclose(gpu, ref::adain(to_double(content), cs, ss, double{alpha}).v, {.of_largest = 2e-6}, "gpu");
   }
   const auto normalised = nn::download(context(), run([&](engine::Recorder& r) {
                                          const auto c_stats = nn::mean_std(r, gc);
                                          return nn::normalise(r, gc, c_stats);
                                        }));
-  CHECK(max_rel(normalised, ref::normalise(to_double(content), cs).v) < 2e-6);  // measured 7.7e-8
+  test::expect_allclose(normalised, ref::normalise(to_double(content), cs).v, {.of_largest = 2e-6}, "normalised");  // measured 7.7e-8
 
   const auto factors = test::random_values(6, -2.0f, 2.0f, rng);
   auto scaled = test::upload(content);
@@ -276,19 +279,19 @@ TEST_CASE("adain, its content blend, normalisation, channel scaling and blending
     return 0;
   });
   const auto scaled_twin = ref::scale_channels(to_double(content), to_double(factors));
-  CHECK(max_rel(nn::download(context(), scaled), scaled_twin.v) < 1e-7);  // one rounding: measured 3.0e-8
+  test::expect_allclose(nn::download(context(), scaled), scaled_twin.v, {.of_largest = 1e-7}, "scaled");  // one rounding: measured 3.0e-8
 
   const auto other = test::random_chw(6, 7, 9, rng);
   const auto go = test::upload(other, "other");
   const auto blended = nn::download(context(), run([&](engine::Recorder& r) { return nn::blend(r, gc, go, 0.3f); }));
   std::vector<double> blend_twin(content.v.size());
   for (size_t i = 0; i < blend_twin.size(); ++i) blend_twin[i] = 0.3 * content.v[i] + 0.7 * other.v[i];
-  CHECK(max_rel(blended, blend_twin) < 2e-7);  // two products and a sum in float: measured 6.2e-8
+  test::expect_allclose(blended, blend_twin, {.of_largest = 2e-7}, "blended");  // two products and a sum in float: measured 6.2e-8
   // subtract (CKDN's branch difference): one rounding of a - b.
   const auto diff = nn::download(context(), run([&](engine::Recorder& r) { return nn::subtract(r, gc, go); }));
   std::vector<double> diff_twin(content.v.size());
   for (size_t i = 0; i < diff_twin.size(); ++i) diff_twin[i] = double(content.v[i]) - double(other.v[i]);
-  CHECK(max_rel(diff, diff_twin) < 1e-7);  // measured 0 (float a - b is the exact difference rounded once)
+  test::expect_allclose(diff, diff_twin, {.of_largest = 1e-7}, "diff");  // measured 0 (float a - b is the exact difference rounded once)
 }
 
 TEST_CASE("layers refuse mismatched shapes before recording anything") {

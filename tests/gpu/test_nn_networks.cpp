@@ -19,7 +19,6 @@ namespace {
 using namespace s4d;
 using test::context;
 using test::run;
-using test::max_rel;
 using test::to_double;
 
 const nn::VggWidths kTiny{{4, 6, 8, 10, 12}};
@@ -57,7 +56,8 @@ TEST_CASE("the VGG encoder matches its twin at relu1_1 .. relu5_1 and ignores th
     CHECK(gpu.h == twin.h);
     CHECK(gpu.w == twin.w);
     // Up to 15 float conv layers against double: measured 1.6e-6 (relu5_1).
-    CHECK_MESSAGE(max_rel(nn::download(context(), gpu), twin.v) < 1e-5, "relu" << level << "_1");
+    INFO("relu" << level << "_1");
+    test::expect_allclose(nn::download(context(), gpu), twin.v, {.of_largest = 1e-5}, "gpu");
   }
 }
 
@@ -79,8 +79,8 @@ TEST_CASE("AdaIN end to end matches its twin, blended with the content or not") 
     CHECK(out.h == 24);  // 17 -> 9 -> 5 -> 3, x8
     CHECK(out.w == 24);  // 20 -> 10 -> 5 -> 3, x8
     // Encoder, statistics, AdaIN and 9 decoder layers in float against double: measured 3.0e-6.
-    CHECK_MESSAGE(max_rel(nn::download(context(), out), twin_adain(vgg, decoder, content, style, alpha).v) < 2e-5,
-                  "alpha " << alpha);
+    INFO("alpha " << alpha);
+    test::expect_allclose(nn::download(context(), out), twin_adain(vgg, decoder, content, style, alpha).v, {.of_largest = 2e-5}, "out");
   }
 }
 
@@ -109,20 +109,20 @@ TEST_CASE("MCCNet matches its twin module by module and end to end, blended with
     const auto fcs =
         run([&](engine::Recorder& r) { return net.transform(r, fc, net.style(r, gs).at(0).buffer, alpha); });
     const auto twin_fcs = test::twin_mcc(mcc, test::download_chw(fc), test::download_chw(fs), alpha);
-    CHECK(max_rel(nn::download(context(), fcs), twin_fcs.v) < 3e-6);
+    test::expect_allclose(nn::download(context(), fcs), twin_fcs.v, {.of_largest = 3e-6}, "fcs");
     // The decoder on the module's output: measured 7.4e-7.
     const auto decoded = run([&](engine::Recorder& r) { return gpu_decoder.decode(r, fcs); });
-    CHECK(max_rel(nn::download(context(), decoded), test::twin_decode(decoder, test::download_chw(fcs)).v) < 3e-6);
+    test::expect_allclose(nn::download(context(), decoded), test::twin_decode(decoder, test::download_chw(fcs)).v, {.of_largest = 3e-6}, "decoded");
     // End to end, each stage's float error carried through the next: measured 7.6e-6.
     const auto out = run([&](engine::Recorder& r) { return net.stylize(r, gc, net.style(r, gs), alpha); });
     CHECK(out.h == 24);
     CHECK(out.w == 24);
     const auto gpu = nn::download(context(), out);
-    CHECK(max_rel(gpu, twin_mccnet(vgg, decoder, mcc, content, style, alpha).v) < 5e-5);
+    test::expect_allclose(gpu, twin_mccnet(vgg, decoder, mcc, content, style, alpha).v, {.of_largest = 5e-5}, "gpu");
     if (alpha == 1.0f)
       full_style = gpu;
     else
-      CHECK(max_rel(gpu, test::to_double(full_style)) > 1e-2);  // the blend changes the image
+      CHECK_FALSE(test::allclose_report(gpu, test::to_double(full_style), {.of_largest = 1e-2}, "blend").ok);  // the blend changes the image
   }
 }
 
@@ -146,19 +146,19 @@ TEST_CASE("AdaIN and MCCNet at the real VGG19 widths match their twins on a 16x1
   const auto gc = test::upload(content, "content"), gs = test::upload(style, "style");
   const auto out = run([&](engine::Recorder& r) { return adain.stylize(r, gc, adain.style(r, gs), 1.0f); });
   // Sums over up to 4608 products per output, 13 + 9 layers: measured 4.1e-6.
-  CHECK(max_rel(nn::download(context(), out), twin_adain(vgg, decoder, content, style, 1.0).v) < 2e-5);
+  test::expect_allclose(nn::download(context(), out), twin_adain(vgg, decoder, content, style, 1.0).v, {.of_largest = 2e-5}, "out");
 
   const auto fc = run([&](engine::Recorder& r) { return encoder.encode(r, gc, 4); });
   const auto fs = run([&](engine::Recorder& r) { return encoder.encode(r, gs, 4); });
   const auto fcs =
       run([&](engine::Recorder& r) { return mccnet.transform(r, fc, mccnet.style(r, gs).at(0).buffer, 1.0f); });
   const auto twin_fcs = test::twin_mcc(mcc, test::download_chw(fc), test::download_chw(fs), 1.0);
-  CHECK(max_rel(nn::download(context(), fcs), twin_fcs.v) < 1e-5);  // the module alone: measured 1.5e-6
+  test::expect_allclose(nn::download(context(), fcs), twin_fcs.v, {.of_largest = 1e-5}, "fcs");  // the module alone: measured 1.5e-6
   // End to end, MCC's statistics over relu4_1's 2x2 pixels amplify the encoder's float error: a
   // relative 1e-7 change of the input image moves the double twin's output by 2.9e-6 (AdaIN's by
   // 1.7e-7). Measured 7.5e-5.
   const auto mcc_out = run([&](engine::Recorder& r) { return mccnet.stylize(r, gc, mccnet.style(r, gs), 1.0f); });
-  CHECK(max_rel(nn::download(context(), mcc_out), twin_mccnet(vgg, decoder, mcc, content, style, 1.0).v) < 4e-4);
+  test::expect_allclose(nn::download(context(), mcc_out), twin_mccnet(vgg, decoder, mcc, content, style, 1.0).v, {.of_largest = 4e-4}, "mcc_out");
 }
 
 TEST_CASE("network weights that are missing, misshapen or not finite fail naming the file and the tensor") {

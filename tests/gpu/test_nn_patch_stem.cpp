@@ -14,7 +14,6 @@ namespace {
 
 using namespace s4d;
 using test::context;
-using test::max_rel;
 using test::run;
 using test::to_double;
 
@@ -45,7 +44,8 @@ TEST_CASE("group_norm_cells normalises each cell's window on its own and zeroes 
     const auto twin = ref::group_norm_cells(to_double(x), to_double(weight), to_double(bias), k.groups, 1e-4, k.window.cell_h,
                                             k.window.row0, k.window.rows, k.window.col0, k.window.cols, k.relu);
     // Float sums of up to 8 x 64 values against double: measured 2.6e-7.
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 1e-5, k.channels << " channels, " << k.groups << " groups");
+    INFO(k.channels << " channels, " << k.groups << " groups");
+    test::expect_allclose(gpu, twin.v, {.of_largest = 1e-5}, "gpu");
     size_t zeros = 0;
     for (float v : gpu) zeros += v == 0.0f;
     const size_t outside = x.v.size() - size_t{k.cells} * k.channels * k.window.rows * k.window.cols;
@@ -73,14 +73,16 @@ TEST_CASE("im2col unfolds as its twin, and a 1x1 convolution of it is the stride
     CHECK(cols.c == twin.c);
     CHECK(cols.h == twin.h);
     CHECK(cols.w == twin.w);
-    CHECK_MESSAGE(max_rel(nn::download(context(), cols), twin.v) == 0, "a copy: exact");
+    INFO("a copy: exact");
+    test::expect_allclose(nn::download(context(), cols), twin.v, {}, "cols");
     const uint32_t cout = 4;
     const auto params = test::random_conv(c, cout, k, rng);
     const auto as_1x1 = nn::upload_conv(context(), "unfolded", c * k * k, cout, 1, params.weight, params.bias);
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, cols, as_1x1, false); }));
     const auto conv = ref::conv2d(to_double(x), to_double(params.weight), to_double(params.bias), cout, k, stride, pad, false);
     // Float sums of up to 405 products against double: measured 4.1e-7.
-    CHECK_MESSAGE(max_rel(gpu, conv.v) < 1e-5, k << "x" << k << " stride " << stride);
+    INFO(k << "x" << k << " stride " << stride);
+    test::expect_allclose(gpu, conv.v, {.of_largest = 1e-5}, "gpu");
   }
   const auto small = test::upload(test::random_chw(1, 3, 3, rng));
   engine::Recorder rec(context(), "refused");

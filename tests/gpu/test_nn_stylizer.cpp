@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "nn_fixture.h"
 #include "s4d/io/image_file.h"
 #include "s4d/frame_stylizers/network_stylizer.h"
@@ -57,14 +58,6 @@ io::ImageF twin_frame(const ref::Chw<double>& decoded, int width, int height) {
   return io::resize_image(image, width, height);
 }
 
-double max_abs_diff(const io::ImageF& a, const io::ImageF& b) {
-  REQUIRE(a.data.size() == b.data.size());
-  double worst = 0;
-  for (size_t i = 0; i < a.data.size(); ++i)
-    worst = std::max(worst, static_cast<double>(std::abs(a.data[i] - b.data[i])));
-  return worst;
-}
-
 }  // namespace
 
 TEST_CASE("the adain stylizer's frames are the network's, resized back and clamped") {
@@ -87,7 +80,7 @@ TEST_CASE("the adain stylizer's frames are the network's, resized back and clamp
     REQUIRE(out[t].width == 20);  // decoded at 24x24
     REQUIRE(out[t].height == 17);
     // Values in [0, 1], float network against double, resized: measured 2.4e-7.
-    CHECK(max_abs_diff(out[t], twin_frame(decoded, 20, 17)) < 1e-5);
+    test::expect_allclose(out[t].data, twin_frame(decoded, 20, 17).data, {.atol = 1e-5}, "frame");
   }
 }
 
@@ -110,7 +103,7 @@ TEST_CASE("the hgst stylizer runs MCCNet on the style's centre square") {
   REQUIRE(out[0].width == 16);
   REQUIRE(out[0].height == 19);  // decoded at 16x24
   // MCC amplifies the encoder's float error (test_nn_networks.cpp): measured 1.3e-5.
-  CHECK(max_abs_diff(out[0], twin_frame(decoded, 16, 19)) < 1e-4);
+  test::expect_allclose(out[0].data, twin_frame(decoded, 16, 19).data, {.atol = 1e-4}, "frame");
 }
 
 TEST_CASE("the adain stylizer returns the frames at strength 0 and refuses frames past the device's buffers") {

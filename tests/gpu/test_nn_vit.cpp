@@ -16,7 +16,6 @@ namespace {
 using namespace s4d;
 using test::context;
 using test::run;
-using test::max_rel;
 using test::to_double;
 
 }  // namespace
@@ -33,14 +32,15 @@ TEST_CASE("Linear layers over tokens (one-row 1x1 convolutions) match their twin
     const auto twin = ref::conv1x1(to_double(x), to_double(params.weight), to_double(params.bias), cout, false);
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::conv1x1(r, gx, weights, false); }));
     // Float sums of 768 / 3072 products against double: measured 7.4e-7 / 2.4e-6 (accumulated: 7.1e-7 / 1.9e-6).
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 1e-5, cin << "->" << cout);
+    INFO(cin << "->" << cout);
+    test::expect_allclose(gpu, twin.v, {.of_largest = 1e-5}, "gpu");
     const auto residual = test::random_chw(cout, 1, n, rng);
     auto out = test::upload(residual, "residual");
     run([&](engine::Recorder& r) {
       nn::conv1x1_accumulate(r, gx, weights, out);
       return 0;
     });
-    CHECK_MESSAGE(max_rel(nn::download(context(), out), ref::add(twin, to_double(residual)).v) < 1e-5, cin << "->" << cout);
+    test::expect_allclose(nn::download(context(), out), ref::add(twin, to_double(residual)).v, {.of_largest = 1e-5}, "out");
   }
 }
 
@@ -58,7 +58,8 @@ TEST_CASE("layernorm over the channels of each token matches its twin") {
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::layernorm(r, gx, norm, 1e-6f); }));
     const auto twin = ref::layernorm(to_double(x), to_double(weight), to_double(bias), 1e-6);
     // Float sums of up to 3072 values against double, offsets of up to 6 removed: measured 2.5e-6 (768 x 197).
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 1e-5, c << " channels, " << n << " tokens");
+    INFO(c << " channels, " << n << " tokens");
+    test::expect_allclose(gpu, twin.v, {.of_largest = 1e-5}, "gpu");
   }
   const auto x = test::upload(test::random_chw(5, 1, 3, rng));
   const auto norm = nn::upload_norm(context(), "ln", 4, std::vector<float>(4, 1.0f), std::vector<float>(4, 0.0f));
@@ -80,7 +81,7 @@ TEST_CASE("gelu matches the exact erf GELU") {
   const auto gpu = nn::download(context(), gx);
   const auto twin = ref::gelu(to_double(x));
   // A&S 7.1.26's erfc (absolute error 1.5e-7 on erf) in float: measured 6.1e-8 of the largest value.
-  CHECK(max_rel(gpu, twin.v) < 1e-6);
+  test::expect_allclose(gpu, twin.v, {.of_largest = 1e-6}, "gpu");
 }
 
 // Kernel nn_vit_embed.
@@ -89,7 +90,7 @@ TEST_CASE("vit_embed puts the class token first and adds the position embedding"
   const auto patches = test::random_chw(70, 3, 5, rng), pos = test::random_chw(70, 1, 16, rng);
   const auto gpatches = test::upload(patches), gpos = test::upload(pos);
   const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::vit_embed(r, gpatches, gpos); }));
-  CHECK(max_rel(gpu, ref::vit_embed(to_double(patches), to_double(pos)).v) < 1e-7);  // one float sum: measured 5.6e-8
+  test::expect_allclose(gpu, ref::vit_embed(to_double(patches), to_double(pos)).v, {.of_largest = 1e-7}, "gpu");  // one float sum: measured 5.6e-8
   const auto wrong = test::upload(test::random_chw(70, 1, 15, rng));
   engine::Recorder rec(context(), "refused");
   CHECK_THROWS_AS(nn::vit_embed(rec, gpatches, wrong), std::invalid_argument);
@@ -103,7 +104,7 @@ TEST_CASE("vit_embed with only a first token puts it before the unchanged patche
   const auto gpu = nn::download(context(), run([&](engine::Recorder& r) { return nn::vit_embed(r, gpatches, gfirst); }));
   const auto twin = ref::vit_embed(to_double(patches), to_double(first));
   REQUIRE(gpu.size() == size_t{70} * 16);
-  CHECK(max_rel(gpu, twin.v) == 0.0);  // copies
+  test::expect_allclose(gpu, twin.v, {}, "gpu");  // copies
   CHECK(gpu[16] == first.v[1]);
   CHECK(gpu[17] == patches.v[15]);
 }
@@ -121,7 +122,8 @@ TEST_CASE("a transformer's attention matches its twin whatever the chunk") {
     const auto gpu = nn::download(context(), run([&](engine::Recorder& r) {
                                     return nn::transformer_attention(r, gq, gk, gv, rows * 197 * sizeof(float));
                                   }));
-    CHECK_MESSAGE(max_rel(gpu, twin.v) < 3e-6, rows);  // 64-term logits, 197-term sums: measured 2.4e-7
+    INFO(rows);
+    test::expect_allclose(gpu, twin.v, {.of_largest = 3e-6}, "gpu");  // 64-term logits, 197-term sums: measured 2.4e-7
   }
 }
 

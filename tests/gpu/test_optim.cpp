@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "s4d/engine/buffer_from.h"
 #include "s4d/engine/recorder.h"
 #include "s4d/optim/adam.h"
@@ -53,12 +54,8 @@ TEST_CASE("GPU L1 + SSIM loss and gradient match the twin") {
     CHECK(v.loss == doctest::Approx(t.loss).epsilon(1e-5));
     CHECK(v.ssim == doctest::Approx(t.ssim).epsilon(1e-5));
     CHECK(v.l1 == doctest::Approx(t.l1).epsilon(1e-5));
-    double worst = 0, scale = 0;
-    for (size_t e = 0; e < n; ++e) {
-      worst = std::max(worst, std::abs(g[e] - t.grad[e]));
-      scale = std::max(scale, std::abs(t.grad[e]));
-    }
-    CHECK(worst <= 1e-4 * scale);  // 121-tap float filters of the dS maps; measured 2e-6 relative
+    // 121-tap float filters of the dS maps; measured 2e-6 relative.
+    test::expect_allclose(g, t.grad, {.of_largest = 1e-4}, "grad");
   }
 }
 
@@ -86,9 +83,9 @@ TEST_CASE("GPU Adam matches the twin over several steps with two parameter group
     ref::adam_step(qd, std::vector<double>(gq.begin(), gq.end()), m2, v2, {sq.lr, sq.beta1, sq.beta2, sq.eps}, static_cast<int>(step));
   }
   const std::vector<float> gpu_p = test::context().download<float>(bp, n), gpu_q = test::context().download<float>(bq, n);
-  double worst = 0;
-  for (size_t i = 0; i < n; ++i) worst = std::max({worst, std::abs(gpu_p[i] - pd[i]), std::abs(gpu_q[i] - qd[i])});
-  CHECK(worst <= 1e-5);  // float vs double over 5 steps of size <= 0.05; measured 6e-8
+  // Float vs double over 5 steps of size <= 0.05; measured 6e-8.
+  test::expect_allclose(gpu_p, pd, {.atol = 1e-5}, "group 0");
+  test::expect_allclose(gpu_q, qd, {.atol = 1e-5}, "group 1");
 }
 
 TEST_CASE("GPU Adam splits rows between two groups like the twin (SH DC and rest)") {
@@ -113,9 +110,7 @@ TEST_CASE("GPU Adam splits rows between two groups like the twin (SH DC and rest
                         {rest.lr, rest.beta1, rest.beta2, rest.eps}, static_cast<int>(step));
   }
   const std::vector<float> out = test::context().download<float>(bp, n);
-  double worst = 0;
-  for (size_t i = 0; i < n; ++i) worst = std::max(worst, std::abs(out[i] - pd[i]));
-  CHECK(worst <= 1e-6);  // float vs double over 3 steps of size <= 0.0025; measured 8.7e-8
+  test::expect_allclose(out, pd, {.atol = 1e-6}, "sh");  // float vs double over 3 steps of size <= 0.0025; measured 8.7e-8
   // The groups really differ: a DC element moved about 20x further than a higher coefficient.
   CHECK(std::abs(out[0] - p[0]) > 10 * std::abs(out[head] - p[head]));
   engine::Recorder bad(test::context(), "bad rows");
@@ -136,20 +131,6 @@ TEST_CASE("grad_add sums a batch's gradients exactly like the twin (a float add 
   CHECK_THROWS_AS(primitives::cmd_add(bad, da, db, n + 1), std::invalid_argument);
 }
 
-namespace {
-
-double max_rel(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0, scale = 1e-30;
-  for (size_t k = 0; k < a.size(); ++k) {
-    worst = std::max(worst, std::abs(double(a[k]) - b[k]));
-    scale = std::max(scale, std::abs(double(b[k])));
-  }
-  return worst / scale;
-}
-
-}  // namespace
-
 // Kernel tv_grad (TvLoss).
 TEST_CASE("GPU TV term adds the twin's gradient to the existing one and reports its value") {
   for (const auto& [w, h, c] : {std::array<int, 3>{37, 23, 3}, std::array<int, 3>{2, 2, 1}, std::array<int, 3>{64, 48, 3}}) {
@@ -165,9 +146,9 @@ TEST_CASE("GPU TV term adds the twin's gradient to the existing one and reports 
     const std::vector<float> g = test::context().download<float>(grad, shape.n());
     const auto [value, tg] = ref::tv_loss(std::vector<double>(x.begin(), x.end()), shape, 0.3);
     CHECK(tv.value() == doctest::Approx(value).epsilon(1e-5));  // float partial sums; measured 3.7e-8 relative
-    double worst = 0;
-    for (size_t e = 0; e < shape.n(); ++e) worst = std::max(worst, std::abs(g[e] - (g0[e] + tg[e])));
-    CHECK(worst < 1e-6);  // float rounding of values in [-1, 1]: measured 3e-8
+    std::vector<double> want(shape.n());
+    for (size_t e = 0; e < shape.n(); ++e) want[e] = g0[e] + tg[e];
+    test::expect_allclose(g, want, {.atol = 1e-6}, "grad");  // float rounding of values in [-1, 1]: measured 3e-8
   }
   optim::TvLoss tv(test::context());
   engine::Buffer one = engine::buffer_from(test::context(), "one pixel", std::vector<float>(3, 0));
@@ -225,15 +206,15 @@ TEST_CASE("each loss kernel matches its twin on the same inputs: ssim_hpass, ssi
   // filter (and the SSIM quotient) remains. Measured relative to each array's largest entry:
   // ssim_hpass statistics 1.4e-7, ssim_vpass maps 1.9e-7, ssim_hpass maps and loss_grad 0.
   const std::vector<float> gpu_stats = ctx.download<float>(stats_h, 5 * n);
-  CHECK(max_rel(gpu_stats, ref::ssim_hpass_stats(x, y, s)) <= 1e-6);
+  test::expect_allclose(gpu_stats, ref::ssim_hpass_stats(x, y, s), {.of_largest = 1e-6}, "gpu_stats");
   const auto v = ref::ssim_vpass(x, y, gpu_stats, s, 0.2f);
-  CHECK(max_rel(ctx.download<float>(dmaps, 3 * n), v.dmaps) <= 1e-6);
+  test::expect_allclose(ctx.download<float>(dmaps, 3 * n), v.dmaps, {.of_largest = 1e-6}, "dmaps");
   const std::vector<float> part = ctx.download<float>(partials, 2 * size_t{groups});
   double ssim_sum = 0, l1_sum = 0;
   for (uint32_t g = 0; g < groups; ++g) ssim_sum += part[2 * g], l1_sum += part[2 * g + 1];
   CHECK(ssim_sum == doctest::Approx(v.ssim_sum).epsilon(1e-5));
   CHECK(l1_sum == doctest::Approx(v.l1_sum).epsilon(1e-5));
   const std::vector<float> gpu_dmaps_h = ctx.download<float>(dmaps_h, 3 * n);
-  CHECK(max_rel(gpu_dmaps_h, ref::ssim_hpass_dmaps(dmaps_in, s)) <= 1e-6);
-  CHECK(max_rel(ctx.download<float>(grad, n), ref::loss_grad(x, y, gpu_dmaps_h, s, 0.2f)) <= 1e-6);
+  test::expect_allclose(gpu_dmaps_h, ref::ssim_hpass_dmaps(dmaps_in, s), {.of_largest = 1e-6}, "gpu_dmaps_h");
+  test::expect_allclose(ctx.download<float>(grad, n), ref::loss_grad(x, y, gpu_dmaps_h, s, 0.2f), {.of_largest = 1e-6}, "grad");
 }

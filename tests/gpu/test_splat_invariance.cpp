@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "expect_equal.h"
 #include "splat_harness.h"
 #include "test_context.h"
@@ -21,14 +22,6 @@ using test::Cam;
 using test::Scene;
 
 constexpr std::array<float, 3> kBg = {0.2f, 0.2f, 0.25f};
-
-double rel_err(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0, scale = 1e-6;
-  for (size_t k = 0; k < a.size(); ++k) scale = std::max(scale, std::abs(static_cast<double>(b[k])));
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
-  return worst / scale;
-}
 
 ref::ImageGrads<float> cotangents(const Cam& cam, unsigned seed) {
   std::mt19937 rng(seed);
@@ -74,15 +67,15 @@ TEST_CASE("GPU render and gradients match the twin end to end") {
   const ref::GaussianGrads<float> tg = ref::render_bwd(g, cam, kBg, tp, ti, cotangents(cam, 5));
   // The two projections agree to 3e-7 (see test_splat_raster.cpp) and no sample sits within that
   // of a cutoff in this scene, so the end-to-end errors are rounding: measured rgb 1.8e-7, means 3.4e-7.
-  CHECK(rel_err(gpu.f.img.rgb, ti.rgb) <= 1e-5);
-  CHECK(rel_err(gpu.f.img.alpha, ti.alpha) <= 1e-5);
-  CHECK(rel_err(gpu.f.img.depth, ti.depth) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_means, tg.v_means) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_log_scales, tg.v_log_scales) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_quats, tg.v_quats) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_opacity_logits, tg.v_opacity_logits) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_sh, tg.v_sh) <= 1e-5);
-  CHECK(rel_err(gpu.b.grads.v_mean2d, tg.v_mean2d) <= 1e-5);
+  test::expect_allclose(gpu.f.img.rgb, ti.rgb, {.of_largest = 1e-5}, "gpu.f.img.rgb");
+  test::expect_allclose(gpu.f.img.alpha, ti.alpha, {.of_largest = 1e-5}, "gpu.f.img.alpha");
+  test::expect_allclose(gpu.f.img.depth, ti.depth, {.of_largest = 1e-5}, "gpu.f.img.depth");
+  test::expect_allclose(gpu.b.grads.v_means, tg.v_means, {.of_largest = 1e-5}, "gpu.b.grads.v_means");
+  test::expect_allclose(gpu.b.grads.v_log_scales, tg.v_log_scales, {.of_largest = 1e-5}, "gpu.b.grads.v_log_scales");
+  test::expect_allclose(gpu.b.grads.v_quats, tg.v_quats, {.of_largest = 1e-5}, "gpu.b.grads.v_quats");
+  test::expect_allclose(gpu.b.grads.v_opacity_logits, tg.v_opacity_logits, {.of_largest = 1e-5}, "gpu.b.grads.v_opacity_logits");
+  test::expect_allclose(gpu.b.grads.v_sh, tg.v_sh, {.of_largest = 1e-5}, "gpu.b.grads.v_sh");
+  test::expect_allclose(gpu.b.grads.v_mean2d, tg.v_mean2d, {.of_largest = 1e-5}, "gpu.b.grads.v_mean2d");
 }
 
 TEST_CASE("rendering twice is bit-identical") {
@@ -101,8 +94,8 @@ TEST_CASE("rendering twice is bit-identical") {
   const auto ga = test::gpu_backward(r, dev, v, a.img.alpha.size());
   const auto gb = test::gpu_backward(r, dev, v, a.img.alpha.size());
   // Float atomics may sum in another order on other devices; lavapipe measured 0.
-  CHECK(rel_err(ga.grads.v_means, gb.grads.v_means) <= 1e-6);
-  CHECK(rel_err(ga.grads.v_sh, gb.grads.v_sh) <= 1e-6);
+  test::expect_allclose(ga.grads.v_means, gb.grads.v_means, {.of_largest = 1e-6}, "ga.grads.v_means");
+  test::expect_allclose(ga.grads.v_sh, gb.grads.v_sh, {.of_largest = 1e-6}, "ga.grads.v_sh");
 }
 
 TEST_CASE("culled and fully transparent Gaussians change nothing") {
@@ -125,7 +118,7 @@ TEST_CASE("culled and fully transparent Gaussians change nothing") {
   CHECK(more.f.img.depth == base.f.img.depth);
   CHECK(more.f.img.count == base.f.img.count);
   std::vector<float> head(more.b.grads.v_means.begin(), more.b.grads.v_means.begin() + 3 * 600);
-  CHECK(rel_err(head, base.b.grads.v_means) <= 1e-6);  // only the atomics' order may differ; measured 0
+  test::expect_allclose(head, base.b.grads.v_means, {.of_largest = 1e-6}, "head");  // only the atomics' order may differ; measured 0
   for (size_t i = 600; i < extra.size(); ++i) {
     for (size_t k = 0; k < 3; ++k) REQUIRE(more.b.grads.v_means[3 * i + k] == 0.0f);  // exact: never blended
     REQUIRE(more.b.grads.v_opacity_logits[i] == 0.0f);
@@ -145,12 +138,12 @@ TEST_CASE("permuting the input order changes nothing beyond float reordering") {
   for (size_t i : perm) append(h, g, i);
   const Rendered a = render(test::context(), g, cam), b = render(test::context(), h, cam);
   // Distinct depths give the same blend order: measured 0 difference; the bound allows reordering.
-  CHECK(rel_err(b.f.img.rgb, a.f.img.rgb) <= 1e-6);
-  CHECK(rel_err(b.f.img.depth, a.f.img.depth) <= 1e-6);
+  test::expect_allclose(b.f.img.rgb, a.f.img.rgb, {.of_largest = 1e-6}, "b.f.img.rgb");
+  test::expect_allclose(b.f.img.depth, a.f.img.depth, {.of_largest = 1e-6}, "b.f.img.depth");
   std::vector<float> permuted(3 * g.size());
   for (size_t j = 0; j < perm.size(); ++j)
     for (size_t k = 0; k < 3; ++k) permuted[3 * j + k] = a.b.grads.v_means[3 * perm[j] + k];
-  CHECK(rel_err(b.b.grads.v_means, permuted) <= 1e-6);
+  test::expect_allclose(b.b.grads.v_means, permuted, {.of_largest = 1e-6}, "b.b.grads.v_means");
 }
 
 TEST_CASE("dispatches split into a 2-D grid render the same image") {
@@ -163,8 +156,8 @@ TEST_CASE("dispatches split into a 2-D grid render the same image") {
   const Rendered a = render(test::context(), g, cam), b = render(split_ctx, g, cam);
   CHECK(b.f.img.rgb == a.f.img.rgb);  // exact: the same work, only the grid shape differs
   CHECK(b.f.img.count == a.f.img.count);
-  CHECK(rel_err(b.b.grads.v_means, a.b.grads.v_means) <= 1e-6);  // atomics order only; measured 0
-  CHECK(rel_err(b.b.grads.v_quats, a.b.grads.v_quats) <= 1e-6);
+  test::expect_allclose(b.b.grads.v_means, a.b.grads.v_means, {.of_largest = 1e-6}, "b.b.grads.v_means");  // atomics order only; measured 0
+  test::expect_allclose(b.b.grads.v_quats, a.b.grads.v_quats, {.of_largest = 1e-6}, "b.b.grads.v_quats");
 }
 
 TEST_CASE("more than 65,535 workgroups of tile instances") {
@@ -195,7 +188,7 @@ TEST_CASE("more than 65,535 workgroups of tile instances") {
   // within rounding of that threshold one side adds one more Gaussian: a jump of alpha*T*colour
   // < 1e-4 * max colour. Measured 4.9e-5 (relative to the brightest pixel); elsewhere rounding only.
   const ref::Image<float> ti = ref::raster_fwd(f.proj, cam, kBg);
-  CHECK(rel_err(f.img.rgb, ti.rgb) <= 2e-4);
+  test::expect_allclose(f.img.rgb, ti.rgb, {.of_largest = 2e-4}, "f.img.rgb");
   const auto b = test::gpu_backward(r, dev, cotangents(cam, 1), f.img.alpha.size());
   for (float x : b.grads.v_means) REQUIRE(std::isfinite(x));
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "expect_equal.h"
 #include "splat_harness.h"
 #include "test_context.h"
@@ -20,23 +21,6 @@ using test::Cam;
 using test::Scene;
 
 constexpr std::array<float, 3> kBg = {0.1f, 0.3f, 0.6f};
-
-// max |a - b| / max(max |b|, floor): one scale per array, so near-zero entries of a large gradient
-// do not demand relative accuracy they cannot have after reordered float sums.
-double rel_err(const std::vector<float>& a, const std::vector<float>& b, double floor = 1e-6) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0, scale = floor;
-  for (size_t k = 0; k < a.size(); ++k) scale = std::max(scale, std::abs(static_cast<double>(b[k])));
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
-  return worst / scale;
-}
-
-double max_abs(const std::vector<float>& a, const std::vector<float>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - b[k]));
-  return worst;
-}
 
 ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool alpha_depth) {
   std::uniform_real_distribution<float> u(-1, 1);
@@ -81,17 +65,17 @@ TEST_CASE("GPU projection, blending and backward match the twin stage by stage")
     test::expect_equal_arrays(f.proj.radius, tp.radius, "radius");
     test::expect_equal_arrays(f.proj.tile_rect, tp.tile_rect, "tile rectangles");
     test::expect_equal_arrays(f.proj.clamped, tp.clamped, "SH clamp bits");
-    CHECK(rel_err(f.proj.mean2d, tp.mean2d) <= 1e-5);
-    CHECK(rel_err(f.proj.conic, tp.conic) <= 1e-5);
-    CHECK(rel_err(f.proj.depth, tp.depth) <= 1e-5);
-    CHECK(max_abs(f.proj.opacity, tp.opacity) <= 1e-5);
-    CHECK(max_abs(f.proj.rgb, tp.rgb) <= 1e-5);
+    test::expect_allclose(f.proj.mean2d, tp.mean2d, {.of_largest = 1e-5}, "f.proj.mean2d");
+    test::expect_allclose(f.proj.conic, tp.conic, {.of_largest = 1e-5}, "f.proj.conic");
+    test::expect_allclose(f.proj.depth, tp.depth, {.of_largest = 1e-5}, "f.proj.depth");
+    test::expect_allclose(f.proj.opacity, tp.opacity, {.atol = 1e-5}, "f.proj.opacity");
+    test::expect_allclose(f.proj.rgb, tp.rgb, {.atol = 1e-5}, "f.proj.rgb");
 
     // Blending on the GPU's own projection, so the tile lists are identical.
     const ref::Image<float> ti = ref::raster_fwd(f.proj, cam, kBg);
-    CHECK(max_abs(f.img.rgb, ti.rgb) <= 1e-5);
-    CHECK(max_abs(f.img.alpha, ti.alpha) <= 1e-5);
-    CHECK(rel_err(f.img.depth, ti.depth) <= 1e-5);
+    test::expect_allclose(f.img.rgb, ti.rgb, {.atol = 1e-5}, "f.img.rgb");
+    test::expect_allclose(f.img.alpha, ti.alpha, {.atol = 1e-5}, "f.img.alpha");
+    test::expect_allclose(f.img.depth, ti.depth, {.of_largest = 1e-5}, "f.img.depth");
     test::expect_equal_arrays(f.img.count, ti.count, "contributors per pixel");
     size_t instances = 0;
     for (const auto& list : ref::tile_lists(f.proj, cam)) instances += list.size();
@@ -101,17 +85,17 @@ TEST_CASE("GPU projection, blending and backward match the twin stage by stage")
     const auto v = random_cotangents(cam, rng, c.alpha_depth);
     const test::GpuBackward b = test::gpu_backward(r, dev, v, ti.alpha.size());
     const ref::ProjectedGrads<float> tg2 = ref::raster_bwd(f.proj, cam, kBg, ti, v);
-    CHECK(rel_err(b.grad2d.v_mean2d, tg2.v_mean2d) <= 1e-5);
-    CHECK(rel_err(b.grad2d.v_conic, tg2.v_conic) <= 1e-5);
-    CHECK(rel_err(b.grad2d.v_opacity, tg2.v_opacity) <= 1e-5);
-    CHECK(rel_err(b.grad2d.v_rgb, tg2.v_rgb) <= 1e-5);
-    CHECK(rel_err(b.grad2d.v_depth, tg2.v_depth) <= 1e-5);
+    test::expect_allclose(b.grad2d.v_mean2d, tg2.v_mean2d, {.of_largest = 1e-5}, "b.grad2d.v_mean2d");
+    test::expect_allclose(b.grad2d.v_conic, tg2.v_conic, {.of_largest = 1e-5}, "b.grad2d.v_conic");
+    test::expect_allclose(b.grad2d.v_opacity, tg2.v_opacity, {.of_largest = 1e-5}, "b.grad2d.v_opacity");
+    test::expect_allclose(b.grad2d.v_rgb, tg2.v_rgb, {.of_largest = 1e-5}, "b.grad2d.v_rgb");
+    test::expect_allclose(b.grad2d.v_depth, tg2.v_depth, {.of_largest = 1e-5}, "b.grad2d.v_depth");
     const ref::GaussianGrads<float> tg = ref::project_bwd(g, cam, f.proj, b.grad2d);
-    CHECK(rel_err(b.grads.v_means, tg.v_means) <= 1e-5);
-    CHECK(rel_err(b.grads.v_log_scales, tg.v_log_scales) <= 1e-5);
-    CHECK(rel_err(b.grads.v_quats, tg.v_quats) <= 1e-5);
-    CHECK(rel_err(b.grads.v_opacity_logits, tg.v_opacity_logits) <= 1e-5);
-    if (c.colors) CHECK(rel_err(b.grads.v_colors, tg.v_colors) <= 1e-5);
-    else CHECK(rel_err(b.grads.v_sh, tg.v_sh) <= 1e-5);
+    test::expect_allclose(b.grads.v_means, tg.v_means, {.of_largest = 1e-5}, "b.grads.v_means");
+    test::expect_allclose(b.grads.v_log_scales, tg.v_log_scales, {.of_largest = 1e-5}, "b.grads.v_log_scales");
+    test::expect_allclose(b.grads.v_quats, tg.v_quats, {.of_largest = 1e-5}, "b.grads.v_quats");
+    test::expect_allclose(b.grads.v_opacity_logits, tg.v_opacity_logits, {.of_largest = 1e-5}, "b.grads.v_opacity_logits");
+    if (c.colors) test::expect_allclose(b.grads.v_colors, tg.v_colors, {.of_largest = 1e-5}, "b.grads.v_colors");
+    else test::expect_allclose(b.grads.v_sh, tg.v_sh, {.of_largest = 1e-5}, "b.grads.v_sh");
   }
 }

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "expect_equal.h"
 #include "style_harness.h"
 #include "test_context.h"
@@ -70,11 +71,11 @@ TEST_CASE("a zeroed last layer renders and differentiates like the plain rasteri
   // Equal to float rounding only (measured 2.8e-7, log-scales): a Gaussian spanning several tiles
   // gets its atomics from workgroups running concurrently, so the order of its sums follows the two
   // kernels' different timing.
-  CHECK(test::rel_err(style.b.grads.v_means, plain.b.grads.v_means) <= 1e-6);
-  CHECK(test::rel_err(style.b.grads.v_log_scales, plain.b.grads.v_log_scales) <= 1e-6);
-  CHECK(test::rel_err(style.b.grads.v_quats, plain.b.grads.v_quats) <= 1e-6);
-  CHECK(test::rel_err(style.b.grads.v_opacity_logits, plain.b.grads.v_opacity_logits) <= 1e-6);
-  CHECK(test::rel_err(style.b.grads.v_sh, plain.b.grads.v_sh) <= 1e-6);
+  test::expect_allclose(style.b.grads.v_means, plain.b.grads.v_means, {.of_largest = 1e-6}, "style.b.grads.v_means");
+  test::expect_allclose(style.b.grads.v_log_scales, plain.b.grads.v_log_scales, {.of_largest = 1e-6}, "style.b.grads.v_log_scales");
+  test::expect_allclose(style.b.grads.v_quats, plain.b.grads.v_quats, {.of_largest = 1e-6}, "style.b.grads.v_quats");
+  test::expect_allclose(style.b.grads.v_opacity_logits, plain.b.grads.v_opacity_logits, {.of_largest = 1e-6}, "style.b.grads.v_opacity_logits");
+  test::expect_allclose(style.b.grads.v_sh, plain.b.grads.v_sh, {.of_largest = 1e-6}, "style.b.grads.v_sh");
   CHECK(*std::max_element(style.v_mlp.begin(), style.v_mlp.end()) > 0.0f);  // W3 and b3 still learn
 }
 
@@ -97,9 +98,9 @@ TEST_CASE("culled Gaussians do not perturb the style render") {
   CHECK(more.f.img.alpha == base.f.img.alpha);
   CHECK(more.f.img.count == base.f.img.count);
   std::vector<float> means(more.b.grads.v_means.begin(), more.b.grads.v_means.begin() + 3 * 600);
-  CHECK(test::rel_err(means, base.b.grads.v_means) <= 1e-6);  // only the atomics' order may differ; measured 0
+  test::expect_allclose(means, base.b.grads.v_means, {.of_largest = 1e-6}, "means");  // only the atomics' order may differ; measured 0
   std::vector<float> weights(more.v_mlp.begin(), more.v_mlp.begin() + static_cast<long>(head.weights.size()));
-  CHECK(test::rel_err(weights, base.v_mlp) <= 1e-6);  // measured 0
+  test::expect_allclose(weights, base.v_mlp, {.of_largest = 1e-6}, "weights");  // measured 0
   for (size_t k = head.weights.size(); k < more.v_mlp.size(); ++k) REQUIRE(more.v_mlp[k] == 0.0f);  // never blended
   for (size_t i = g.size(); i < extra.size(); ++i) CHECK(more.f.proj.radius[i] == 0);
 }
@@ -126,9 +127,9 @@ TEST_CASE("style rendering twice is bit-identical") {
   const std::vector<float> wb = style.download_v_mlp(test::context());
   // Concurrent workgroups' atomics may sum in another order: lavapipe measured 3.8e-8 (MLP weights)
   // and 0 (means, SH).
-  CHECK(test::rel_err(wa, wb) <= 1e-6);
-  CHECK(test::rel_err(ga.grads.v_means, gb.grads.v_means) <= 1e-6);
-  CHECK(test::rel_err(ga.grads.v_sh, gb.grads.v_sh) <= 1e-6);
+  test::expect_allclose(wa, wb, {.of_largest = 1e-6}, "wa");
+  test::expect_allclose(ga.grads.v_means, gb.grads.v_means, {.of_largest = 1e-6}, "ga.grads.v_means");
+  test::expect_allclose(ga.grads.v_sh, gb.grads.v_sh, {.of_largest = 1e-6}, "ga.grads.v_sh");
 }
 
 TEST_CASE("bad style inputs are refused with a clear message") {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "style_harness.h"
 #include "test_context.h"
 
@@ -52,16 +53,16 @@ TEST_CASE("a tile list at the compare-and-swap limit differentiates every entry;
   CHECK(*std::min_element(f.img.count.begin(), f.img.count.end()) == static_cast<int>(n));
   const std::vector<float> quadric = test::context().download<float>(r.quadric(), ref::kStyleQuadricStride * n);
   const ref::Image<float> ti = ref::style_raster_fwd(f.proj, quadric, head_mlp, cam, kBg);
-  CHECK(test::max_abs(f.img.rgb, ti.rgb) <= 1e-5);  // 900 blended terms in the same order; measured 6.0e-7
+  test::expect_allclose(f.img.rgb, ti.rgb, {.atol = 1e-5}, "f.img.rgb");  // 900 blended terms in the same order; measured 6.0e-7
   std::mt19937 vrng(4);
   const auto v = test::random_cotangents(cam, vrng, false);
   const test::GpuBackward b = test::gpu_backward(r, dev, v, 256);
   const auto tg = ref::style_raster_bwd(f.proj, quadric, head_mlp, cam, kBg, ti, v);
   // T_i is recovered by up to 900 divisions by (1 - alpha): measured 1.2e-6 (MLP), 7.2e-7 (opacity),
   // 8.5e-6 (colour).
-  CHECK(test::rel_err(style.download_v_mlp(test::context()), tg.v_mlp) <= 1e-4);
-  CHECK(test::rel_err(b.grad2d.v_opacity, tg.g2d.v_opacity) <= 1e-4);
-  CHECK(test::rel_err(b.grad2d.v_rgb, tg.g2d.v_rgb) <= 1e-4);
+  test::expect_allclose(style.download_v_mlp(test::context()), tg.v_mlp, {.of_largest = 1e-4}, "v_mlp");
+  test::expect_allclose(b.grad2d.v_opacity, tg.g2d.v_opacity, {.of_largest = 1e-4}, "b.grad2d.v_opacity");
+  test::expect_allclose(b.grad2d.v_rgb, tg.g2d.v_rgb, {.of_largest = 1e-4}, "b.grad2d.v_rgb");
 
   if (test::context().info().driver_name == "llvmpipe") {
     test::DeviceScene longer(test::context(), g);

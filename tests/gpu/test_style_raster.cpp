@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "expect_equal.h"
 #include "style_harness.h"
 #include "test_context.h"
@@ -68,33 +69,33 @@ TEST_CASE("GPU style rasterizer matches the twin stage by stage") {
 
     const std::vector<float> quadric =
         test::context().download<float>(r.quadric(), ref::kStyleQuadricStride * g.size());
-    CHECK(test::rel_err(quadric, ref::style_quadric(g, cam)) <= 1e-5);
+    test::expect_allclose(quadric, ref::style_quadric(g, cam), {.of_largest = 1e-5}, "quadric");
 
     // Blending on the GPU's own projection and quadrics, so the lists and t* inputs are identical.
     const ref::Image<float> ti = ref::style_raster_fwd(f.proj, quadric, mlp, cam, kBg);
-    CHECK(test::max_abs(f.img.rgb, ti.rgb) <= 1e-5);
-    CHECK(test::max_abs(f.img.alpha, ti.alpha) <= 1e-5);
-    CHECK(test::rel_err(f.img.depth, ti.depth) <= 1e-5);
+    test::expect_allclose(f.img.rgb, ti.rgb, {.atol = 1e-5}, "f.img.rgb");
+    test::expect_allclose(f.img.alpha, ti.alpha, {.atol = 1e-5}, "f.img.alpha");
+    test::expect_allclose(f.img.depth, ti.depth, {.of_largest = 1e-5}, "f.img.depth");
     test::expect_equal_arrays(f.img.count, ti.count, "contributors per pixel");
 
     const auto v = test::random_cotangents(cam, rng, c.alpha_depth);
     const test::GpuBackward b = test::gpu_backward(r, dev, v, ti.alpha.size());
     const std::vector<float> v_mlp = style.download_v_mlp(test::context());
     const ref::StyleRasterGrads<float> tg2 = ref::style_raster_bwd(f.proj, quadric, mlp, cam, kBg, ti, v);
-    CHECK(test::rel_err(b.grad2d.v_mean2d, tg2.g2d.v_mean2d) <= 1e-5);
-    CHECK(test::rel_err(b.grad2d.v_conic, tg2.g2d.v_conic) <= 1e-5);
-    CHECK(test::rel_err(b.grad2d.v_opacity, tg2.g2d.v_opacity) <= 1e-5);
-    CHECK(test::rel_err(b.grad2d.v_rgb, tg2.g2d.v_rgb) <= 1e-5);
-    CHECK(test::rel_err(b.grad2d.v_depth, tg2.g2d.v_depth) <= 1e-5);
-    CHECK(test::rel_err(v_mlp, tg2.v_mlp) <= 1e-5);
+    test::expect_allclose(b.grad2d.v_mean2d, tg2.g2d.v_mean2d, {.of_largest = 1e-5}, "b.grad2d.v_mean2d");
+    test::expect_allclose(b.grad2d.v_conic, tg2.g2d.v_conic, {.of_largest = 1e-5}, "b.grad2d.v_conic");
+    test::expect_allclose(b.grad2d.v_opacity, tg2.g2d.v_opacity, {.of_largest = 1e-5}, "b.grad2d.v_opacity");
+    test::expect_allclose(b.grad2d.v_rgb, tg2.g2d.v_rgb, {.of_largest = 1e-5}, "b.grad2d.v_rgb");
+    test::expect_allclose(b.grad2d.v_depth, tg2.g2d.v_depth, {.of_largest = 1e-5}, "b.grad2d.v_depth");
+    test::expect_allclose(v_mlp, tg2.v_mlp, {.of_largest = 1e-5}, "v_mlp");
     // The preprocess backward is the plain one, on the GPU's grad2d.
     const ref::GaussianGrads<float> tg = ref::project_bwd(g, cam, f.proj, b.grad2d);
-    CHECK(test::rel_err(b.grads.v_means, tg.v_means) <= 1e-5);
-    CHECK(test::rel_err(b.grads.v_log_scales, tg.v_log_scales) <= 1e-5);
-    CHECK(test::rel_err(b.grads.v_quats, tg.v_quats) <= 1e-5);
-    CHECK(test::rel_err(b.grads.v_opacity_logits, tg.v_opacity_logits) <= 1e-5);
-    if (c.colors) CHECK(test::rel_err(b.grads.v_colors, tg.v_colors) <= 1e-5);
-    else CHECK(test::rel_err(b.grads.v_sh, tg.v_sh) <= 1e-5);
+    test::expect_allclose(b.grads.v_means, tg.v_means, {.of_largest = 1e-5}, "b.grads.v_means");
+    test::expect_allclose(b.grads.v_log_scales, tg.v_log_scales, {.of_largest = 1e-5}, "b.grads.v_log_scales");
+    test::expect_allclose(b.grads.v_quats, tg.v_quats, {.of_largest = 1e-5}, "b.grads.v_quats");
+    test::expect_allclose(b.grads.v_opacity_logits, tg.v_opacity_logits, {.of_largest = 1e-5}, "b.grads.v_opacity_logits");
+    if (c.colors) test::expect_allclose(b.grads.v_colors, tg.v_colors, {.of_largest = 1e-5}, "b.grads.v_colors");
+    else test::expect_allclose(b.grads.v_sh, tg.v_sh, {.of_largest = 1e-5}, "b.grads.v_sh");
   }
 }
 
@@ -114,12 +115,12 @@ TEST_CASE("GPU style render and gradients match the twin end to end") {
   const auto tg = ref::render_style_bwd(g, mlp, cam, kBg, tf, v);
   // The projections agree to ~5e-7 and no sample sits within that of a cutoff in this scene, so
   // the differences are rounding: measured rgb 3.2e-7, MLP gradients 3.5e-7, quaternions 6.8e-7.
-  CHECK(test::rel_err(f.img.rgb, tf.img.rgb) <= 1e-5);
-  CHECK(test::rel_err(f.img.alpha, tf.img.alpha) <= 1e-5);
-  CHECK(test::rel_err(style.download_v_mlp(test::context()), tg.v_mlp) <= 1e-5);
-  CHECK(test::rel_err(b.grads.v_means, tg.g.v_means) <= 1e-5);
-  CHECK(test::rel_err(b.grads.v_log_scales, tg.g.v_log_scales) <= 1e-5);
-  CHECK(test::rel_err(b.grads.v_quats, tg.g.v_quats) <= 1e-5);
-  CHECK(test::rel_err(b.grads.v_opacity_logits, tg.g.v_opacity_logits) <= 1e-5);
-  CHECK(test::rel_err(b.grads.v_sh, tg.g.v_sh) <= 1e-5);
+  test::expect_allclose(f.img.rgb, tf.img.rgb, {.of_largest = 1e-5}, "f.img.rgb");
+  test::expect_allclose(f.img.alpha, tf.img.alpha, {.of_largest = 1e-5}, "f.img.alpha");
+  test::expect_allclose(style.download_v_mlp(test::context()), tg.v_mlp, {.of_largest = 1e-5}, "v_mlp");
+  test::expect_allclose(b.grads.v_means, tg.g.v_means, {.of_largest = 1e-5}, "b.grads.v_means");
+  test::expect_allclose(b.grads.v_log_scales, tg.g.v_log_scales, {.of_largest = 1e-5}, "b.grads.v_log_scales");
+  test::expect_allclose(b.grads.v_quats, tg.g.v_quats, {.of_largest = 1e-5}, "b.grads.v_quats");
+  test::expect_allclose(b.grads.v_opacity_logits, tg.g.v_opacity_logits, {.of_largest = 1e-5}, "b.grads.v_opacity_logits");
+  test::expect_allclose(b.grads.v_sh, tg.g.v_sh, {.of_largest = 1e-5}, "b.grads.v_sh");
 }

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/metrics/gram_loss.h"
 #include "torch_vgg_fixture.h"
@@ -99,4 +100,31 @@ TEST_CASE("gram loss on torchvision vgg19 matches its double twin") {
   REQUIRE(std::isfinite(gpu));
   CHECK(twin > 0);
   CHECK(std::abs(gpu - twin) <= 1e-6 * twin);  // measured 1.2e-7 relative (lavapipe, Mesa 22.3.6)
+}
+
+// Constant frames (docs/kernel-extremes.md): every feature map is constant per channel (black gives
+// the biases' ReLUs), so Gram matrices are outer products of channel values.
+TEST_CASE("gram loss on black, white and constant frames is finite and the twin's") {
+  std::mt19937 rng(33);
+  test::ScratchDir dir("gram_constant");
+  const test::NetParams vgg = test::random_vgg(kWidths, 5, rng);
+  test::write_params(dir / "vgg_normalised.safetensors", vgg);
+  const metrics::GramStyleLoss loss(test::context(), io::SafetensorsFile(dir / "vgg_normalised.safetensors"),
+                                    metrics::GramBackbone::vgg_normalised, kWidths);
+  auto constant = [](float value) { return io::ImageF{20, 18, 3, std::vector<float>(20 * 18 * 3, value)}; };
+  const double one[3] = {1, 1, 1}, zero[3] = {0, 0, 0};
+  auto twin_features = [&](const io::ImageF& im) {
+    std::vector<ref::Chw<double>> f;
+    for (int level = 1; level <= 5; ++level) f.push_back(test::twin_encode(vgg, test::image_chw(im, one, zero), level));
+    return f;
+  };
+  for (const auto& [a, b] : {std::pair{0.0f, 1.0f}, {0.0f, 0.5f}, {1.0f, 0.25f}}) {
+    CAPTURE(a);
+    CAPTURE(b);
+    const double gpu = loss(constant(a), constant(b)), twin = twin_loss(twin_features(constant(a)), twin_features(constant(b)));
+    CHECK(twin > 0);
+    // As the random frames' 1e-5 relative: measured worst 7.6e-7 (lavapipe, Mesa 22.3.6).
+    test::expect_allclose(std::vector<double>{gpu}, std::vector<double>{twin}, {.rtol = 1e-5}, "gram loss");
+    CHECK(std::abs(loss(constant(a), constant(a))) < 1e-15);
+  }
 }

@@ -65,9 +65,10 @@ struct FakeStage final : train::RunnerStage {
   }
   void restore_last_good() override { done = saved_at, rec = {}, cause = good_cause; }
   train::Divergence divergence() override { return cause; }
-  void remove_gaussians(const std::vector<uint32_t>& rows) override {
+  std::string repair_gaussians(const std::vector<uint32_t>& rows) override {
     removed.insert(removed.end(), rows.begin(), rows.end());
     cause = good_cause = {};
+    return "removed";
   }
   train::ProgressValues final_test() override { return {{"test", ++finals}}; }
 };

@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "fd_check.h"
 #include "s4d/ref/splat_raster_ref.h"
 
@@ -80,14 +81,6 @@ double weighted_loss(const Image<double>& img, const ImageGrads<double>& w) {
   for (size_t k = 0; k < img.rgb.size(); ++k) loss += w.v_rgb[k] * img.rgb[k];
   for (size_t k = 0; k < img.alpha.size(); ++k) loss += w.v_alpha[k] * img.alpha[k] + w.v_depth[k] * img.depth[k];
   return loss;
-}
-
-template <class T, class U>
-double max_abs_diff(const std::vector<T>& a, const std::vector<U>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(static_cast<double>(a[k]) - static_cast<double>(b[k])));
-  return worst;
 }
 
 template <class T>
@@ -202,7 +195,7 @@ TEST_CASE("hard-variant backward is the true gradient where alpha is capped at 0
         capped += p.opacity[i] * std::exp(power) > s4d::ref::kMaxAlpha ? 1 : 0;
       }
   CHECK(capped > 0);
-  CHECK(max_abs_diff(img.rgb, img_smooth.rgb) > 1e-6);
+  CHECK_FALSE(s4d::test::allclose_report(img.rgb, img_smooth.rgb, {.atol = 1e-6}, "img.rgb").ok);
   const FdChecker fd = check_render_gradients<Cutoff::hard>(g);
   MESSAGE("worst |an - num| = " << fd.worst_abs << ", worst error / tolerance = " << fd.worst_ratio);
 }
@@ -231,9 +224,9 @@ TEST_CASE("float and double forward renders agree") {
   CHECK(imf.count == id.count);  // no pixel sits on a cutoff threshold in this scene
   // float rounding through exp and 6-deep compositing, measured with GCC -O3 on x86-64: 1.5e-7 (rgb),
   // 1.7e-7 (alpha), 6.3e-7 (depth, values ~3-5). Bounds are ~5x that to absorb FMA contraction.
-  CHECK(max_abs_diff(imf.rgb, id.rgb) <= 1e-6);
-  CHECK(max_abs_diff(imf.alpha, id.alpha) <= 1e-6);
-  CHECK(max_abs_diff(imf.depth, id.depth) <= 3e-6);
+  s4d::test::expect_allclose(imf.rgb, id.rgb, {.atol = 1e-6}, "imf.rgb");
+  s4d::test::expect_allclose(imf.alpha, id.alpha, {.atol = 1e-6}, "imf.alpha");
+  s4d::test::expect_allclose(imf.depth, id.depth, {.atol = 3e-6}, "imf.depth");
 }
 
 TEST_CASE("rendering twice is bit-identical") {
@@ -260,14 +253,14 @@ TEST_CASE("culled and transparent Gaussians do not perturb the render") {
   const auto [pb, ib] = s4d::ref::render_fwd(behind, cam, kBackground);
   CHECK(pb.radius[6] == 0);
   CHECK(pb.radius[7] == 0);
-  CHECK(max_abs_diff(ib.rgb, base.rgb) == 0.0);  // culled Gaussians never enter a list: exactly equal
-  CHECK(max_abs_diff(ib.depth, base.depth) == 0.0);
+  s4d::test::expect_allclose(ib.rgb, base.rgb, {}, "ib.rgb");  // culled Gaussians never enter a list: exactly equal
+  s4d::test::expect_allclose(ib.depth, base.depth, {}, "ib.depth");
 
   Gaussians<double> faint = g;
   append_gaussian(faint, g, 2);
   faint.opacity_logits.back() = -30;  // alpha ~ 1e-13 < 1/255: skipped by the hard variant
   const Image<double> fi = s4d::ref::render_fwd(faint, cam, kBackground).second;
-  CHECK(max_abs_diff(fi.rgb, base.rgb) <= 1e-12);  // measured 0 (skipped); 1e-12 bounds alpha itself
+  s4d::test::expect_allclose(fi.rgb, base.rgb, {.atol = 1e-12}, "fi.rgb");  // measured 0 (skipped); 1e-12 bounds alpha itself
   CHECK(fi.count == base.count);
 }
 
@@ -285,8 +278,8 @@ TEST_CASE("permuting the input order changes the render only by rounding") {
   const auto [ph, ih] = s4d::ref::render_fwd(h, cam, kBackground);
   const auto gh = s4d::ref::render_bwd(h, cam, kBackground, ph, ih, w);
   // Distinct depths, so the blend order is the same: measured 0 in double; 1e-12 allows reordering.
-  CHECK(max_abs_diff(ih.rgb, img.rgb) <= 1e-12);
-  CHECK(max_abs_diff(ih.alpha, img.alpha) <= 1e-12);
+  s4d::test::expect_allclose(ih.rgb, img.rgb, {.atol = 1e-12}, "ih.rgb");
+  s4d::test::expect_allclose(ih.alpha, img.alpha, {.atol = 1e-12}, "ih.alpha");
   double worst = 0;
   for (size_t j = 0; j < perm.size(); ++j)
     for (size_t k = 0; k < 3; ++k)
@@ -334,7 +327,7 @@ TEST_CASE("hard inputs give finite outputs and gradients") {
     Gaussians<T> unit = g;
     for (size_t k = 0; k < 4; ++k) unit.quats[k] = T(0.5);
     const auto a = s4d::ref::render_fwd(g, cam, bg).second, b = s4d::ref::render_fwd(unit, cam, bg).second;
-    CHECK(max_abs_diff(a.rgb, b.rgb) <= 1e-6);  // measured 0: both normalise to (0.5, 0.5, 0.5, 0.5)
+    s4d::test::expect_allclose(a.rgb, b.rgb, {.atol = 1e-6}, "a.rgb");  // measured 0: both normalise to (0.5, 0.5, 0.5, 0.5)
   };
   run(0.0);
   run(0.0f);
@@ -348,6 +341,6 @@ TEST_CASE("an all-zero quaternion falls back to the identity rotation with zero 
   const auto gr = s4d::ref::render_bwd(g, cam, kBackground, p, img, test_weights(cam.width * cam.height));
   Gaussians<double> identity = g;
   identity.quats[0] = 1;
-  CHECK(max_abs_diff(img.rgb, s4d::ref::render_fwd(identity, cam, kBackground).second.rgb) == 0.0);  // same code path
+  s4d::test::expect_allclose(img.rgb, s4d::ref::render_fwd(identity, cam, kBackground).second.rgb, {}, "img.rgb");  // same code path
   for (size_t k = 0; k < 4; ++k) CHECK(gr.v_quats[k] == 0.0);  // exact: the gradient is not computed
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_allclose.h"
 #include "fd_check.h"
 #include "s4d/ref/style_raster_ref.h"
 
@@ -125,15 +126,6 @@ FdChecker check_style_gradients(Gaussians<double> g, StyleMlp<double> mlp, bool 
   return fd;
 }
 
-template <class T>
-double max_abs_diff(const std::vector<T>& a, const std::vector<T>& b) {
-  REQUIRE(a.size() == b.size());
-  double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k)
-    worst = std::max(worst, std::abs(static_cast<double>(a[k]) - static_cast<double>(b[k])));
-  return worst;
-}
-
 }  // namespace
 
 // The FD rule is FdChecker's (fd_check.h): |an - num| <= 1e-6 + 1e-5 max(|an|, |num|), central
@@ -179,7 +171,7 @@ TEST_CASE("hard-variant style backward is the true gradient where alpha is cappe
         capped += pairs.sample<Cutoff::hard>(i, s4d::ref::detail::pixel_ray(cam, x, y)).s.clamped;
   CHECK(capped > 0);
   const auto smooth = s4d::ref::render_style_fwd<Cutoff::smooth>(g, mlp, cam, kBackground);
-  CHECK(max_abs_diff(fwd.img.rgb, smooth.img.rgb) > 1e-3);  // the cap and the stop changed the image
+  CHECK_FALSE(s4d::test::allclose_report(fwd.img.rgb, smooth.img.rgb, {.atol = 1e-3}, "fwd.img.rgb").ok);  // the cap and the stop changed the image
   const FdChecker fd = check_style_gradients<Cutoff::hard>(g, mlp, false);
   MESSAGE("worst |an - num| = " << fd.worst_abs << ", worst error / tolerance = " << fd.worst_ratio);
 }
@@ -206,7 +198,7 @@ TEST_CASE("a zeroed last layer renders and differentiates exactly like the plain
   CHECK(sg.g2d.v_opacity == pg.v_opacity);
   CHECK(sg.g2d.v_rgb == pg.v_rgb);
   CHECK(sg.g2d.v_depth == pg.v_depth);
-  CHECK(max_abs_diff(sg.v_mlp, std::vector<double>(sg.v_mlp.size(), 0.0)) > 1e-3);  // W3 and b3 still learn
+  CHECK_FALSE(s4d::test::allclose_report(sg.v_mlp, std::vector<double>(sg.v_mlp.size(), 0.0), {.atol = 1e-3}, "sg.v_mlp").ok);  // W3 and b3 still learn
 }
 
 TEST_CASE("t* maximises the Gaussian's density along the pixel ray") {

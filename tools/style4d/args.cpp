@@ -1,5 +1,8 @@
 #include "args.h"
 
+#include <cctype>
+#include <cmath>
+
 #include <algorithm>
 #include <iostream>
 #include <sstream>
@@ -136,6 +139,38 @@ std::string usage(const std::string& command, const std::string& synopsis, const
   }
   s << "  --help                " << "show this help\n";
   return s.str();
+}
+
+double parse_duration(const std::string& option, const std::string& text) {
+  const auto bad = [&] {
+    return UsageError("--" + option + ": expected a duration such as 90s, 20m or 1h30m, got '" + text + "'");
+  };
+  double seconds = 0;
+  size_t at = 0;
+  std::string units = "hms";  // the units still allowed, in order
+  while (at < text.size()) {
+    size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(text.substr(at), &used);
+    } catch (const std::exception&) {
+      throw bad();
+    }
+    if (used == 0 || !std::isfinite(value) || value < 0 || !std::isdigit(static_cast<unsigned char>(text[at]))) throw bad();
+    at += used;
+    if (at == text.size()) {  // a bare number: seconds, only on its own
+      if (units != "hms") throw bad();
+      seconds = value;
+      break;
+    }
+    const size_t unit = units.find(text[at]);
+    if (unit == std::string::npos) throw bad();
+    seconds += value * (text[at] == 'h' ? 3600 : text[at] == 'm' ? 60 : 1);
+    units.erase(0, unit + 1);
+    ++at;
+  }
+  if (!(seconds > 0)) throw bad();
+  return seconds;
 }
 
 std::pair<int, int> parse_size(const std::string& option, const std::string& text) {

@@ -80,6 +80,10 @@ T parse_number(const std::string& option, const std::string& text) {
   return value;
 }
 
+// A duration in seconds: "90", "90s", "20m", "1h30m", "1.5h" (units h, m, s, each at most once, in
+// that order); positive. An error naming the option otherwise.
+double parse_duration(const std::string& option, const std::string& text);
+
 // "WxH" with both positive; an error naming the option otherwise.
 std::pair<int, int> parse_size(const std::string& option, const std::string& text);
 

@@ -64,7 +64,7 @@ const std::map<std::string, std::string> kFlagOfSetting = {
     {"static_motion", "--static-motion"}, {"downscale", "--downscale"}, {"max_time", "--max-time"},
     {"static_max_time", "--static-max-time"}, {"background", "--background"}, {"frames", "--frame-range"},
     {"seed", "--seed"}, {"budget", "--budget"}, {"sh_degree", "--sh-degree"}, {"lr_scale", "--lr-scale"},
-    {"checkpoint_every", "--checkpoint-every"}};
+    {"checkpoint_every", "--checkpoint-every"}, {"time_budget", "--time-budget"}};
 
 // A saved run's run.json or train.json: its settings, and the dataset it was trained on.
 struct SavedConfig {
@@ -122,6 +122,7 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   if (auto v = args.get("sh-degree")) c.sh_degree = parse_number<int>("sh-degree", *v);
   if (auto v = args.get("lr-scale")) c.lr_scale = parse_real<double>("lr-scale", *v);
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
+  if (auto v = args.get("time-budget")) c.time_budget = parse_duration("time-budget", *v);
   try {
     run::validate(c, "command line", kFlagOfSetting);
   } catch (const std::runtime_error& e) {
@@ -130,8 +131,10 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   // --set KEY=VALUE: any setting train.json lists, VALUE as JSON (a number, [32, 32, 32, 16], ...).
   nlohmann::json j = run::to_json(c);
   bool background_given = args.get("background").has_value();
+  bool fine_given = args.get("fine-iters").has_value();
   for (const std::string& kv : args.get_all("set")) {
     background_given = background_given || kv.starts_with("background=");
+    fine_given = fine_given || kv.starts_with("fine_iterations=");
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
       throw UsageError("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
@@ -151,6 +154,7 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
     throw UsageError(e.what());
   }
   out.background_given = background_given;
+  out.fine_iterations_given = fine_given;
   return out;
 }
 
@@ -194,6 +198,8 @@ int cmd_train(const std::vector<std::string>& argv) {
       group("schedule"),
       {"preset", "fast | default | quality (default: fast on a CPU device such as lavapipe, default on a GPU)", true, "P"},
       {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
+      {"time-budget", "fit the run to this much training time, e.g. 90s, 20m, 1h30m: both stages' lengths and\n"
+                      "                        schedules are planned from measured step times (train.json time_budget)", true, "DURATION"},
       {"iters", "iterations of the static stage; the preset's schedules are scaled to fit", true, "N"},
       {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
       {"batch", "views per 4DGS step (default: the preset's)", true, "B"},

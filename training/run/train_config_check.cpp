@@ -80,6 +80,7 @@ void validate(const TrainConfig& c, const std::string& source, const std::map<st
   const Checker check{source, flags};
   // Data and schedule.
   check.at_least("iterations", c.iterations, 1);
+  check.non_negative("time_budget", c.time_budget);
   check.require(c.downscale >= 1, "downscale", c.downscale, "must be at least 1");
   check.require(std::isfinite(c.max_time) && c.max_time >= 0 && c.max_time <= 1, "max_time", c.max_time,
                 "must be a time in [0, 1]");

@@ -160,7 +160,7 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
     }
     double lo = 1e300, hi = -1e300;
     for (int f = 0; f < options.frames; ++f) {
-      const double t = static_cast<double>(f) / (options.frames - 1);
+      const double t = options.still ? 0.0 : static_cast<double>(f) / (options.frames - 1);
       RenderedView view = render_view(scene, cameras[static_cast<size_t>(c)], t, settings);
       lo = std::min(lo, view.min_depth);
       hi = std::max(hi, view.max_depth);

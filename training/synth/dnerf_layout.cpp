@@ -65,7 +65,7 @@ void write_dnerf_views(const fs::path& dir, const Scene& scene, const std::vecto
     for (int f = 0; f < options.frames; ++f) {
       const double t = static_cast<double>(f) / (options.frames - 1);
       const PinholeCamera& cam = cameras[static_cast<size_t>(split == "train" ? monocular_camera(f, options.cams) : 0)];
-      const RenderedView view = render_view(scene, cam, t, settings);
+      const RenderedView view = render_view(scene, cam, options.still ? 0.0 : t, settings);
       io::write_png(dir / split / (view_name(f) + ".png"), options.rgba ? straight_rgba(view, scene.sky) : io::ImageF{view.width, view.height, 3, view.rgb});
       nlohmann::json frame = {{"file_path", "./" + split + "/" + view_name(f)}, {"time", t}, {"transform_matrix", transform_matrix(cam)}};
       if (!one_focal) frame["camera_angle_x"] = angle_x(cam);  // NeRF transforms allow it per frame

@@ -65,7 +65,8 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
       {"intrinsics", {{"width", first.width}, {"height", first.height}, {"focal", first.focal},
                       {"cx", 0.5 * first.width}, {"cy", 0.5 * first.height}, {"fov_x_deg", rig.fov_x_deg}}},
       {"objects_only", !scene.room},
-      {"motion", options.motion.empty() ? "built-in sphere, box and sheet" : options.motion},
+      {"motion", options.still ? "none: every frame shows t = 0"
+                 : options.motion.empty() ? "built-in sphere, box and sheet" : options.motion},
       {"frames_rgba", options.rgba},
       {"camera_distances", options.mixed_distances ? "1, 1.4, 0.75 x the rig's, focal 1, 1.2, 0.85 x, in turn" : "one"},
       {"init_cloud", options.random_init > 0 ? "fused.ply: uniform random points in [-1.3, 1.3]^3, random colours"

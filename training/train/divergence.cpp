@@ -43,9 +43,9 @@ float range_limit(const std::string& array) { return ends_with(array, ".adam_v")
 
 uint32_t local_limit(uint32_t gaussians) { return std::max<uint32_t>(16, gaussians / 100); }
 
-Divergence find_divergence(const model::Checkpoint& state, const PartName& part) {
+Divergence find_divergence(const model::Checkpoint& state, const PartName& part, uint32_t extra_rows) {
   const model::HostState& s = state.state;
-  const size_t n = s.cloud.size();
+  const size_t n = extra_rows > 0 ? extra_rows : s.cloud.size();
   std::vector<std::string> found;
   std::set<uint32_t> rows;
   bool global = false;
@@ -100,8 +100,11 @@ Divergence find_divergence(const model::Checkpoint& state, const PartName& part)
     per_gaussian(name + ".adam_v", s.v[a]);
   }
   for (uint32_t k = 0; k < model::kStatCount; ++k) per_gaussian(model::stat_name(model::Stat(k)), s.stats[k]);
-  for (const auto& [name, values] : state.extra)
-    if (!ends_with(name, "mask")) whole(name, values);
+  for (const auto& [name, values] : state.extra) {
+    if (ends_with(name, "mask")) continue;
+    if (extra_rows > 0 && values.size() % extra_rows == 0) per_gaussian(name, values);
+    else whole(name, values);
+  }
 
   Divergence d;
   if (found.empty()) return d;

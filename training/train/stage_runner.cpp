@@ -40,6 +40,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
   progress.restart_rate(stage.iteration());
   double test_psnr = NAN;
   for (StagePlan plan = first; stage.iteration() < plan.iterations; plan = stage.plan()) {
+    if (plan.iterations != progress.total()) progress.set_total(plan.iterations);  // re-planned (time_budget.h)
     if (stop.load()) {
       checkpoint(stage);
       std::cerr << plan.name << ": interrupted at iteration " << stage.iteration() << "; checkpoint written, "
@@ -67,6 +68,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     if (!std::isnan(test_psnr)) shown.emplace_back(plan.test_name, test_psnr);  // after the first test
     progress.update(stage.iteration(), shown);
   }
+  progress.set_total(stage.plan().iterations);
   progress.finish(stage.final_test());
   return true;
 }
@@ -111,10 +113,12 @@ void StageRunner::recover(RunnerStage& stage, const std::string& why, const Dive
 bool StageRunner::repair(RunnerStage& stage, const std::string& cause, const Divergence& d) {
   Recovery rec = stage.recovery();
   if (rec.repairs >= kMaxRepairs) return false;
-  stage.remove_gaussians(d.gaussians);
+  const std::string verb = stage.repair_gaussians(d.gaussians);
+  if (verb.empty()) return false;  // a stage that cannot repair
   ++rec.repairs, rec.removed += static_cast<uint32_t>(d.gaussians.size());
   stage.recovery() = rec;
-  std::cerr << stage.plan().name << ": " << cause << "; removed " << (d.gaussians.size() == 1 ? "that Gaussian" : "those " + std::to_string(d.gaussians.size()) + " Gaussians")
+  std::cerr << stage.plan().name << ": " << cause << "; " << verb << " "
+            << (d.gaussians.size() == 1 ? "that Gaussian" : "those " + std::to_string(d.gaussians.size()) + " Gaussians")
             << " and went on\n";
   checkpoint(stage);  // the repaired state becomes the last good one
   return true;

@@ -14,6 +14,7 @@
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/model/checkpoint.h"
 #include "s4d/run/run_json.h"
+#include "s4d/train/scene_motion.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/run/run_size.h"
 #include "s4d/run/stage_times.h"
@@ -104,7 +105,7 @@ void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, s
 
 }  // namespace
 
-Trainer::Impl::Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d)
+Trainer::Impl::Impl(engine::Context& c, run::RunDir r, run::TrainConfig& cfg, const data::Dataset& d)
     : ctx(c), run(std::move(r)), config(cfg), dataset(d), recovery{0, cfg.lr_scale}, train_views(select_views(d, cfg, false)),
       test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
       loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
@@ -130,7 +131,21 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   config_.background = dataset_.background;
   if (!dataset_.background_conflict.empty())
     std::cerr << "warning: " << dataset_.root.string() << ": background: " << dataset_.background_conflict << "\n";
-  const nlohmann::json recipe = adapt_to_data(config_, dataset_);
+  nlohmann::json recipe = adapt_to_data(config_, dataset_);
+  if (config_.fine_iterations > 0) {
+    data::FrameCache frames(dataset_, kFrameCacheBytes);
+    const MotionCheck motion = check_motion(dataset_, frames);
+    recipe["deformation_field"] = motion.to_json();
+    if (motion.motion == Motion::still && config_.fine_iterations_given) {
+      recipe["deformation_field"]["trained"] = "yes: --fine-iters asked for it";
+    } else if (motion.motion == Motion::still) {
+      config_.fine_iterations = 0;
+      recipe["deformation_field"]["trained"] = "no: the 4DGS stage is skipped (--fine-iters N trains it anyway)";
+      std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped (--fine-iters N trains it anyway)\n";
+    } else {
+      recipe["deformation_field"]["trained"] = "yes";
+    }
+  }
   InitReport init;
   const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
                                                   max_initial_points(config_), config_.seed, &init);
@@ -243,6 +258,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageScope timed(m.ctx, "densify");
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.mask_due()) m.update_mask();
+    m.plan_time_if_due(seconds());
   }
   void add_progress(ProgressValues& shown) override {
     shown.emplace_back("gaussians", static_cast<double>(m.gaussians->size()));
@@ -262,7 +278,10 @@ struct Trainer::Impl::Steps final : RunnerStage {
   void save(double seconds) override { m.checkpoint(seconds); }
   void restore_last_good() override { m.restore(m.last_good); }
   Divergence divergence() override { return m.divergence(m.snapshot(seconds())); }
-  void remove_gaussians(const std::vector<uint32_t>& rows) override { m.remove_gaussians(rows, seconds()); }
+  std::string repair_gaussians(const std::vector<uint32_t>& rows) override {
+    m.remove_gaussians(rows, seconds());
+    return "removed";
+  }
   ProgressValues final_test() override {
     test = m.evaluate(m.test_views, last() ? m.run.eval_dir() : fs::path{});
     return {{"test_psnr", test.psnr}, {"test_ssim", test.ssim}, {"gaussians", static_cast<double>(m.gaussians->size())}};
@@ -302,6 +321,7 @@ TrainResult Trainer::run(const std::atomic<bool>& stop) {
       return r;
     }
     m.begin_fine_stage(steps.test);
+    m.mark_time(steps.seconds());
     runner.checkpoint(steps);
   }
 }

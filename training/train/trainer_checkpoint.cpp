@@ -39,12 +39,14 @@ void Trainer::Impl::make_field(uint32_t seed) {
 }
 
 nlohmann::json Trainer::Impl::meta(double seconds) const {
-  return {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", recovery.lr_scale},   {"seconds", seconds},
+  nlohmann::json j = {{"stage", run::stage_name(stage)}, {"iteration", iteration},   {"lr_scale", recovery.lr_scale},   {"seconds", seconds},
           {"rollbacks", recovery.rollbacks}, {"sampler", sampler.save()}, {"aabb_min", aabb_min}, {"aabb_max", aabb_max},
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
           {"deform_evaluations_unmasked", deform_evaluations_unmasked}, {"densify_log", densify_log},
           {"prune_floor", prune_floor}, {"prune_floor_why", prune_floor_why},
           {"guard_repairs", recovery.repairs}, {"guard_removed", recovery.removed}};
+  if (config.time_budget > 0) j["time_budget"] = time_plan.to_json();
+  return j;
 }
 
 model::Checkpoint Trainer::Impl::snapshot(double seconds) const {
@@ -78,6 +80,8 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   // Checkpoints written before the guard removed Gaussians have no counts: none removed.
   recovery.repairs = cp.meta.value("guard_repairs", 0u);
   recovery.removed = cp.meta.value("guard_removed", 0u);
+  // Checkpoints written before time budgets have no plans: none made yet.
+  if (cp.meta.contains("time_budget")) time_plan = BudgetState::from_json(cp.meta.at("time_budget"));
   sampler = stage_sampler();
   sampler.load(cp.meta.at("sampler").get<std::string>());
   static_scores = cp.meta.at("static_test");

@@ -26,6 +26,7 @@
 #include "s4d/splat/rasterizer.h"
 #include "s4d/train/divergence.h"
 #include "s4d/train/stage_runner.h"
+#include "s4d/train/time_budget.h"
 #include "s4d/train/trainer.h"
 #include "s4d/train/view_sampler.h"
 
@@ -44,7 +45,8 @@ enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlan
 struct Trainer::Impl {
   engine::Context& ctx;
   run::RunDir run;
-  const run::TrainConfig& config;
+  // The run's settings; under a time budget its plans change the stages' lengths and schedules.
+  run::TrainConfig& config;
   const data::Dataset& dataset;
   Recovery recovery;  // lr_scale starts at the settings'
   std::vector<const data::View*> train_views, test_views;
@@ -90,12 +92,14 @@ struct Trainer::Impl {
   // Resumed from the previous checkpoint because the newest was damaged: the next checkpoint replaces
   // the newest without rotating it over the good previous one.
   bool newest_damaged = false;
+  // The time budget's plans (config.time_budget > 0; time_budget.h).
+  BudgetState time_plan;
 
   // The runner's view of the current stage (trainer.cpp).
   struct Steps;
 
   // ---- Small queries and the constructor (trainer.cpp).
-  Impl(engine::Context& c, run::RunDir r, const run::TrainConfig& cfg, const data::Dataset& d);
+  Impl(engine::Context& c, run::RunDir r, run::TrainConfig& cfg, const data::Dataset& d);
   bool fine() const { return stage == run::Stage::fine; }
   // Each stage draws from its own views, with its own seeded order.
   ViewSampler stage_sampler() const {
@@ -183,6 +187,15 @@ struct Trainer::Impl {
   // fine_time_front of the open window while it opens (what was just opened is what the model
   // misses), else every open view.
   std::vector<const data::View*> seed_pool() const;
+
+  // ---- The time budget (trainer_time_budget.cpp).
+  // Marks where a stage's step times are measured from: after the static stage's first
+  // kTimeMarkAt steps (shaders and buffers warm), and at the fine stage's start.
+  void mark_time(double seconds) { time_plan.from_iteration = iteration, time_plan.from_seconds = seconds; }
+  // Plans the stages' lengths when a plan is due (time_budget.h); rewrites run.json with them.
+  void plan_time_if_due(double seconds);
+  // train.json's "time_budget": given and taken seconds, the static share, every plan; null without one.
+  nlohmann::json time_budget_json(double seconds) const;
 
   // ---- Tests, the stage change and train.json (trainer_report.cpp).
   Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {});

@@ -98,6 +98,7 @@ void Trainer::Impl::write_result(const TrainResult& r) const {
                       {"num_gaussians", r.num_gaussians},
                       {"rollbacks", r.rollbacks},
                       {"guard_removed", recovery.removed},
+                      {"time_budget", time_budget_json(r.seconds)},
                       {"test_views", scores_json(r.test)},
                       {"static", static_scores},
                       {"deform_evaluations", deform_evaluations},

@@ -7,6 +7,9 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <span>
+#include <string>
+#include <vector>
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/engine/buffer_from.h"
@@ -190,10 +193,25 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
   void save(double seconds) override {
     model::Checkpoint cp = snapshot(seconds);
+    if (train::Divergence d = train::find_divergence(cp, {}, count); d.found()) throw train::StateOutOfRange(std::move(d));
     model::write_checkpoint(checkpoint_path(), cp);
     last_good = std::move(cp);
   }
   void restore_last_good() override { restore(last_good); }
+  train::Divergence divergence() override { return train::find_divergence(snapshot(seconds()), {}, count); }
+  // The Gaussians' style deltas, MLPs and moments back to zero: an MLP of zeros adds nothing.
+  std::string repair_gaussians(const std::vector<uint32_t>& rows) override {
+    for (size_t k = 0; k < 3; ++k) {
+      if (floats[k] == 0) continue;
+      const size_t width = floats[k] / count;
+      for (engine::Buffer* b : {&param[k], &m[k], &v[k]}) {
+        std::vector<float> values = ctx.download<float>(*b, floats[k]);
+        for (uint32_t g : rows) std::fill_n(values.begin() + g * width, width, 0.0f);
+        ctx.upload(*b, std::span<const float>(values));
+      }
+    }
+    return "reset the style of";
+  }
   train::ProgressValues final_test() override {
     test = evaluate(test_views, dir / "eval");
     return {{"test_psnr_vs_stylized", test.psnr}};
@@ -206,6 +224,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
       j["rollbacks"] = recovery_state.rollbacks;
       j["lr_scale"] = recovery_state.lr_scale;
     }
+    if (recovery_state.repairs > 0) j["guard_repairs"] = recovery_state.repairs, j["guard_reset"] = recovery_state.removed;
     return j;
   }
 
@@ -232,7 +251,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     seconds_before = cp.meta.at("seconds").get<double>();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     depth_scale = cp.meta.at("depth_scale").get<float>();
-    recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0)};
+    recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0), cp.meta.value("guard_repairs", 0u),
+                      cp.meta.value("guard_reset", 0u)};
     const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k)
       for (auto [buffer, suffix] : {std::pair{&param[k], ""}, {&m[k], ".adam_m"}, {&v[k], ".adam_v"}}) {
@@ -376,8 +396,10 @@ StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
   Impl& s = *impl_;
   s.start = std::chrono::steady_clock::now();
   train::StageRunner runner(s.dir / "loss.csv", "iteration,loss,seconds");
-  if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
-  if (!runner.checkpoint(s)) throw std::runtime_error("stage 4: the final state is not finite");
+  // A refused final checkpoint was repaired (the closing test runs again) or rolled back (training goes on).
+  do {
+    if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
+  } while (!runner.checkpoint(s));
   run::write_style_file(run::style_file_path(s.run.root, s.style), s.style_file());
   return {true, s.done, s.seconds(), s.region_count, std::move(s.test)};
 }

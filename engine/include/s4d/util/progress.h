@@ -25,6 +25,9 @@ class Progress {
   // Measures the rate (and so the ETA) from `step` now on: a resumed or rolled-back loop's steps
   // before it were not done by this process.
   void restart_rate(uint64_t step);
+  // The work was re-planned (a time budget): `total` steps from now on.
+  void set_total(uint64_t total) { total_ = total; }
+  uint64_t total() const { return total_; }
 
   double elapsed_s() const;
   // The line update() would print now (exposed for tests).

@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "s4d/ref/splat_project_ref.h"
 #include "s4d_densify.h"
 #include "s4d_splat.h"
 
@@ -187,9 +188,10 @@ inline DensifyState densify(const DensifyState& s, const gpu::ClassifyParams& p,
       const float* ls = &s.param[DensifyState::kLogScales][3 * i];
       const float d[3] = {std::exp(ls[0]) * nrm[0], std::exp(ls[1]) * nrm[1], std::exp(ls[2]) * nrm[2]};
       const float* q4 = &s.param[DensifyState::kQuats][4 * i];
-      const float len = std::sqrt(q4[0] * q4[0] + q4[1] * q4[1] + q4[2] * q4[2] + q4[3] * q4[3]);
-      const float w = len > 0 ? q4[0] / len : 1, x = len > 0 ? q4[1] / len : 0, y = len > 0 ? q4[2] / len : 0,
-                  z = len > 0 ? q4[3] / len : 0;
+      std::array<float, 4> q{};
+      float norm = 0;
+      detail::normalise_quat(q4, q, norm);  // as the rasterizer: tiny quaternions keep their rotation
+      const float w = q[0], x = q[1], y = q[2], z = q[3];
       const float r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
                              {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
                              {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};

@@ -333,12 +333,15 @@ template <class T>
 Chw<T> layernorm(Chw<T> x, const std::vector<T>& weight, const std::vector<T>& bias, T eps) {
   const size_t n = size_t{x.h} * x.w;
   for (size_t t = 0; t < n; ++t) {
+    const T shift = x.v[t];  // as the kernel: sums of x - x[0], so a large offset cannot swamp the spread
     T sum = 0, centred = 0;
-    for (uint32_t ch = 0; ch < x.c; ++ch) sum += x.v[ch * n + t];
-    const T mean = sum / T(x.c);
-    for (uint32_t ch = 0; ch < x.c; ++ch) centred += (x.v[ch * n + t] - mean) * (x.v[ch * n + t] - mean);
+    for (uint32_t ch = 0; ch < x.c; ++ch) sum += x.v[ch * n + t] - shift;
+    const T mean = sum / T(x.c);  // of x - shift
+    for (uint32_t ch = 0; ch < x.c; ++ch)
+      centred += (x.v[ch * n + t] - shift - mean) * (x.v[ch * n + t] - shift - mean);
     const T inv = T(1) / std::sqrt(centred / T(x.c) + eps);
-    for (uint32_t ch = 0; ch < x.c; ++ch) x.v[ch * n + t] = (x.v[ch * n + t] - mean) * inv * weight[ch] + bias[ch];
+    for (uint32_t ch = 0; ch < x.c; ++ch)
+      x.v[ch * n + t] = (x.v[ch * n + t] - shift - mean) * inv * weight[ch] + bias[ch];
   }
   return x;
 }

@@ -34,6 +34,9 @@ struct TrainConfig {
   // Whether `background` was asked for (--background, --set background=...); otherwise a new run takes
   // the dataset's (found from its frames) and stores it here. Not stored: a run's background is settled.
   bool background_given = false;
+  // Whether the fine stage's length was asked for (--fine-iters, --set fine_iterations=...);
+  // otherwise a new run whose frames show no motion skips it (train/scene_motion.h). Not stored.
+  bool fine_iterations_given = false;
   // Model.
   int sh_degree = 3;              // stored degree; the active degree grows by one every sh_up_every
   uint32_t sh_up_every = 1000;
@@ -83,6 +86,10 @@ struct TrainConfig {
   // Runs.
   uint32_t test_every = 1000;
   uint32_t checkpoint_every = 1000;
+  // Seconds of training (both stages, every session) the run is fitted to: the stages' lengths and
+  // schedules are planned from measured step times (train/time_budget.h) and run.json holds the
+  // latest plan. 0: the lengths as set.
+  double time_budget = 0;
 };
 
 // "fast", "default" or "quality"; std::invalid_argument naming the preset otherwise.

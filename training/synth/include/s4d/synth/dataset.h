@@ -34,6 +34,8 @@ struct SynthOptions {
   // > 0: fused.ply holds this many random points in [-1.3, 1.3]^3 with random colours (4DGaussians'
   // synthetic recipe) instead of points3D.ply's surface samples.
   int random_init = 0;
+  // Every frame shows the scene at t = 0 (times still run 0..1): a capture of a scene that does not move.
+  bool still = false;
 };
 
 // Throws std::invalid_argument naming the bad value.

@@ -17,7 +17,7 @@ namespace s4d::train {
 struct Divergence {
   std::string where;                // "'sh' of 20 Gaussians (up to 1e+30, first at Gaussian 17)"; "" when none
   std::vector<uint32_t> gaussians;  // the Gaussians (rows) holding them, ascending
-  bool local = false;               // only per-Gaussian arrays, at most local_limit(count) Gaussians
+  bool local = false;               // only per-Gaussian arrays, at most local_limit(Gaussians) of them
   bool found() const { return !where.empty(); }
 };
 
@@ -35,7 +35,9 @@ uint32_t local_limit(uint32_t gaussians);
 using PartName = std::function<std::string(const std::string& array, uint64_t index)>;
 
 // Scans every array of `state` (the Gaussians', their Adam moments and statistics, and the extra
-// arrays but masks). `part` names parts of the extra arrays; may be empty.
-Divergence find_divergence(const model::Checkpoint& state, const PartName& part = {});
+// arrays but masks). `part` names parts of the extra arrays; may be empty. With `extra_rows` > 0 the
+// extra arrays hold that many Gaussians' rows each (stage 4's per-Gaussian style), so they are
+// scanned, named and repaired per Gaussian like the cloud's.
+Divergence find_divergence(const model::Checkpoint& state, const PartName& part = {}, uint32_t extra_rows = 0);
 
 }  // namespace s4d::train

@@ -27,8 +27,8 @@ using ProgressValues = std::vector<std::pair<std::string, double>>;
 struct Recovery {
   uint32_t rollbacks = 0;
   double lr_scale = 1;     // multiplies every learning rate
-  uint32_t repairs = 0;    // times Gaussians holding the cause were removed
-  uint32_t removed = 0;    // Gaussians removed by those repairs
+  uint32_t repairs = 0;    // times Gaussians holding the cause were removed or reset
+  uint32_t removed = 0;    // Gaussians removed or reset by those repairs
 };
 
 // Thrown by RunnerStage::save when the state holds values out of range (nothing written).
@@ -77,8 +77,9 @@ class RunnerStage {
   virtual void restore_last_good() = 0;
   // What in the current state is out of range (divergence.h); nothing for a stage that cannot tell.
   virtual Divergence divergence() { return {}; }
-  // Removes these Gaussians (ascending) from the current state: the repair of a local divergence.
-  virtual void remove_gaussians(const std::vector<uint32_t>&) {}
+  // Repairs a local divergence in the current state: removes these Gaussians (ascending), or resets
+  // what the stage trains of them. Returns the verb for the message ("removed", "reset").
+  virtual std::string repair_gaussians(const std::vector<uint32_t>&) { return ""; }
   // The stage's closing test over all its test views; returns what the progress line ends with.
   virtual ProgressValues final_test() = 0;
 };
@@ -103,7 +104,7 @@ class StageRunner {
   // holding it, or rolls back (halving the learning rates); throws std::runtime_error naming the cause
   // when the last good state holds it too, or after kMaxRollbacks.
   void recover(RunnerStage& stage, const std::string& why, const Divergence& now);
-  // Removes `d`'s Gaussians and checkpoints the result; false once kMaxRepairs were made.
+  // Repairs `d`'s Gaussians and checkpoints the result; false once kMaxRepairs were made.
   bool repair(RunnerStage& stage, const std::string& cause, const Divergence& d);
   // Rewrites loss.csv with its header and the complete rows the stage keeps, then appends.
   void keep_log_rows(const RunnerStage& stage);

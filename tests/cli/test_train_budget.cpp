@@ -1,0 +1,70 @@
+// train --time-budget: durations as a user writes them, refusals as usage errors naming the flag, and
+// a run that records its plans in train.json and keeps its latest plan in run.json, so that a
+// continued run goes on with it. Whether the time is met is a benchmark's (docs/trade.md), not a test's.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_run.h"
+
+using namespace s4d;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("--time-budget refuses what is not a duration, as a usage error naming the flag") {
+  const fs::path dir = test::fresh_dir("train_budget_refused");
+  for (const char* bad : {"10x", "m", "-5s", "0", "5m1h", "1h1h", "1.5.2s", "s10"}) {
+    CAPTURE(bad);
+    const int rc = test::run_style4d("train", "--data nowhere --run " + (dir / "r").string() + " --time-budget " + bad,
+                                     dir / "log");
+    const std::string log = test::read_text(dir / "log");
+    CHECK(test::exit_code(rc) == 2);
+    CHECK_MESSAGE(contains(log, "--time-budget: expected a duration such as 90s, 20m or 1h30m, got '" + std::string(bad) + "'"), log);
+    CHECK_FALSE(fs::exists(dir / "r"));
+  }
+}
+
+TEST_CASE("train --time-budget plans both stages from measured steps and keeps the latest plan in run.json") {
+  const fs::path dir = test::fresh_dir("train_budget");
+  REQUIRE(test::run_style4d("synth", "--out " + (dir / "d").string() + " --cams 4 --frame-count 3 --size 48x36",
+                            dir / "synth.log") == 0);
+  const fs::path run = dir / "run";
+  const int rc = test::run_style4d("train", "--data " + (dir / "d").string() + " --run " + run.string() +
+                                                " --preset fast --time-budget 0.25m",
+                                   dir / "train.log");
+  const std::string log = test::read_text(dir / "train.log");
+  REQUIRE_MESSAGE(test::exit_code(rc) == 0, log);
+  CHECK_MESSAGE(contains(log, "time budget: static stage "), log);
+  const nlohmann::json t = nlohmann::json::parse(test::read_text(run / "train.json"));
+  const nlohmann::json saved = nlohmann::json::parse(test::read_text(run / "run.json"));
+  const nlohmann::json& b = t["time_budget"];
+  CHECK(b["given_seconds"] == 15.0);
+  CHECK(b["took_seconds"] == t["seconds"]);
+  CHECK(t["settings"]["time_budget"] == 15.0);
+  // The first plan after the probe's 30 steps from step 20; the fine stage's after its tenth step.
+  const nlohmann::json& plans = b["plans"];
+  REQUIRE(plans.size() >= 2);
+  CHECK(plans[0]["stage"] == "static");
+  CHECK(plans[0]["iteration"] == 50);
+  bool fine_planned = false;
+  for (const nlohmann::json& p : plans) fine_planned = fine_planned || (p["stage"] == "fine" && p["iteration"] == 10);
+  if (t["iteration"].get<uint32_t>() > 10) CHECK(fine_planned);  // a loaded machine may leave the fine stage fewer steps
+  // The run ran the last plan's lengths, and run.json holds them with schedules scaled alike.
+  const nlohmann::json& last = plans.back();
+  CHECK(t["iteration"] == last["fine_iterations"]);
+  CHECK(saved["settings"]["iterations"] == last["iterations"]);
+  CHECK(saved["settings"]["fine_iterations"] == last["fine_iterations"]);
+  CHECK(saved["settings"] == t["settings"]);
+  const double f = saved["settings"]["iterations"].get<double>() / 900;  // fast: 900 static steps, densified 300..700
+  CHECK(saved["settings"]["densify_until"].get<double>() == doctest::Approx(700 * f).epsilon(0.02));
+  CHECK(0.0 < b["static_share"].get<double>());
+  CHECK(b["static_share"].get<double>() < 1.0);
+}

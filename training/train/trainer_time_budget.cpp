@@ -1,0 +1,80 @@
+// Trainer::Impl's time budget: the stages' lengths planned from measured step times (time_budget.h).
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "trainer_impl.h"
+
+namespace s4d::train {
+
+namespace {
+
+// The static stage's steps are timed from this one on: the first compile shaders and grow buffers.
+constexpr uint32_t kTimeMarkAt = 20;
+// The first plan measures this many steps after the mark (the time estimate's probe); later plans
+// come every tenth of the stage, at least every kMinPlanSteps.
+constexpr uint32_t kFirstPlanSteps = 30, kMinPlanSteps = 10;
+
+}  // namespace
+
+void Trainer::Impl::plan_time_if_due(double now) {
+  const double budget = config.time_budget;
+  if (budget <= 0) return;
+  if (!fine() && iteration < kTimeMarkAt) return;
+  if (!fine() && time_plan.plans.empty() && time_plan.from_iteration < kTimeMarkAt) return mark_time(now);
+  const bool first_static = !fine() && time_plan.static_share == 0;
+  // The fine stage's first plan comes soon: its step costs what the estimate only guessed.
+  const bool first_fine = fine() && (time_plan.plans.empty() || time_plan.plans.back().at("stage") != run::stage_name(stage));
+  const uint32_t steps = iteration - time_plan.from_iteration;
+  const uint32_t due = first_static ? kFirstPlanSteps : first_fine ? kMinPlanSteps : std::max(kMinPlanSteps, stage_iterations() / 10);
+  if (steps < due) return;
+  if (iteration >= stage_iterations()) return;  // the stage ends with this step anyway
+  const double per_step = (now - time_plan.from_seconds) / steps;
+  if (time_plan.plans.empty()) time_plan.start = config;
+  const run::TrainConfig& start = time_plan.start;
+  const double fine_deadline = budget * (1 - kReserveShare);
+  uint32_t length = config.iterations, fine_length = config.fine_iterations;
+  if (first_static) {
+    // The growth still to come is the estimate's: each stage's mean step at the middle of its range.
+    const TimeEstimate e = estimate_time(config, per_step, gaussians->size());
+    time_plan.static_share = static_share(e);
+    const double static_step = std::sqrt(e.static_seconds_low * e.static_seconds) / config.iterations;
+    length = fitted_length(time_plan.static_share * budget, now, iteration, static_step, start.iterations);
+    if (config.fine_iterations > 0) {
+      const double fine_step = std::sqrt(e.fine_seconds_low * e.fine_seconds) / config.fine_iterations;
+      const double static_end = now + (length - iteration) * static_step;
+      fine_length = std::max<uint32_t>(1, fitted_length(fine_deadline, static_end, 0, fine_step, start.fine_iterations));
+    }
+  } else if (!fine()) {
+    length = fitted_length(time_plan.static_share * budget, now, iteration, per_step, start.iterations);
+  } else {
+    fine_length = fitted_length(fine_deadline, now, iteration, per_step, start.fine_iterations);
+  }
+  const uint32_t was = config.iterations, fine_was = config.fine_iterations;
+  fit_schedules(config, start, length, fine_length);
+  mark_time(now);
+  time_plan.plans.push_back({{"stage", run::stage_name(stage)}, {"iteration", iteration}, {"seconds", now},
+                             {"seconds_per_step", per_step}, {"gaussians", gaussians->size()},
+                             {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations}});
+  if (config.iterations == was && config.fine_iterations == fine_was) return;
+  // A resumed run continues with the plan: run.json holds the settings it reads back.
+  run::RunJson saved = run::read_run_json(run);
+  saved.settings = config;
+  run::write_run_json(run, saved);
+  if (!first_static && !first_fine) return;  // the later plans are in train.json
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "time budget: static stage %u steps, 4DGS stage %u (%.3f s per step at %s step %u with %u Gaussians; "
+                "%.0f of %.0f s used)",
+                config.iterations, config.fine_iterations, per_step, run::stage_name(stage), iteration,
+                gaussians->size(), now, budget);
+  std::cerr << line << "\n";
+}
+
+nlohmann::json Trainer::Impl::time_budget_json(double seconds) const {
+  if (config.time_budget <= 0) return nullptr;
+  return {{"given_seconds", config.time_budget}, {"took_seconds", seconds}, {"static_share", time_plan.static_share},
+          {"plans", time_plan.plans}};
+}
+
+}  // namespace s4d::train
