@@ -155,13 +155,13 @@ TEST_CASE("guard: stage 4's style out of range in a few Gaussians is named, rese
   // The finished stage's checkpoint with three Gaussians' SH deltas and one's MLP out of range; the
   // same command again continues from it.
   const fs::path checkpoint = run / "style" / "s" / "checkpoint.s4dckpt";
-  run::Checkpoint cp = run::read_checkpoint(checkpoint);
+  model::Checkpoint cp = model::read_checkpoint(checkpoint);
   std::vector<float>& sh = extra(cp, "sh_delta");
   const size_t width = sh.size() / cp.meta["count"].get<size_t>();
   for (size_t g : {3, 7}) sh[g * width] = 1e30f;
   std::vector<float>& mlp = extra(cp, "mlp");
   mlp[11 * (mlp.size() / cp.meta["count"].get<size_t>()) + 2] = -1e20f;
-  run::write_checkpoint(checkpoint, cp);
+  model::write_checkpoint(checkpoint, cp);
   fs::remove(run / "style" / "s" / "style.s4dstyle");
   const int rc = test::run_style4d("stylize", stylize, dir / "stylize_again.log");
   const std::string log = test::read_text(dir / "stylize_again.log");
@@ -170,7 +170,7 @@ TEST_CASE("guard: stage 4's style out of range in a few Gaussians is named, rese
   CHECK_MESSAGE(contains(log, "'mlp' of 1 Gaussian (up to 1e+20; first Gaussian 11)"), log);
   CHECK_MESSAGE(contains(log, "reset the style of those 3 Gaussians and went on"), log);
   CHECK(fs::exists(run / "style" / "s" / "style.s4dstyle"));
-  const run::Checkpoint after = run::read_checkpoint(checkpoint);
+  const model::Checkpoint after = model::read_checkpoint(checkpoint);
   CHECK(after.meta["guard_reset"] == 3);
-  CHECK(extra(const_cast<run::Checkpoint&>(after), "sh_delta")[3 * width] == 0.0f);
+  CHECK(extra(const_cast<model::Checkpoint&>(after), "sh_delta")[3 * width] == 0.0f);
 }
