@@ -12,8 +12,6 @@
 #include "s4d/primitives/iota.h"
 #include "s4d/primitives/radix_sort.h"
 #include "s4d/primitives/scan.h"
-#include "s4d/ref/radix_sort_ref.h"
-#include "s4d/ref/scan_ref.h"
 
 namespace s4d::bench {
 
@@ -57,9 +55,11 @@ PrimitiveTiming bench_radix_sort(engine::Context& ctx, uint32_t n, int repeats, 
     ctx.run(std::move(rec));
     if (r >= 0) ms.push_back(q.elapsed_ms(0, 1));
   }
-  std::vector<uint32_t> want_keys = keys, want_values(n);
+  // A radix sort is stable: the values (the keys' first positions) come out in order of key, then position.
+  std::vector<uint32_t> want_values(n), want_keys(n);
   std::iota(want_values.begin(), want_values.end(), 0u);
-  ref::radix_sort(want_keys, want_values, 32);
+  std::stable_sort(want_values.begin(), want_values.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+  for (uint32_t i = 0; i < n; ++i) want_keys[i] = keys[want_values[i]];
   t.matches_twin = ctx.download<uint32_t>(k, n) == want_keys && ctx.download<uint32_t>(v, n) == want_values;
   summarise(t, ms);
   return t;
@@ -82,8 +82,8 @@ PrimitiveTiming bench_exclusive_scan(engine::Context& ctx, uint32_t n, int repea
     ctx.run(std::move(rec));
     if (r >= 0) ms.push_back(q.elapsed_ms(0, 1));
   }
-  std::vector<uint32_t> want = input;
-  ref::exclusive_scan(std::span(want));
+  std::vector<uint32_t> want(n);
+  std::exclusive_scan(input.begin(), input.end(), want.begin(), 0u);  // unsigned: wraps as the GPU's does
   t.matches_twin = ctx.download<uint32_t>(data, n) == want;
   summarise(t, ms);
   return t;

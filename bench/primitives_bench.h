@@ -1,5 +1,6 @@
 // Throughput measurement of the GPU primitives (radix sort, exclusive scan) with GPU timestamps,
-// each run checked against the CPU twin. Shared by the bench executable and `style4d demo`.
+// each result checked against the standard library's (std::stable_sort, std::exclusive_scan) on the
+// CPU; the twins (training/ref) stay with the tests. Shared by the bench executable and `style4d demo`.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -14,7 +15,7 @@ struct PrimitiveTiming {
   int repeats = 0;
   double ms_p50 = 0, ms_min = 0, ms_max = 0;  // GPU time from timestamps
   double keys_per_s = 0;                      // n / p50
-  bool matches_twin = false;                  // the GPU result equals the CPU twin's
+  bool matches_twin = false;                  // the GPU result equals the CPU's
 };
 
 PrimitiveTiming bench_radix_sort(engine::Context& ctx, uint32_t n, int repeats, uint32_t seed = 1);

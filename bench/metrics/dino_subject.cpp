@@ -40,7 +40,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
-ref::Chw<float> dino_transform(const io::ImageF& rgb) {
+util::Chw<float> dino_transform(const io::ImageF& rgb) {
   require_rgb(rgb, "dino_score", "the frame");
   const auto w = uint32_t(rgb.width), h = uint32_t(rgb.height);
   const uint32_t short_side = std::min(w, h), long_side = std::max(w, h);
@@ -51,7 +51,7 @@ ref::Chw<float> dino_transform(const io::ImageF& rgb) {
   const auto level = [&](uint32_t y, uint32_t x, uint32_t c) {  // the frame as the uint8 VBench reads
     return std::nearbyint(std::clamp(rgb.data[(size_t{y} * w + x) * 3 + c], 0.0f, 1.0f) * 255.0f);
   };
-  ref::Chw<float> out(3, out_h, out_w);
+  util::Chw<float> out(3, out_h, out_w);
   for (uint32_t c = 0; c < 3; ++c)
     for (uint32_t y = 0; y < out_h; ++y)
       for (uint32_t x = 0; x < out_w; ++x) {
@@ -78,7 +78,7 @@ DinoSubject::DinoSubject(engine::Context& ctx, const io::SafetensorsFile& file, 
     : ctx_(ctx), vit_(ctx, file, heads) {}
 
 std::vector<double> DinoSubject::features(const io::ImageF& rgb) const {
-  const ref::Chw<float> input = dino_transform(rgb);
+  const util::Chw<float> input = dino_transform(rgb);
   const std::vector<float> cls =
       vit_.cls(nn::upload_tensor(ctx_, "dino_score input", 3, input.h, input.w, input.v));
   std::vector<double> f(cls.begin(), cls.end());

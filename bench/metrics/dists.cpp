@@ -13,8 +13,8 @@ double dists_from_features(const DistsFeatures& x, const DistsFeatures& y, const
   double score = 0;
   size_t k = 0;  // channel index over all stages
   for (size_t s = 0; s < x.size(); ++s) {
-    const ref::Chw<double>& a = x[s];
-    const ref::Chw<double>& b = y[s];
+    const util::Chw<double>& a = x[s];
+    const util::Chw<double>& b = y[s];
     if (a.c != b.c || a.h != b.h || a.w != b.w)
       throw std::invalid_argument("dists: stage " + std::to_string(s) + " shapes differ (images of different sizes?)");
     const size_t n = size_t{a.h} * a.w;
@@ -68,7 +68,7 @@ DistsFeatures Dists::features(const io::ImageF& rgb) const {
   const std::vector<nn::Tensor> taps = vgg_.features(rec, x);
   ctx_.run(std::move(rec));
   DistsFeatures out;
-  ref::Chw<double> raw(3, uint32_t(rgb.height), uint32_t(rgb.width));  // stage 0: the input itself
+  util::Chw<double> raw(3, uint32_t(rgb.height), uint32_t(rgb.width));  // stage 0: the input itself
   const size_t plane = size_t(rgb.width) * size_t(rgb.height);
   for (size_t i = 0; i < plane; ++i)
     for (size_t c = 0; c < 3; ++c) raw.v[c * plane + i] = rgb.data[3 * i + c];

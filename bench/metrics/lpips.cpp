@@ -9,7 +9,7 @@
 
 namespace s4d::metrics {
 
-void normalise_channels(ref::Chw<double>& f) {
+void normalise_channels(util::Chw<double>& f) {
   const size_t plane = size_t{f.h} * f.w;
   for (size_t p = 0; p < plane; ++p) {
     double sum = 0;
@@ -25,8 +25,8 @@ double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vec
                                 " taps for " + std::to_string(lin.size()) + " heads");
   double total = 0;
   for (size_t l = 0; l < lin.size(); ++l) {
-    const ref::Chw<double>& x = a[l];
-    const ref::Chw<double>& y = b[l];
+    const util::Chw<double>& x = a[l];
+    const util::Chw<double>& y = b[l];
     if (x.c != y.c || x.h != y.h || x.w != y.w || x.c != lin[l].size())
       throw std::invalid_argument("lpips: tap " + std::to_string(l) + " shapes differ (images of different sizes?)");
     const size_t plane = size_t{x.h} * x.w;

@@ -14,7 +14,7 @@ namespace {
 constexpr uint32_t kPatch = nn::MusiqNet::kPatch;
 
 // The patches of one scale of the [-1, 1] image x (TF 'SAME' padding), appended to `out`.
-void append_patches(const ref::Chw<double>& x, uint32_t grid, uint32_t scale, nn::MusiqPatches& out) {
+void append_patches(const util::Chw<double>& x, uint32_t grid, uint32_t scale, nn::MusiqPatches& out) {
   const uint32_t count_h = (x.h + kPatch - 1) / kPatch, count_w = (x.w + kPatch - 1) / kPatch;
   const uint32_t top = (count_h * kPatch - x.h) / 2, left = (count_w * kPatch - x.w) / 2;
   const std::vector<int> row = torch_nearest_index(int(grid), int(count_h)), col = torch_nearest_index(int(grid), int(count_w));
@@ -37,7 +37,7 @@ void append_patches(const ref::Chw<double>& x, uint32_t grid, uint32_t scale, nn
 nn::MusiqPatches musiq_patches(const io::ImageF& rgb, uint32_t grid) {
   require_rgb(rgb, "musiq", "the image");
   const auto w = uint32_t(rgb.width), h = uint32_t(rgb.height);
-  ref::Chw<double> x(3, h, w);
+  util::Chw<double> x(3, h, w);
   for (uint32_t c = 0; c < 3; ++c)
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t i = 0; i < w; ++i) x.at(c, y, i) = (double(rgb.data[(size_t{y} * w + i) * 3 + c]) - 0.5) * 2.0;

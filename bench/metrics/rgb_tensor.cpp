@@ -24,8 +24,8 @@ nn::Tensor upload_rgb(engine::Context& ctx, const io::ImageF& image, const Chann
   return nn::upload_tensor(ctx, metric + " input", 3, uint32_t(image.height), uint32_t(image.width), chw);
 }
 
-ref::Chw<double> download_double(engine::Context& ctx, const nn::Tensor& t) {
-  ref::Chw<double> out(t.c, t.h, t.w);
+util::Chw<double> download_double(engine::Context& ctx, const nn::Tensor& t) {
+  util::Chw<double> out(t.c, t.h, t.w);
   const std::vector<float> v = nn::download(ctx, t);
   out.v.assign(v.begin(), v.end());
   return out;

@@ -40,12 +40,12 @@ std::vector<int> torch_nearest_index(int in, int out) {
   return src;
 }
 
-ref::Chw<double> torch_bicubic_resize(const ref::Chw<double>& x, uint32_t out_h, uint32_t out_w) {
+util::Chw<double> torch_bicubic_resize(const util::Chw<double>& x, uint32_t out_h, uint32_t out_w) {
   if (out_h == 0 || out_w == 0 || x.h == 0 || x.w == 0)
     throw std::invalid_argument("torch_bicubic_resize: " + std::to_string(x.w) + "x" + std::to_string(x.h) + " to " +
                                 std::to_string(out_w) + "x" + std::to_string(out_h));
   const std::vector<CubicTap> ty = cubic_taps(x.h, out_h), tx = cubic_taps(x.w, out_w);
-  ref::Chw<double> rows(x.c, x.h, out_w), y(x.c, out_h, out_w);
+  util::Chw<double> rows(x.c, x.h, out_w), y(x.c, out_h, out_w);
   for (uint32_t c = 0; c < x.c; ++c) {
     for (uint32_t r = 0; r < x.h; ++r)
       for (uint32_t i = 0; i < out_w; ++i)

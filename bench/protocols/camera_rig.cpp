@@ -8,7 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "vec3.h"
 
 namespace s4d::protocols {
 namespace {

@@ -13,7 +13,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/io/nerf_cameras.h"
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 
 namespace fs = std::filesystem;
 using s4d::test::max_abs_diff;
@@ -79,16 +79,16 @@ TEST_CASE("a 4DGS run without its checkpoint, or whose checkpoint lacks the fiel
   CHECK(read_text(dir / "log").find("incomplete run") != std::string::npos);
   CHECK(read_text(dir / "log").find("style4d train --run " + partial.string()) != std::string::npos);
 
-  s4d::run::Checkpoint cp = s4d::run::read_checkpoint(r.run / "checkpoint" / "state.s4dckpt");
-  s4d::run::Checkpoint no_field = cp;
+  s4d::model::Checkpoint cp = s4d::model::read_checkpoint(r.run / "checkpoint" / "state.s4dckpt");
+  s4d::model::Checkpoint no_field = cp;
   std::erase_if(no_field.extra, [](const auto& a) { return a.first == "field.planes"; });
-  s4d::run::write_checkpoint(ckpt, no_field);
+  s4d::model::write_checkpoint(ckpt, no_field);
   all_fail_with(ckpt.string() + ": no array 'field.planes'");
 
-  s4d::run::Checkpoint static_stage = cp;
+  s4d::model::Checkpoint static_stage = cp;
   static_stage.meta["stage"] = "static";
   static_stage.meta["iteration"] = 20;
-  s4d::run::write_checkpoint(ckpt, static_stage);
+  s4d::model::write_checkpoint(ckpt, static_stage);
   all_fail_with(ckpt.string() + ": the run is incomplete: the checkpoint is from the static stage (iteration 20 of 40)");
   CHECK(read_text(dir / "log").find("style4d train --run " + partial.string()) != std::string::npos);
 }

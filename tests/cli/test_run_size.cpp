@@ -21,8 +21,8 @@ TEST_CASE("the checkpoint size estimated from the settings matches a 4DGS run's 
   const std::filesystem::path file = r.run / "checkpoint" / "state.s4dckpt";
   const run::Checkpoint cp = run::read_checkpoint(file);
   const uint64_t actual = std::filesystem::file_size(file);
-  const uint64_t estimate = run::checkpoint_bytes(config, static_cast<uint32_t>(cp.state.cloud.size()));
-  INFO("estimate ", estimate, " actual ", actual, " Gaussians ", cp.state.cloud.size());
+  const uint64_t estimate = run::checkpoint_bytes(config, static_cast<uint32_t>(cp.cloud.size()));
+  INFO("estimate ", estimate, " actual ", actual, " Gaussians ", cp.cloud.size());
   // The arrays are counted exactly; only the JSON header is estimated, at 64 KiB (measured 8,745
   // bytes here). The file: 8-byte magic, u64 header length, u64 header checksum, header, arrays.
   std::ifstream raw(file, std::ios::binary);

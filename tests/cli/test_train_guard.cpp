@@ -15,7 +15,7 @@
 
 #include "cli_run.h"
 #include "s4d/deform/field_config.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/run/train_config.h"
 #include "s4d_deform.h"
 
@@ -57,13 +57,13 @@ fs::path resumable_copy(const std::string& name, Inject inject) {
   train["complete"] = false;
   settings["settings"]["fine_iterations"] = 15;
   write_json(run / "train.json", train), write_json(run / "run.json", settings);
-  run::Checkpoint cp = run::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
+  model::Checkpoint cp = model::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
   inject(cp);
-  run::write_checkpoint(run / "checkpoint" / "state.s4dckpt", cp);
+  model::write_checkpoint(run / "checkpoint" / "state.s4dckpt", cp);
   return run;
 }
 
-std::vector<float>& extra(run::Checkpoint& cp, const std::string& name) {
+std::vector<float>& extra(model::Checkpoint& cp, const std::string& name) {
   for (auto& [n, v] : cp.extra)
     if (n == name) return v;
   FAIL("no array " << name);
@@ -84,7 +84,7 @@ TEST_CASE("guard: a few Gaussians out of range in any attribute or moment are na
       {"means", 1e30f}, {"log_scales", 50.f}, {"quats", -1e30f}, {"opacity_logits", 1e30f}, {"sh", 1e30f}, {"sh.adam_v", 1e35f}};
   for (const auto& [name, value] : cases) {
     CAPTURE(name);
-    const fs::path run = resumable_copy("attr_" + name, [&, value = value, name = name](run::Checkpoint& cp) {
+    const fs::path run = resumable_copy("attr_" + name, [&, value = value, name = name](model::Checkpoint& cp) {
       const size_t dot = name.find('.');
       const std::string attr = name.substr(0, dot);
       for (splat::Attr a : splat::kCloudAttrs) {
@@ -106,7 +106,7 @@ TEST_CASE("guard: a few Gaussians out of range in any attribute or moment are na
     CHECK(t["num_gaussians"] == base_count - 3);
     // The other Gaussians trained on: five more steps of the same fit.
     CHECK(t["test_psnr"].get<double>() > base_psnr - 1.0);
-    const run::Checkpoint end = run::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
+    const model::Checkpoint end = model::read_checkpoint(run / "checkpoint" / "state.s4dckpt");
     CHECK(end.meta["guard_removed"] == 3);
   }
 }
@@ -129,7 +129,7 @@ TEST_CASE("guard: a field tensor out of range stops training at once, naming the
       {"field.mlp.adam_v", 0, 1e35f, "trunk layer 0 weight"}};
   for (const Case& c : cases) {
     CAPTURE(c.array);
-    const fs::path run = resumable_copy("tensor_" + c.array, [&](run::Checkpoint& cp) { extra(cp, c.array).at(c.at) = c.value; });
+    const fs::path run = resumable_copy("tensor_" + c.array, [&](model::Checkpoint& cp) { extra(cp, c.array).at(c.at) = c.value; });
     const std::string before = test::read_text(run / "checkpoint" / "state.s4dckpt");
     const int rc = test::run_style4d("train", "--run " + run.string(), run.parent_path() / ("l_" + c.array));
     const std::string log = test::read_text(run.parent_path() / ("l_" + c.array));
@@ -155,13 +155,13 @@ TEST_CASE("guard: stage 4's style out of range in a few Gaussians is named, rese
   // The finished stage's checkpoint with three Gaussians' SH deltas and one's MLP out of range; the
   // same command again continues from it.
   const fs::path checkpoint = run / "style" / "s" / "checkpoint.s4dckpt";
-  run::Checkpoint cp = run::read_checkpoint(checkpoint);
+  model::Checkpoint cp = model::read_checkpoint(checkpoint);
   std::vector<float>& sh = extra(cp, "sh_delta");
   const size_t width = sh.size() / cp.meta["count"].get<size_t>();
   for (size_t g : {3, 7}) sh[g * width] = 1e30f;
   std::vector<float>& mlp = extra(cp, "mlp");
   mlp[11 * (mlp.size() / cp.meta["count"].get<size_t>()) + 2] = -1e20f;
-  run::write_checkpoint(checkpoint, cp);
+  model::write_checkpoint(checkpoint, cp);
   fs::remove(run / "style" / "s" / "style.s4dstyle");
   const int rc = test::run_style4d("stylize", stylize, dir / "stylize_again.log");
   const std::string log = test::read_text(dir / "stylize_again.log");
@@ -170,7 +170,7 @@ TEST_CASE("guard: stage 4's style out of range in a few Gaussians is named, rese
   CHECK_MESSAGE(contains(log, "'mlp' of 1 Gaussian (up to 1e+20; first Gaussian 11)"), log);
   CHECK_MESSAGE(contains(log, "reset the style of those 3 Gaussians and went on"), log);
   CHECK(fs::exists(run / "style" / "s" / "style.s4dstyle"));
-  const run::Checkpoint after = run::read_checkpoint(checkpoint);
+  const model::Checkpoint after = model::read_checkpoint(checkpoint);
   CHECK(after.meta["guard_reset"] == 3);
-  CHECK(extra(const_cast<run::Checkpoint&>(after), "sh_delta")[3 * width] == 0.0f);
+  CHECK(extra(const_cast<model::Checkpoint&>(after), "sh_delta")[3 * width] == 0.0f);
 }

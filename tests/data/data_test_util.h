@@ -12,10 +12,9 @@
 #include "s4d/data/npy.h"
 #include "s4d/data/video_writer.h"
 #include "s4d/io/image_io.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::test {
-
-using Vec3 = std::array<double, 3>;
 
 // Pixel (u, v) and depth of world point p in a view, through world_to_cam and the intrinsics.
 inline Vec3 project(const io::CameraView& c, const Vec3& p) {

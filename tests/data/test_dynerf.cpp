@@ -6,7 +6,6 @@
 #include "s4d/data/frame_cache.h"
 
 using namespace s4d;
-using test::Vec3;
 
 TEST_CASE("dynerf: poses, intrinsics, times, split and extent") {
   test::TempDir dir("dynerf_basic");

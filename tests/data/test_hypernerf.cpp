@@ -18,7 +18,7 @@ namespace {
 // A scene.json that moves and shrinks the world, so the normalisation is exercised.
 const test::HyperScene kScene{{0.3, -0.2, 1.5}, 0.25};
 
-test::Vec3 normalised(const test::Vec3& p, const test::HyperScene& s) {
+Vec3 normalised(const Vec3& p, const test::HyperScene& s) {
   return {(p[0] - s.center[0]) * s.scale, (p[1] - s.center[1]) * s.scale, (p[2] - s.center[2]) * s.scale};
 }
 
@@ -35,7 +35,7 @@ PoseError pose_error(const io::CameraView& loaded, const io::CameraView& referen
     for (size_t k = 0; k < 3; ++k) trace += loaded.world_to_cam[i * 4 + k] * reference.world_to_cam[i * 4 + k];
   }
   e.degrees = std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0)) * 180 / std::acos(-1.0);
-  const test::Vec3 got = test::centre(loaded), want = normalised(test::centre(reference), s);
+  const Vec3 got = test::centre(loaded), want = normalised(test::centre(reference), s);
   for (size_t k = 0; k < 3; ++k) e.centre = std::max(e.centre, std::abs(got[k] - want[k]));
   return e;
 }
@@ -71,8 +71,8 @@ PoseError check_against(const data::Dataset& loaded, const data::Dataset& refere
     worst.degrees = std::max(worst.degrees, e.degrees);
     worst.centre = std::max(worst.centre, e.centre);
     // The same world point, normalised, lands on the same pixel.
-    for (const test::Vec3& p : {test::Vec3{0, 0, 0}, test::Vec3{0.5, 0.3, -0.2}}) {
-      const test::Vec3 a = test::project(got.camera, normalised(p, s)), b = test::project(want.camera, p);
+    for (const Vec3& p : {Vec3{0, 0, 0}, Vec3{0.5, 0.3, -0.2}}) {
+      const Vec3 a = test::project(got.camera, normalised(p, s)), b = test::project(want.camera, p);
       CHECK(std::abs(a[0] - b[0]) < 1e-9);
       CHECK(std::abs(a[1] - b[1]) < 1e-9);
     }
@@ -134,8 +134,8 @@ TEST_CASE("hypernerf: orientation written camera-to-world is caught by the same 
     const PoseError e = pose_error(d.views[i].camera, reference.views[i].camera, kScene);
     worst.degrees = std::max(worst.degrees, e.degrees);
     worst.centre = std::max(worst.centre, e.centre);
-    const test::Vec3 a = test::project(d.views[i].camera, normalised({0, 0, 0}, kScene));
-    const test::Vec3 b = test::project(reference.views[i].camera, {0, 0, 0});
+    const Vec3 a = test::project(d.views[i].camera, normalised({0, 0, 0}, kScene));
+    const Vec3 b = test::project(reference.views[i].camera, {0, 0, 0});
     pixels = std::max(pixels, a[2] <= 0 ? 1e9 : std::hypot(a[0] - b[0], a[1] - b[1]));
   }
   // position is the centre whatever the orientation, so only the rotation is off. The synth cameras
@@ -213,13 +213,13 @@ TEST_CASE("hypernerf: points.npy and points3D_downsample2.ply are normalised lik
   const data::Dataset reference = synth_reference(dir / "synth", false);
   const fs::path root = dir / "hyper";
   test::write_hypernerf(root, test::hyper_items(reference, 3), kScene);
-  const std::vector<test::Vec3> points = {{1, 2, 3}, {-0.5, 0.25, 4}};
+  const std::vector<Vec3> points = {{1, 2, 3}, {-0.5, 0.25, 4}};
   data::write_npy(root / "points.npy", {{2, 3}, {1, 2, 3, -0.5, 0.25, 4}});
   data::Dataset d = data::load_hypernerf(root);
   CHECK(d.points_file == root / "points.npy");
   REQUIRE(d.points.size() == 6);
   for (size_t i = 0; i < 2; ++i) {
-    const test::Vec3 want = normalised(points[i], kScene);
+    const Vec3 want = normalised(points[i], kScene);
     for (size_t k = 0; k < 3; ++k) CHECK(d.points[i * 3 + k] == doctest::Approx(want[k]).epsilon(1e-6));  // float32
   }
   CHECK(d.colors == std::vector<float>(6, 0.5f));

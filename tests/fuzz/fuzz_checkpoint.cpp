@@ -1,6 +1,5 @@
 // Checkpoint container reader (training/run/checkpoint.cpp). Only the file parsing is built: the
-// model's attribute names come from a file generated out of training/model/trainable_gaussians.cpp
-// (tests/fuzz/CMakeLists.txt), so no Vulkan code is linked.
+// arrays' names come from that file and header-only splat/gaussian_buffers.h, so no Vulkan code is linked.
 #include "fuzz_common.h"
 #include "s4d/run/checkpoint.h"
 

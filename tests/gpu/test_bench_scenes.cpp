@@ -1,6 +1,8 @@
 // The rasterizer bench's scenes (bench/splat_scene.h, bench/peer_scene.h) and counts: the peer's
 // scene round-trips through the project's PLY and camera readers, and the bench run on a PLY +
-// transforms.json reports the tile instances and pixel-Gaussian pairs the CPU twin counts.
+// transforms.json reports the tile instances and pixel-Gaussian pairs the CPU twin counts. The
+// primitives' benchmark (bench/primitives_bench.h, `style4d demo`) finds the GPU sort and scan equal
+// to the standard library's on one and on several blocks.
 #include <doctest/doctest.h>
 
 #include <unistd.h>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "peer_scene.h"
+#include "primitives_bench.h"
 #include "s4d/ref/splat_raster_ref.h"
 #include "splat_bench.h"
 #include "splat_scene.h"
@@ -121,5 +124,16 @@ TEST_CASE("the bench on a PLY and a transforms.json counts what the CPU twin cou
     const auto at = std::find(s.stages.begin(), s.stages.end(), stage);
     REQUIRE(at != s.stages.end());
     CHECK_MESSAGE(s.ms[static_cast<size_t>(at - s.stages.begin())] > 0, stage);
+  }
+}
+
+TEST_CASE("the primitives' benchmark checks the GPU sort and scan against the CPU's") {
+  for (uint32_t n : {1u, 1000u, 70000u}) {
+    CAPTURE(n);
+    const bench::PrimitiveTiming sort = bench::bench_radix_sort(test::context(), n, 1, 7);
+    CHECK(sort.matches_twin);
+    CHECK(sort.repeats == 1);
+    const bench::PrimitiveTiming scan = bench::bench_exclusive_scan(test::context(), n, 1, 7);
+    CHECK(scan.matches_twin);
   }
 }

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     const s4d::metrics::DinoSubject dino(ctx, s4d::io::SafetensorsFile(argv[1]));
     for (int i = 2; i < argc; ++i) {
       const s4d::io::ImageF frame = s4d::io::read_image_rgb(argv[i]);
-      s4d::ref::Chw<float> input = s4d::metrics::dino_transform(frame);
+      s4d::util::Chw<float> input = s4d::metrics::dino_transform(frame);
       input.v.push_back(float(input.h));
       input.v.push_back(float(input.w));
       print(input.v);

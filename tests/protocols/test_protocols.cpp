@@ -16,6 +16,7 @@
 #include "s4d/synth/dataset.h"
 
 namespace fs = std::filesystem;
+using namespace s4d;
 using namespace s4d::protocols;
 
 namespace {

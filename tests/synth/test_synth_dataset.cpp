@@ -15,6 +15,7 @@
 #include "s4d/synth/scene.h"
 
 namespace fs = std::filesystem;
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {
@@ -52,18 +53,18 @@ TEST_CASE("tiny dataset: files, poses_bounds.npy shape, hwf, and the LLFF rotati
     const Vec3 right{m(0, 1), m(1, 1), m(2, 1)}, up{-m(0, 0), -m(1, 0), -m(2, 0)}, back{m(0, 2), m(1, 2), m(2, 2)};
     const Vec3 centre{m(0, 3), m(1, 3), m(2, 3)};
     CHECK(dot(cross(right, up), back) == doctest::Approx(1));  // right-handed orthonormal
-    CHECK(length(centre - scene.centre) == doctest::Approx(std::hypot(4.0, 0.6)));
+    CHECK(norm(centre - scene.centre) == doctest::Approx(std::hypot(4.0, 0.6)));
     // The camera looks along -back, straight at the scene centre, with y up.
     CHECK(dot(-back, normalize(scene.centre - centre)) == doctest::Approx(1));
-    CHECK(up.y > 0.9);
+    CHECK(up[1] > 0.9);
     const double near = row[15], far = row[16];
     CHECK(near > 0.5);
-    CHECK(near < length(centre - scene.centre));
-    CHECK(far > length(centre - scene.centre) + 2);  // the wall is 2.5 behind the centre
+    CHECK(near < norm(centre - scene.centre));
+    CHECK(far > norm(centre - scene.centre) + 2);  // the wall is 2.5 behind the centre
     CHECK(far < 30);
   }
   // cam00 is the middle of the arc (Neu3D's centre test camera); the others follow left to right.
-  CHECK(pb.values[3] == doctest::Approx(scene.centre.x));
+  CHECK(pb.values[3] == doctest::Approx(scene.centre[0]));
   CHECK(pb.values[17 + 3] < pb.values[3]);
   CHECK(pb.values[3] < pb.values[34 + 3]);
 

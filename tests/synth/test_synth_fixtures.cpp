@@ -19,6 +19,7 @@
 #include "s4d/synth/dataset.h"
 
 namespace fs = std::filesystem;
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {
@@ -37,19 +38,19 @@ TEST_CASE("motion fixtures: every body moves between frames, the squash deforms,
     const std::vector<Body> bodies = motion_bodies(name);
     REQUIRE(!bodies.empty());
     bool moves = false;
-    for (const Body& b : bodies) moves = moves || length(b.at(0.5).centre - b.at(0.0).centre) > 0.3;
+    for (const Body& b : bodies) moves = moves || norm(b.at(0.5).centre - b.at(0.0).centre) > 0.3;
     CHECK_MESSAGE(moves, name);
   }
   const Body ball = motion_bodies("squash")[1];
-  CHECK(ball.at(0.5).half.y == doctest::Approx(0.135));
-  CHECK(ball.at(0.5).half.x == doctest::Approx(0.42));
-  CHECK(ball.at(0.45).half.y == doctest::Approx(0.5 * (0.3 + 0.135)));  // halfway between keys
+  CHECK(ball.at(0.5).half[1] == doctest::Approx(0.135));
+  CHECK(ball.at(0.5).half[0] == doctest::Approx(0.42));
+  CHECK(ball.at(0.45).half[1] == doctest::Approx(0.5 * (0.3 + 0.135)));  // halfway between keys
   // The three spheres of "bounce" touch at t = 0.5 and never overlap elsewhere (a collision, not a merge).
   const std::vector<Body> balls = motion_bodies("bounce");
   for (double t = 0; t <= 1.0; t += 0.05)
     for (size_t i = 0; i < 3; ++i)
       for (size_t j = i + 1; j < 3; ++j)
-        CHECK(length(balls[i].at(t).centre - balls[j].at(t).centre) >= 2 * 0.2 - 1e-9);
+        CHECK(norm(balls[i].at(t).centre - balls[j].at(t).centre) >= 2 * 0.2 - 1e-9);
   CHECK_THROWS_WITH_AS(motion_bodies("spin"), "--motion: unknown fixture 'spin' (bounce, squash, orbit)", std::invalid_argument);
 }
 
@@ -62,7 +63,7 @@ TEST_CASE("an ellipsoid body is hit where its implicit equation says") {
     REQUIRE(hit);
     const double z = std::sqrt(1 - x * x / 4 - y * y / 0.25);
     CHECK(5 - hit->s == doctest::Approx(z).epsilon(1e-9));
-    CHECK(hit->normal.z > 0);
+    CHECK(hit->normal[2] > 0);
   }
   CHECK_FALSE(intersect_body(b, Ray{{2.1, 0, 5}, {0, 0, -1}}, 0.0, 1e-6, 1e30));
 }

@@ -7,6 +7,7 @@
 #include "s4d/synth/intersect.h"
 #include "s4d/synth/wave_sheet.h"
 
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {
@@ -73,7 +74,7 @@ TEST_CASE("wave sheet: hits z(x, t) at known times, pinned edge, outside the rec
   // 0.175 * 2 pi * cos(3 pi) = -0.35 pi, i.e. normal ~ (0.35 pi, 0, 1).
   CHECK(*intersect_wave_sheet(down, w, 0.25, 0, kFar) == doctest::Approx(6.2).epsilon(1e-9));
   const Vec3 n = w.normal(1.25, 0.25);
-  CHECK(n.x / n.z == doctest::Approx(0.35 * std::numbers::pi));
+  CHECK(n[0] / n[2] == doctest::Approx(0.35 * std::numbers::pi));
   // The pole edge x = x0 never moves.
   CHECK(w.depth(-0.5, 0.3) == doctest::Approx(-1.2));
   // A slanted ray still lands on the surface.
@@ -81,7 +82,7 @@ TEST_CASE("wave sheet: hits z(x, t) at known times, pinned edge, outside the rec
   const auto s = intersect_wave_sheet(slant, w, 0.7, 0, kFar);
   REQUIRE(s);
   const Vec3 p = slant.at(*s);
-  CHECK(p.z == doctest::Approx(w.depth(p.x, 0.7)).epsilon(1e-9));
+  CHECK(p[2] == doctest::Approx(w.depth(p[0], 0.7)).epsilon(1e-9));
   CHECK_FALSE(intersect_wave_sheet({{1.25, 1.3, 5}, {0, 0, -1}}, w, 0.0, 0, kFar));  // above y1
   CHECK_FALSE(intersect_wave_sheet({{1.6, 0.7, 5}, {0, 0, -1}}, w, 0.0, 0, kFar));   // right of x1
   CHECK_FALSE(intersect_wave_sheet(down, w, 0.0, 0, 6.0));                           // s_max before it

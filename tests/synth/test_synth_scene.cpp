@@ -10,6 +10,7 @@
 #include "s4d/synth/render.h"
 #include "s4d/synth/scene.h"
 
+using namespace s4d;
 using namespace s4d::synth;
 
 namespace {
@@ -49,19 +50,19 @@ TEST_CASE("camera arc: every camera has the scene centre at its image centre, at
     const auto uv = c.project(scene.centre);
     CHECK(uv[0] == doctest::Approx(80));
     CHECK(uv[1] == doctest::Approx(60));
-    CHECK(c.position.y - scene.centre.y == doctest::Approx(rig.height));
-    CHECK(std::hypot(c.position.x - scene.centre.x, c.position.z - scene.centre.z) == doctest::Approx(rig.radius));
+    CHECK(c.position[1] - scene.centre[1] == doctest::Approx(rig.height));
+    CHECK(std::hypot(c.position[0] - scene.centre[0], c.position[2] - scene.centre[2]) == doctest::Approx(rig.radius));
     CHECK(std::abs(dot(c.right, c.up)) < 1e-12);
-    CHECK(c.right.y == doctest::Approx(0));  // no roll: right stays horizontal
+    CHECK(c.right[1] == doctest::Approx(0));  // no roll: right stays horizontal
     // The centre ray points at the scene centre.
     const Ray r = c.ray(80, 60);
     CHECK(dot(r.dir, normalize(scene.centre - c.position)) == doctest::Approx(1));
   }
   // The arc spans rig.span_deg, ordered left to right.
   const Vec3 a = cams.front().position - scene.centre, b = cams.back().position - scene.centre;
-  const double span = std::acos(dot(normalize(Vec3{a.x, 0, a.z}), normalize(Vec3{b.x, 0, b.z})));
+  const double span = std::acos(dot(normalize(Vec3{a[0], 0, a[2]}), normalize(Vec3{b[0], 0, b[2]})));
   CHECK(span * 180 / 3.141592653589793 == doctest::Approx(rig.span_deg));
-  CHECK(cams.front().position.x < cams.back().position.x);
+  CHECK(cams.front().position[0] < cams.back().position[0]);
   CHECK_THROWS_AS(arc_cameras(rig, scene.centre, 1, 160, 120), std::invalid_argument);
 }
 

@@ -10,7 +10,7 @@
 
 #include "host_state_fixture.h"
 #include "s4d/deform/field_parts.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/train/divergence.h"
 #include "s4d/train/split_state.h"
 
@@ -20,7 +20,7 @@ namespace {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-run::Checkpoint state_of(size_t n) { return {{}, test::small_state(n, 0, 7), {}}; }
+model::Checkpoint state_of(size_t n) { return {{}, test::small_state(n, 0, 7), {}}; }
 
 }  // namespace
 
@@ -29,7 +29,7 @@ TEST_CASE("a state within range has no divergence, whatever its size") {
 }
 
 TEST_CASE("a few Gaussians out of range are named by array, count, worst value and first row, and are local") {
-  run::Checkpoint cp = state_of(40);
+  model::Checkpoint cp = state_of(40);
   cp.state.cloud.quats[5 * 4 + 2] = std::numeric_limits<float>::quiet_NaN();
   cp.state.cloud.sh[9 * 3] = 1e30f, cp.state.cloud.sh[2 * 3 + 1] = -3e20f;
   const train::Divergence d = train::find_divergence(cp);
@@ -41,7 +41,7 @@ TEST_CASE("a few Gaussians out of range are named by array, count, worst value a
 }
 
 TEST_CASE("each array has its limit: log scales above 40, second moments above 1e30, the rest above 1e15") {
-  run::Checkpoint cp = state_of(40);
+  model::Checkpoint cp = state_of(40);
   cp.state.cloud.log_scales[0] = 39.f, cp.state.cloud.log_scales[1] = -1e14f;  // a tiny Gaussian is harmless
   cp.state.v[splat::Attr::means][0] = 9e29f, cp.state.m[splat::Attr::means][0] = 9e14f;
   cp.state.cloud.means[0] = -9e14f;
@@ -60,13 +60,13 @@ TEST_CASE("each array has its limit: log scales above 40, second moments above 1
 TEST_CASE("more Gaussians than 16 or 1 %, or any field tensor, is not local; masks are not parameters") {
   CHECK(train::local_limit(100) == 16);
   CHECK(train::local_limit(5000) == 50);
-  run::Checkpoint many = state_of(40);
+  model::Checkpoint many = state_of(40);
   for (size_t g = 0; g < 17; ++g) many.state.cloud.opacity_logits[g] = 1e16f;
   const train::Divergence d = train::find_divergence(many);
   CHECK(d.gaussians.size() == 17);
   CHECK_FALSE(d.local);
 
-  run::Checkpoint field = state_of(40);
+  model::Checkpoint field = state_of(40);
   field.extra = {{"field.static_mask", std::vector<float>(40, 1e20f)}, {"field.planes", std::vector<float>(100, 0.1f)}};
   CHECK_FALSE(train::find_divergence(field).found());
   field.extra[1].second[42] = 1e16f, field.extra[1].second[80] = 1e17f;

@@ -11,7 +11,7 @@
 
 #include "host_state_fixture.h"
 #include "s4d/deform/motion_split.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/run/train_config.h"
 #include "s4d/train/evaluate.h"
 #include "s4d/train/init_cloud.h"
@@ -72,9 +72,9 @@ TEST_CASE("cloud_from_points follows graphdeco's initialisation") {
 
 TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, truncation and other files") {
   const fs::path dir = fresh_dir("s4d_checkpoint_test");
-  run::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, test::small_state(50, 1, 3), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
+  model::Checkpoint cp{{{"iteration", 42}, {"sampler", "x"}}, test::small_state(50, 1, 3), {{"field.planes", {1, 2, 3}}, {"field.mlp", {}}}};
   write_checkpoint(dir / "a.s4dckpt", cp);
-  const run::Checkpoint back = run::read_checkpoint(dir / "a.s4dckpt");
+  const model::Checkpoint back = model::read_checkpoint(dir / "a.s4dckpt");
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
   CHECK(back.state.cloud.sh == cp.state.cloud.sh);
@@ -83,25 +83,56 @@ TEST_CASE("a checkpoint round-trips exactly and refuses non-finite values, trunc
   CHECK(back.state.stats[model::kMaxRadius] == cp.state.stats[model::kMaxRadius]);
   CHECK(back.extra == cp.extra);
 
-  run::Checkpoint bad = cp;
+  model::Checkpoint bad = cp;
   bad.state.m[splat::Attr::opacity_logits][7] = NAN;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "a.s4dckpt", bad), doctest::Contains("opacity_logits.adam_m"),
                        std::invalid_argument);
-  CHECK(run::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
+  CHECK(model::read_checkpoint(dir / "a.s4dckpt").state.cloud.means == cp.state.cloud.means);  // old file intact
 
-  run::Checkpoint bad_extra = cp;
+  model::Checkpoint bad_extra = cp;
   bad_extra.extra[0].second[1] = INFINITY;
   CHECK_THROWS_WITH_AS(write_checkpoint(dir / "b.s4dckpt", bad_extra), doctest::Contains("field.planes"), std::invalid_argument);
 
   const auto size = fs::file_size(dir / "a.s4dckpt");
   fs::copy_file(dir / "a.s4dckpt", dir / "cut.s4dckpt");
   fs::resize_file(dir / "cut.s4dckpt", size - 10);
-  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "cut.s4dckpt"), doctest::Contains("truncated"), std::runtime_error);
+  CHECK_THROWS_WITH_AS(model::read_checkpoint(dir / "cut.s4dckpt"), doctest::Contains("truncated"), std::runtime_error);
   std::ofstream(dir / "text.s4dckpt") << "hello";
-  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "text.s4dckpt"), doctest::Contains("not a style4d checkpoint"),
+  CHECK_THROWS_WITH_AS(model::read_checkpoint(dir / "text.s4dckpt"), doctest::Contains("not a style4d checkpoint"),
                        std::runtime_error);
-  CHECK_THROWS_WITH_AS(run::read_checkpoint(dir / "missing.s4dckpt"), doctest::Contains("missing.s4dckpt"),
+  CHECK_THROWS_WITH_AS(model::read_checkpoint(dir / "missing.s4dckpt"), doctest::Contains("missing.s4dckpt"),
                        std::runtime_error);
+}
+
+TEST_CASE("what renders reads a trainer's checkpoint file through s4d_run: the Gaussians and the field, the trainer's arrays apart") {
+  const fs::path dir = fresh_dir("s4d_checkpoint_file_test");
+  const model::Checkpoint cp{{{"iteration", 7}}, test::small_state(20, 1, 5), {{"field.planes", {4, 5}}}};
+  model::write_checkpoint(dir / "a.s4dckpt", cp);
+  const run::Checkpoint file = run::read_checkpoint(dir / "a.s4dckpt");
+  CHECK(file.meta == cp.meta);
+  CHECK(file.cloud.means == cp.state.cloud.means);
+  CHECK(file.cloud.sh == cp.state.cloud.sh);
+  CHECK(file.extra == cp.extra);  // the field's arrays only: the trainer's come before them
+  const std::vector<std::string>& names = run::trainer_array_names();
+  REQUIRE(names.size() == 2 * splat::kCloudAttrCount + model::kStatCount);
+  REQUIRE(file.trainer.size() == names.size());
+  CHECK(names[2] == "log_scales.adam_m");
+  CHECK(file.trainer[2] == cp.state.m[splat::Attr::log_scales]);
+  CHECK(names[3] == "log_scales.adam_v");
+  CHECK(file.trainer[3] == cp.state.v[splat::Attr::log_scales]);
+  CHECK(names.back() == "max_radius");
+  CHECK(file.trainer.back() == cp.state.stats[model::kMaxRadius]);
+
+  // A file of no Gaussians (a style file) lists the trainer's arrays empty; a file of Gaussians needs all of them.
+  const io::GaussianCloud none;
+  const std::vector<run::NamedArray> arrays = {{"style.x", {1, 2}}};
+  run::write_checkpoint(dir / "b.s4dckpt", {nlohmann::json::object(), none, {}, arrays});
+  const run::Checkpoint b = run::read_checkpoint(dir / "b.s4dckpt");
+  CHECK(b.trainer == std::vector<std::vector<float>>(names.size()));
+  CHECK(b.extra == arrays);
+  CHECK_THROWS_WITH_AS(run::write_checkpoint(dir / "c.s4dckpt", {cp.meta, cp.state.cloud, {}, cp.extra}),
+                       doctest::Contains("0 trainer arrays for 20 Gaussians, expected 13"), std::invalid_argument);
+  CHECK(!fs::exists(dir / "c.s4dckpt"));
 }
 
 TEST_CASE("settings round-trip through JSON and --iters rescales the schedules") {

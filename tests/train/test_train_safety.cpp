@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host_state_fixture.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/run/train_config.h"
 
@@ -46,7 +46,7 @@ std::string read_bytes(const fs::path& p) {
 void write_bytes(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 
 
-run::Checkpoint sample(int iteration) {
+model::Checkpoint sample(int iteration) {
   return {{{"iteration", iteration}, {"stage", "static"}},
           test::small_state(12, 1, static_cast<unsigned>(iteration)),
           {{"field.planes", {1, 2, 3, 4}}, {"field.mlp", {5, 6}}, {"field.empty", {}}}};
@@ -73,14 +73,14 @@ std::string flip_bit(std::string file, size_t byte, int bit = 3) {
   return file;
 }
 
-int iteration_of(const run::Checkpoint& cp) { return cp.meta.at("iteration").get<int>(); }
+int iteration_of(const model::Checkpoint& cp) { return cp.meta.at("iteration").get<int>(); }
 
 }  // namespace
 
 TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refused, naming the damaged section") {
   const fs::path dir = fresh_dir("s4d_ckpt_bits");
   const fs::path good = dir / "good.s4dckpt", bad = dir / "bad.s4dckpt";
-  run::write_checkpoint(good, sample(7));
+  model::write_checkpoint(good, sample(7));
   const std::string file = read_bytes(good);
   const Layout l = layout_of(file);
   size_t offset = l.body, checked = 0;
@@ -92,7 +92,7 @@ TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refuse
       CAPTURE(name);
       for (size_t at : {offset, offset + bytes / 2, offset + bytes - 1}) {  // first, middle and last byte
         write_bytes(bad, flip_bit(file, at, static_cast<int>(at % 8)));
-        CHECK_THROWS_WITH_AS(run::read_checkpoint(bad), (bad.string() + ": array '" + name + "': checksum mismatch").c_str(),
+        CHECK_THROWS_WITH_AS(model::read_checkpoint(bad), (bad.string() + ": array '" + name + "': checksum mismatch").c_str(),
                              std::runtime_error);
       }
       ++checked;
@@ -106,23 +106,23 @@ TEST_CASE("a flipped bit in the header or in any array of a checkpoint is refuse
   for (size_t at : {size_t{24}, size_t{24} + l.header_len / 2, size_t{24} + l.header_len - 1, size_t{16}, size_t{23}}) {
     CAPTURE(at);
     write_bytes(bad, flip_bit(file, at));
-    CHECK_THROWS_WITH_AS(run::read_checkpoint(bad), header_error.c_str(), std::runtime_error);
+    CHECK_THROWS_WITH_AS(model::read_checkpoint(bad), header_error.c_str(), std::runtime_error);
   }
-  CHECK_NOTHROW(run::read_checkpoint(good));  // the untouched file still loads
+  CHECK_NOTHROW(model::read_checkpoint(good));  // the untouched file still loads
 }
 
 TEST_CASE("a truncated checkpoint is refused at any length") {
   const fs::path dir = fresh_dir("s4d_ckpt_cut");
-  run::write_checkpoint(dir / "good.s4dckpt", sample(3));
+  model::write_checkpoint(dir / "good.s4dckpt", sample(3));
   const std::string file = read_bytes(dir / "good.s4dckpt");
   const Layout l = layout_of(file);
   for (size_t keep : {size_t{0}, size_t{4}, size_t{8}, size_t{20}, size_t{24}, l.body - 1, l.body, l.body + 5,
                       (l.body + file.size()) / 2, file.size() - 1}) {
     CAPTURE(keep);
     write_bytes(dir / "cut.s4dckpt", file.substr(0, keep));
-    CHECK_THROWS_AS(run::read_checkpoint(dir / "cut.s4dckpt"), std::runtime_error);
+    CHECK_THROWS_AS(model::read_checkpoint(dir / "cut.s4dckpt"), std::runtime_error);
     try {
-      run::read_checkpoint(dir / "cut.s4dckpt");
+      model::read_checkpoint(dir / "cut.s4dckpt");
     } catch (const std::runtime_error& e) {
       const std::string what = e.what();
       CHECK(what.rfind((dir / "cut.s4dckpt").string() + ": ", 0) == 0);
@@ -133,8 +133,8 @@ TEST_CASE("a truncated checkpoint is refused at any length") {
 
 TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
   const fs::path dir = fresh_dir("s4d_ckpt_v1");
-  const run::Checkpoint cp = sample(5);
-  run::write_checkpoint(dir / "v2.s4dckpt", cp);
+  const model::Checkpoint cp = sample(5);
+  model::write_checkpoint(dir / "v2.s4dckpt", cp);
   const std::string v2 = read_bytes(dir / "v2.s4dckpt");
   Layout l = layout_of(v2);
   for (nlohmann::json& a : l.header["arrays"]) a.erase("fnv1a64");
@@ -145,7 +145,7 @@ TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
   v1 += json;
   v1 += v2.substr(l.body);
   write_bytes(dir / "v1.s4dckpt", v1);
-  const run::Checkpoint back = run::read_checkpoint(dir / "v1.s4dckpt");
+  const model::Checkpoint back = model::read_checkpoint(dir / "v1.s4dckpt");
   CHECK(back.meta == cp.meta);
   CHECK(back.state.cloud.means == cp.state.cloud.means);
   CHECK(back.state.v[splat::Attr::sh] == cp.state.v[splat::Attr::sh]);
@@ -155,17 +155,17 @@ TEST_CASE("S4DCKPT1 checkpoints, written before checksums, still load") {
 TEST_CASE("checkpoints rotate, and reading falls back to the previous one when the newest is damaged or missing") {
   const fs::path dir = fresh_dir("s4d_ckpt_rotate");
   const fs::path newest = dir / "state.s4dckpt", prev = dir / "state.prev.s4dckpt";
-  run::write_checkpoint_rotating(newest, prev, sample(1));
+  model::write_checkpoint_rotating(newest, prev, sample(1));
   CHECK(fs::exists(newest));
   CHECK_FALSE(fs::exists(prev));
-  run::write_checkpoint_rotating(newest, prev, sample(2));
-  run::write_checkpoint_rotating(newest, prev, sample(3));
-  CHECK(iteration_of(run::read_checkpoint(newest)) == 3);
-  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
+  model::write_checkpoint_rotating(newest, prev, sample(2));
+  model::write_checkpoint_rotating(newest, prev, sample(3));
+  CHECK(iteration_of(model::read_checkpoint(newest)) == 3);
+  CHECK(iteration_of(model::read_checkpoint(prev)) == 2);
   for (const fs::directory_entry& e : fs::directory_iterator(dir))  // no temporaries left behind
     CHECK_MESSAGE((e.path() == newest || e.path() == prev), e.path().string());
 
-  run::LoadedCheckpoint got = run::read_checkpoint_or_previous(newest, prev);
+  model::LoadedCheckpoint got = model::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 3);
   CHECK(got.path == newest);
   CHECK(got.newest_problem.empty());
@@ -173,26 +173,26 @@ TEST_CASE("checkpoints rotate, and reading falls back to the previous one when t
   // A damaged newest: the previous, and why.
   const std::string good3 = read_bytes(newest);
   write_bytes(newest, flip_bit(good3, layout_of(good3).body + 5));
-  got = run::read_checkpoint_or_previous(newest, prev);
+  got = model::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 2);
   CHECK(got.path == prev);
   CHECK(got.newest_problem == newest.string() + ": array 'means': checksum mismatch");
 
   // Written after such a fallback, the damaged newest must not replace the good previous one.
-  run::write_checkpoint_rotating(newest, prev, sample(4), /*rotate=*/false);
-  CHECK(iteration_of(run::read_checkpoint(newest)) == 4);
-  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
+  model::write_checkpoint_rotating(newest, prev, sample(4), /*rotate=*/false);
+  CHECK(iteration_of(model::read_checkpoint(newest)) == 4);
+  CHECK(iteration_of(model::read_checkpoint(prev)) == 2);
 
   // A non-finite state is never written and changes neither file.
-  run::Checkpoint nan = sample(5);
+  model::Checkpoint nan = sample(5);
   nan.state.cloud.quats[2] = NAN;
-  CHECK_THROWS_AS(run::write_checkpoint_rotating(newest, prev, nan), std::invalid_argument);
-  CHECK(iteration_of(run::read_checkpoint(newest)) == 4);
-  CHECK(iteration_of(run::read_checkpoint(prev)) == 2);
+  CHECK_THROWS_AS(model::write_checkpoint_rotating(newest, prev, nan), std::invalid_argument);
+  CHECK(iteration_of(model::read_checkpoint(newest)) == 4);
+  CHECK(iteration_of(model::read_checkpoint(prev)) == 2);
 
   // A missing newest (a crash between renames where hard links fail): the previous.
   fs::remove(newest);
-  got = run::read_checkpoint_or_previous(newest, prev);
+  got = model::read_checkpoint_or_previous(newest, prev);
   CHECK(iteration_of(got.checkpoint) == 2);
   CHECK(got.newest_problem.find(newest.string()) != std::string::npos);
 
@@ -201,9 +201,9 @@ TEST_CASE("checkpoints rotate, and reading falls back to the previous one when t
   write_bytes(prev, flip_bit(read_bytes(prev), 30));
   const std::string prev_damage = prev.string() + ": header: checksum mismatch";
   const std::string newest_damage = newest.string() + ": truncated header";
-  CHECK_THROWS_WITH_AS(run::read_checkpoint_or_previous(newest, prev), doctest::Contains(prev_damage.c_str()),
+  CHECK_THROWS_WITH_AS(model::read_checkpoint_or_previous(newest, prev), doctest::Contains(prev_damage.c_str()),
                        std::runtime_error);
-  CHECK_THROWS_WITH_AS(run::read_checkpoint_or_previous(newest, prev), doctest::Contains(newest_damage.c_str()),
+  CHECK_THROWS_WITH_AS(model::read_checkpoint_or_previous(newest, prev), doctest::Contains(newest_damage.c_str()),
                        std::runtime_error);
 }
 

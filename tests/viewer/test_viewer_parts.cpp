@@ -14,7 +14,7 @@
 #include "s4d/viewer/playback.h"
 
 using s4d::viewer::CameraControl;
-using s4d::viewer::Vec3;
+using s4d::Vec3;
 
 namespace {
 

@@ -4,33 +4,33 @@
 
 namespace s4d::data {
 
-Point3 camera_centre(const io::CameraView& camera) {
+Vec3 camera_centre(const io::CameraView& camera) {
   const auto& m = camera.world_to_cam;
-  Point3 o{};
+  Vec3 o{};
   for (size_t i = 0; i < 3; ++i) o[i] = -(m[i] * m[3] + m[4 + i] * m[7] + m[8 + i] * m[11]);
   return o;
 }
 
-Point3 to_camera(const io::CameraView& camera, const Point3& p) {
+Vec3 to_camera(const io::CameraView& camera, const Vec3& p) {
   const auto& m = camera.world_to_cam;
-  Point3 x{};
+  Vec3 x{};
   for (size_t i = 0; i < 3; ++i) x[i] = m[i * 4] * p[0] + m[i * 4 + 1] * p[1] + m[i * 4 + 2] * p[2] + m[i * 4 + 3];
   return x;
 }
 
-bool sees(const io::CameraView& camera, const Point3& p) {
-  const Point3 x = to_camera(camera, p);
+bool sees(const io::CameraView& camera, const Vec3& p) {
+  const Vec3 x = to_camera(camera, p);
   if (x[2] <= 1e-6) return false;
   const double u = camera.fx * x[0] / x[2] + camera.cx, v = camera.fy * x[1] / x[2] + camera.cy;
   return u >= 0 && u < camera.width && v >= 0 && v < camera.height;
 }
 
-std::optional<Point3> nearest_to_optical_axes(const std::vector<const io::CameraView*>& cameras) {
+std::optional<Vec3> nearest_to_optical_axes(const std::vector<const io::CameraView*>& cameras) {
   double a[3][3] = {};
-  Point3 b{};
+  Vec3 b{};
   for (const io::CameraView* cam : cameras) {
-    const Point3 c = camera_centre(*cam);
-    Point3 d{cam->world_to_cam[8], cam->world_to_cam[9], cam->world_to_cam[10]};  // forward (third row of R)
+    const Vec3 c = camera_centre(*cam);
+    Vec3 d{cam->world_to_cam[8], cam->world_to_cam[9], cam->world_to_cam[10]};  // forward (third row of R)
     const double n = std::hypot(d[0], d[1], d[2]);
     if (!(n > 0)) continue;
     for (double& x : d) x /= n;
@@ -49,7 +49,7 @@ std::optional<Point3> nearest_to_optical_axes(const std::vector<const io::Camera
   const double det = det3(a);
   const double scale = (a[0][0] + a[1][1] + a[2][2]) / 3;
   if (!(scale > 0) || !(std::abs(det) > 1e-6 * scale * scale * scale)) return std::nullopt;
-  Point3 p{};
+  Vec3 p{};
   for (size_t k = 0; k < 3; ++k) {  // Cramer's rule
     double m[3][3];
     for (size_t i = 0; i < 3; ++i) {

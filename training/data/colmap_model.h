@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "s4d/util/vec3.h"
+
 namespace s4d::data::colmap {
 
 struct CameraModel {
@@ -41,13 +43,13 @@ struct Camera {
 struct Image {
   int id = 0;
   std::array<double, 4> q{};  // qw, qx, qy, qz as stored (not normalised): world-to-camera rotation
-  std::array<double, 3> t{};  // world-to-camera translation
+  Vec3 t{};  // world-to-camera translation
   int camera_id = 0;
   std::string name;  // relative image path, '/'-separated
 };
 
 struct Point {
-  std::array<double, 3> xyz{};
+  Vec3 xyz{};
   std::array<uint8_t, 3> rgb{};
 };
 

@@ -14,11 +14,11 @@
 
 #include "s4d/data/dataset.h"
 #include "s4d/data/dataset_check.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::data::detail {
 
 namespace fs = std::filesystem;
-using Vec3 = std::array<double, 3>;
 
 // Shortest form of a number for messages ("2704", "0.333333").
 inline std::string num(double v) {

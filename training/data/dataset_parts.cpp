@@ -67,12 +67,12 @@ namespace {
 
 // 3DGS getNerfppNorm's radius: densification and learning rates scale with it.
 double camera_extent(const Dataset& dataset) {
-  std::vector<std::array<double, 3>> centres;
+  std::vector<Vec3> centres;
   for (const View& v : dataset.views) {
     if (!v.test) centres.push_back(camera_centre(v.camera));
   }
   if (centres.empty()) fail(dataset.root, "no training views");
-  std::array<double, 3> mean{};
+  Vec3 mean{};
   for (const auto& c : centres) {
     for (size_t k = 0; k < 3; ++k) mean[k] += c[k] / static_cast<double>(centres.size());
   }

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "dataset_parts.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::data {
 namespace {
@@ -114,9 +115,9 @@ std::vector<std::string> id_list(const fs::path& path, const json& object, const
 }
 
 struct SceneNormalisation {
-  std::array<double, 3> center{};
+  Vec3 center{};
   double scale = 1;
-  std::array<double, 3> apply(const std::array<double, 3>& p) const {
+  Vec3 apply(const Vec3& p) const {
     return {(p[0] - center[0]) * scale, (p[1] - center[1]) * scale, (p[2] - center[2]) * scale};
   }
 };
@@ -170,7 +171,7 @@ io::CameraView read_camera(const fs::path& path, const SceneNormalisation& scene
   if (worst > kRigidTolerance || std::abs(det - 1.0) > kRigidTolerance)
     fail(path, "orientation: not a rotation (rows must be orthonormal with determinant +1, within 1e-3)");
   const std::vector<double> position = numbers(path, member(path, j, "", "position"), "position", 3);
-  const std::array<double, 3> centre = scene.apply({position[0], position[1], position[2]});
+  const Vec3 centre = scene.apply({position[0], position[1], position[2]});
 
   io::CameraView camera;
   // world_to_cam = [R | -R c] with R = orientation and c the normalised centre.
@@ -317,7 +318,7 @@ Dataset load_hypernerf(const fs::path& root, const LoadOptions& options) {
   }
   detail::finish_dataset(dataset, options, {1.0f, 1.0f, 1.0f}, {"points3D_downsample2.ply", "points.npy"});
   for (size_t i = 0; i + 2 < dataset.points.size(); i += 3) {
-    const std::array<double, 3> p = scene.apply({dataset.points[i], dataset.points[i + 1], dataset.points[i + 2]});
+    const Vec3 p = scene.apply({dataset.points[i], dataset.points[i + 1], dataset.points[i + 2]});
     for (size_t k = 0; k < 3; ++k) dataset.points[i + k] = static_cast<float>(p[k]);
   }
   return dataset;

@@ -7,16 +7,6 @@
 
 namespace s4d::model {
 
-const char* stat_name(Stat s) {
-  switch (s) {
-    case kGradAccum: return "grad_accum";
-    case kGradCount: return "grad_count";
-    case kMaxRadius: return "max_radius";
-    case kStatCount: break;
-  }
-  throw std::out_of_range("stat_name: no statistic " + std::to_string(static_cast<uint32_t>(s)));
-}
-
 namespace {
 
 using splat::cloud_arrays;

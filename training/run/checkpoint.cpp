@@ -10,9 +10,10 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
-#include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "s4d/splat/gaussian_buffers.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::run {
@@ -25,24 +26,17 @@ constexpr size_t kMagicSize = 8;
 constexpr char kMagic1[kMagicSize + 1] = "S4DCKPT1";  // no checksums: read unverified
 constexpr char kMagic2[kMagicSize + 1] = "S4DCKPT2";  // header and per-array checksums
 
+// The per-Gaussian arrays of a checkpoint in file order, by name and address: the cloud's, then the
+// trainer's (`trainer`, one per trainer_array_names()).
 template <class Vec>
-struct NamedArray {
-  std::string name;
-  Vec* values;
-};
+using ArrayList = std::vector<std::pair<std::string, Vec*>>;
 
-// Every array of a state, in file order.
-template <class State>
-auto arrays_of(State& s) {
-  using Vec = std::conditional_t<std::is_const_v<State>, const std::vector<float>, std::vector<float>>;
-  std::vector<NamedArray<Vec>> out;
-  const auto cloud = splat::cloud_arrays(s.cloud);
-  for (splat::Attr a : splat::kCloudAttrs) out.push_back({splat::attr_name(a), cloud[a]});
-  for (splat::Attr a : splat::kCloudAttrs) {
-    out.push_back({std::string(splat::attr_name(a)) + ".adam_m", &s.m[a]});
-    out.push_back({std::string(splat::attr_name(a)) + ".adam_v", &s.v[a]});
-  }
-  for (uint32_t k = 0; k < model::kStatCount; ++k) out.push_back({model::stat_name(model::Stat(k)), &s.stats[k]});
+template <class Cloud, class Vec>
+ArrayList<Vec> gaussian_arrays(Cloud& cloud, const std::vector<Vec*>& trainer) {
+  ArrayList<Vec> out;
+  const auto arrays = splat::cloud_arrays(cloud);
+  for (splat::Attr a : splat::kCloudAttrs) out.emplace_back(splat::attr_name(a), arrays[a]);
+  for (size_t k = 0; k < trainer.size(); ++k) out.emplace_back(trainer_array_names()[k], trainer[k]);
   return out;
 }
 
@@ -57,12 +51,20 @@ std::string hex64(uint64_t v) {
 }
 
 // The whole file: magic, header length, header checksum, header, arrays.
-std::string encode(const fs::path& path, const Checkpoint& checkpoint) {
-  const model::HostState& state = checkpoint.state;
+std::string encode(const fs::path& path, const CheckpointRef& checkpoint) {
+  const std::vector<std::string>& names = trainer_array_names();
+  const bool listed_empty = checkpoint.trainer.empty() && checkpoint.cloud.size() == 0;
+  if (!listed_empty && checkpoint.trainer.size() != names.size())
+    throw std::invalid_argument("checkpoint " + path.string() + ": " + std::to_string(checkpoint.trainer.size()) +
+                                " trainer arrays for " + std::to_string(checkpoint.cloud.size()) + " Gaussians, expected " +
+                                std::to_string(names.size()));
+  static const std::vector<float> kNone;
+  std::vector<const std::vector<float>*> trainer = checkpoint.trainer;
+  if (listed_empty) trainer.assign(names.size(), &kNone);
   nlohmann::json header;
   header["meta"] = checkpoint.meta;
-  header["sh_degree"] = state.cloud.sh_degree;
-  header["count"] = state.cloud.size();
+  header["sh_degree"] = checkpoint.cloud.sh_degree;
+  header["count"] = checkpoint.cloud.size();
   header["arrays"] = nlohmann::json::array();
   std::string body;
   auto add = [&](const std::string& name, const std::vector<float>& values) {
@@ -74,7 +76,7 @@ std::string encode(const fs::path& path, const Checkpoint& checkpoint) {
     header["arrays"].push_back({{"name", name}, {"floats", values.size()}, {"fnv1a64", hex64(fnv1a64(values.data(), bytes))}});
     body.append(reinterpret_cast<const char*>(values.data()), bytes);
   };
-  for (const auto& a : arrays_of(state)) add(a.name, *a.values);
+  for (const auto& [name, values] : gaussian_arrays(checkpoint.cloud, trainer)) add(name, *values);
   for (const auto& [name, values] : checkpoint.extra) add(name, values);
   const std::string json = header.dump();
   const uint64_t len = json.size(), sum = fnv1a64(json.data(), json.size());
@@ -101,6 +103,29 @@ void fsync_dir(const fs::path& dir) {
 
 }  // namespace
 
+const char* stat_name(Stat s) {
+  switch (s) {
+    case kGradAccum: return "grad_accum";
+    case kGradCount: return "grad_count";
+    case kMaxRadius: return "max_radius";
+    case kStatCount: break;
+  }
+  throw std::out_of_range("stat_name: no statistic " + std::to_string(static_cast<uint32_t>(s)));
+}
+
+const std::vector<std::string>& trainer_array_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (splat::Attr a : splat::kCloudAttrs) {
+      out.push_back(std::string(splat::attr_name(a)) + ".adam_m");
+      out.push_back(std::string(splat::attr_name(a)) + ".adam_v");
+    }
+    for (uint32_t k = 0; k < kStatCount; ++k) out.push_back(stat_name(Stat(k)));
+    return out;
+  }();
+  return names;
+}
+
 uint64_t fnv1a64(const void* bytes, size_t size) {
   const unsigned char* p = static_cast<const unsigned char*>(bytes);
   uint64_t h = 14695981039346656037ull;
@@ -111,11 +136,11 @@ uint64_t fnv1a64(const void* bytes, size_t size) {
   return h;
 }
 
-void write_checkpoint(const fs::path& path, const Checkpoint& checkpoint) {
+void write_checkpoint(const fs::path& path, const CheckpointRef& checkpoint) {
   util::write_file_atomic(path, encode(path, checkpoint));
 }
 
-void write_checkpoint_rotating(const fs::path& path, const fs::path& previous, const Checkpoint& checkpoint, bool rotate) {
+void write_checkpoint_rotating(const fs::path& path, const fs::path& previous, const CheckpointRef& checkpoint, bool rotate) {
   const std::string file = encode(path, checkpoint);  // a non-finite state throws here, before any file changes
   const fs::path fresh = path.string() + ".new";
   util::write_file_atomic(fresh, file);  // complete and fsynced under its own name
@@ -159,22 +184,25 @@ Checkpoint read_checkpoint(const fs::path& path) {
   size_t offset = prefix + len, count = 0;
   try {
     cp.meta = header.at("meta");
-    cp.state.cloud.sh_degree = header.at("sh_degree").get<int>();
+    cp.cloud.sh_degree = header.at("sh_degree").get<int>();
     count = header.at("count").get<size_t>();
     const nlohmann::json& listed = header.at("arrays");
-    auto arrays = arrays_of(cp.state);
+    cp.trainer.resize(trainer_array_names().size());
+    std::vector<std::vector<float>*> trainer;
+    for (std::vector<float>& t : cp.trainer) trainer.push_back(&t);
+    const auto arrays = gaussian_arrays(cp.cloud, trainer);
     if (listed.size() < arrays.size())
       fail(path, "lists " + std::to_string(listed.size()) + " arrays, expected at least " + std::to_string(arrays.size()));
     for (size_t k = 0; k < listed.size(); ++k) {
       const std::string name = listed[k].at("name").get<std::string>();
       const size_t floats = listed[k].at("floats").get<size_t>();
-      if (k < arrays.size() && name != arrays[k].name)
-        fail(path, "array " + std::to_string(k) + " is '" + name + "', expected '" + arrays[k].name + "'");
+      if (k < arrays.size() && name != arrays[k].first)
+        fail(path, "array " + std::to_string(k) + " is '" + name + "', expected '" + arrays[k].first + "'");
       if (floats > (file.size() - offset) / sizeof(float)) fail(path, "truncated in array '" + name + "'");
       const size_t bytes = floats * sizeof(float);
       if (v2 && listed[k].at("fnv1a64").get<std::string>() != hex64(fnv1a64(file.data() + offset, bytes)))
         fail(path, "array '" + name + "': checksum mismatch");
-      std::vector<float>* values = k < arrays.size() ? arrays[k].values : &cp.extra.emplace_back(name, std::vector<float>{}).second;
+      std::vector<float>* values = k < arrays.size() ? arrays[k].second : &cp.extra.emplace_back(name, std::vector<float>{}).second;
       values->resize(floats);
       if (bytes > 0) std::memcpy(values->data(), file.data() + offset, bytes);  // an empty vector's data() may be null
       offset += bytes;
@@ -185,15 +213,17 @@ Checkpoint read_checkpoint(const fs::path& path) {
     fail(path, std::string("malformed header: ") + e.what());
   }
   if (offset != file.size()) fail(path, std::to_string(file.size() - offset) + " unexpected bytes after the arrays");
-  const int degree = cp.state.cloud.sh_degree;
+  const int degree = cp.cloud.sh_degree;
   if (degree < 0 || degree > 3) fail(path, "sh_degree " + std::to_string(degree) + " is not 0..3");
   const uint32_t sh_coeffs = static_cast<uint32_t>((degree + 1) * (degree + 1));
-  for (const auto& a : arrays_of(cp.state)) {
-    size_t expected = count;
+  std::vector<const std::vector<float>*> trainer;
+  for (const std::vector<float>& t : cp.trainer) trainer.push_back(&t);
+  for (const auto& [name, values] : gaussian_arrays(std::as_const(cp.cloud), trainer)) {
+    size_t expected = count;  // a statistic: one float per Gaussian
     for (splat::Attr k : splat::kCloudAttrs)
-      if (a.name.rfind(splat::attr_name(k), 0) == 0) expected = count * splat::attr_floats(k, sh_coeffs);
-    if (a.values->size() != expected)
-      fail(path, "array '" + a.name + "' holds " + std::to_string(a.values->size()) + " floats, expected " +
+      if (name.rfind(splat::attr_name(k), 0) == 0) expected = count * splat::attr_floats(k, sh_coeffs);
+    if (values->size() != expected)
+      fail(path, "array '" + name + "' holds " + std::to_string(values->size()) + " floats, expected " +
                      std::to_string(expected) + " for " + std::to_string(count) + " Gaussians");
   }
   return cp;

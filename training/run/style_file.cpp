@@ -46,18 +46,19 @@ fs::path style_image_path(const fs::path& run_root, const std::string& name) { r
 
 void write_style_file(const fs::path& path, const StyleFile& s) {
   check_sizes(s, path.string(), false);
-  Checkpoint cp;
-  cp.meta = {{"format", "style4d style"},
-             {"method", method_name(s.method)},
-             {"settings", s.settings},
-             {"count", s.count},
-             {"sh_coeffs", s.sh_coeffs},
-             {"depth_input", depth_input_name(s.depth_input)},
-             {"depth_scale", s.depth_scale},
-             {"input_sigmoid", s.input_sigmoid}};
-  if (s.method != StyleMethod::scratch) cp.extra = {{"style.sh_delta", s.sh_delta}, {"style.opacity_delta", s.opacity_delta}};
-  if (s.method == StyleMethod::full) cp.extra.emplace_back("style.mlp", s.mlp);
-  write_checkpoint(path, cp);
+  const nlohmann::json meta = {{"format", "style4d style"},
+                               {"method", method_name(s.method)},
+                               {"settings", s.settings},
+                               {"count", s.count},
+                               {"sh_coeffs", s.sh_coeffs},
+                               {"depth_input", depth_input_name(s.depth_input)},
+                               {"depth_scale", s.depth_scale},
+                               {"input_sigmoid", s.input_sigmoid}};
+  std::vector<NamedArray> arrays;
+  if (s.method != StyleMethod::scratch) arrays = {{"style.sh_delta", s.sh_delta}, {"style.opacity_delta", s.opacity_delta}};
+  if (s.method == StyleMethod::full) arrays.emplace_back("style.mlp", s.mlp);
+  const io::GaussianCloud none;  // a style holds no Gaussians: the trainer's arrays are listed empty
+  write_checkpoint(path, {meta, none, {}, arrays});
 }
 
 StyleFile read_style_file(const fs::path& path) {

@@ -66,12 +66,12 @@ TrainedField read_trained_field(const fs::path& file, const run::TrainConfig& co
   out.mlp = take_array(cp, "field.mlp", "the deformation field's MLP", gpu::deform_mlp_total(shape), file);
   for (const auto& [name, values] : cp.extra) {
     if (name != "field.static_mask") continue;
-    if (values.size() != cp.state.cloud.size())
+    if (values.size() != cp.cloud.size())
       throw std::runtime_error(file.string() + ": array 'field.static_mask' holds " + std::to_string(values.size()) +
-                               " entries for " + std::to_string(cp.state.cloud.size()) + " Gaussians");
+                               " entries for " + std::to_string(cp.cloud.size()) + " Gaussians");
     out.still_mask.assign(values.begin(), values.end());
   }
-  out.canonical = std::move(cp.state.cloud);
+  out.canonical = std::move(cp.cloud);
   return out;
 }
 

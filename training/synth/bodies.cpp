@@ -12,12 +12,10 @@ namespace {
 
 Vec3 lerp(Vec3 a, Vec3 b, double w) { return a + (b - a) * w; }
 
-double component(Vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
 Vec3 checker_albedo(const Body& b, Vec3 local_dir) {
   if (b.checker <= 0) return b.albedo;
-  const double lon = std::atan2(local_dir.z, local_dir.x) / (2 * std::numbers::pi) + 0.5;  // [0, 1)
-  const double lat = std::acos(std::clamp(local_dir.y, -1.0, 1.0)) / std::numbers::pi;    // [0, 1]
+  const double lon = std::atan2(local_dir[2], local_dir[0]) / (2 * std::numbers::pi) + 0.5;  // [0, 1)
+  const double lat = std::acos(std::clamp(local_dir[1], -1.0, 1.0)) / std::numbers::pi;      // [0, 1]
   const int u = static_cast<int>(std::floor(lon * b.checker)), v = static_cast<int>(std::floor(lat * b.checker / 2));
   return (u + v) % 2 == 0 ? b.albedo : b.albedo2;
 }
@@ -49,11 +47,11 @@ std::optional<BodyHit> intersect_body(const Body& body, const Ray& ray, double t
     const Vec3 lp = local.at(h->s);
     const int ua = (h->axis + 1) % 3, va = (h->axis + 2) % 3;
     // A 2x2 checker per face, so the box's turn is visible.
-    const bool odd = (component(lp, ua) > 0) != (component(lp, va) > 0);
+    const bool odd = (lp[ua] > 0) != (lp[va] > 0);
     return BodyHit{h->s, rotate_y(n, angle), odd && body.checker > 0 ? body.albedo2 : body.albedo};
   }
   // Ellipsoid: the unit sphere in coordinates divided by the radii; s stays the ray's parameter.
-  const Vec3 inv{1 / k.half.x, 1 / k.half.y, 1 / k.half.z};
+  const Vec3 inv{1 / k.half[0], 1 / k.half[1], 1 / k.half[2]};
   const Vec3 o = mul(local.origin, inv), d = mul(local.dir, inv);
   const double a = dot(d, d), b = dot(o, d), c = dot(o, o) - 1;
   const double disc = b * b - a * c;

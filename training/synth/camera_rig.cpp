@@ -43,9 +43,9 @@ std::vector<PinholeCamera> arc_cameras(const ArcRig& rig, Vec3 look_at, int coun
 
 std::array<double, 15> llff_pose(const PinholeCamera& c) {
   const Vec3 down = -c.up;
-  return {down.x, c.right.x, c.back.x, c.position.x, static_cast<double>(c.height),
-          down.y, c.right.y, c.back.y, c.position.y, static_cast<double>(c.width),
-          down.z, c.right.z, c.back.z, c.position.z, c.focal};
+  return {down[0], c.right[0], c.back[0], c.position[0], static_cast<double>(c.height),
+          down[1], c.right[1], c.back[1], c.position[1], static_cast<double>(c.width),
+          down[2], c.right[2], c.back[2], c.position[2], c.focal};
 }
 
 }  // namespace s4d::synth

@@ -23,9 +23,9 @@ std::string view_name(int k) {
 
 // Camera-to-world in OpenGL axes: columns right, up, back (the camera looks along -back), centre.
 nlohmann::json transform_matrix(const PinholeCamera& c) {
-  return {{c.right.x, c.up.x, c.back.x, c.position.x},
-          {c.right.y, c.up.y, c.back.y, c.position.y},
-          {c.right.z, c.up.z, c.back.z, c.position.z},
+  return {{c.right[0], c.up[0], c.back[0], c.position[0]},
+          {c.right[1], c.up[1], c.back[1], c.position[1]},
+          {c.right[2], c.up[2], c.back[2], c.position[2]},
           {0.0, 0.0, 0.0, 1.0}};
 }
 
@@ -33,7 +33,7 @@ nlohmann::json transform_matrix(const PinholeCamera& c) {
 // weighted by coverage, so the sky's share comes out again.
 io::ImageF straight_rgba(const RenderedView& view, Vec3 sky) {
   io::ImageF out{view.width, view.height, 4, std::vector<float>(view.alpha.size() * 4)};
-  const double sky_rgb[3] = {sky.x, sky.y, sky.z};
+  const double sky_rgb[3] = {sky[0], sky[1], sky[2]};
   for (size_t i = 0; i < view.alpha.size(); ++i) {
     const float a = view.alpha[i];
     for (size_t c = 0; c < 3; ++c)

@@ -6,11 +6,6 @@
 #include <utility>
 
 namespace s4d::synth {
-namespace {
-
-double component(Vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
-}  // namespace
 
 std::optional<double> intersect_sphere(const Ray& ray, Vec3 centre, double radius, double s_min, double s_max) {
   // |o + s d - c|^2 = r^2 with |d| = 1: s^2 + 2 b s + c = 0.
@@ -36,8 +31,8 @@ std::optional<double> intersect_plane(const Ray& ray, Vec3 point, Vec3 normal, d
 std::optional<std::pair<double, double>> clip_to_box(const Ray& ray, Vec3 lo, Vec3 hi, double s_min, double s_max) {
   double enter = s_min, leave = s_max;
   for (int axis = 0; axis < 3; ++axis) {
-    const double o = component(ray.origin, axis), d = component(ray.dir, axis);
-    const double l = component(lo, axis), h = component(hi, axis);
+    const double o = ray.origin[axis], d = ray.dir[axis];
+    const double l = lo[axis], h = hi[axis];
     if (std::abs(d) < 1e-15) {
       if (o < l || o > h) return std::nullopt;
       continue;
@@ -56,7 +51,7 @@ std::optional<BoxHit> intersect_box(const Ray& ray, Vec3 half, double s_min, dou
   double enter = -std::numeric_limits<double>::infinity(), leave = std::numeric_limits<double>::infinity();
   BoxHit in, out;
   for (int axis = 0; axis < 3; ++axis) {
-    const double o = component(ray.origin, axis), d = component(ray.dir, axis), h = component(half, axis);
+    const double o = ray.origin[axis], d = ray.dir[axis], h = half[axis];
     if (std::abs(d) < 1e-15) {
       if (o < -h || o > h) return std::nullopt;
       continue;

@@ -41,8 +41,8 @@ std::vector<ColouredPoint> sample_points(const Scene& scene, const std::vector<P
       const auto hit = trace(scene, ray, 0.0);
       if (!hit) continue;
       const Vec3 colour = shade(scene, *hit);
-      points.push_back({static_cast<float>(hit->point.x), static_cast<float>(hit->point.y),
-                        static_cast<float>(hit->point.z), to_byte(colour.x), to_byte(colour.y), to_byte(colour.z)});
+      points.push_back({static_cast<float>(hit->point[0]), static_cast<float>(hit->point[1]),
+                        static_cast<float>(hit->point[2]), to_byte(colour[0]), to_byte(colour[1]), to_byte(colour[2])});
     }
   }
   return points;

@@ -22,7 +22,7 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
   const double inv = 1.0 / (n * n);
   for (int x = 0; x < cam.width; ++x) {
     const uint64_t pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(cam.width) + static_cast<uint64_t>(x);
-    Vec3 sum;
+    Vec3 sum{};
     int hits = 0;
     for (int k = 0; k < n * n; ++k) {
       const uint64_t h = hash_key(st.seed, pixel, static_cast<uint64_t>(k));
@@ -39,9 +39,9 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
         sum = sum + sky_colour(scene);
       }
     }
-    out[3 * x + 0] = static_cast<float>(sum.x * inv);
-    out[3 * x + 1] = static_cast<float>(sum.y * inv);
-    out[3 * x + 2] = static_cast<float>(sum.z * inv);
+    out[3 * x + 0] = static_cast<float>(sum[0] * inv);
+    out[3 * x + 1] = static_cast<float>(sum[1] * inv);
+    out[3 * x + 2] = static_cast<float>(sum[2] * inv);
     alpha[x] = static_cast<float>(hits * inv);
   }
 }

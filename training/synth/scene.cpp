@@ -9,8 +9,6 @@
 namespace s4d::synth {
 namespace {
 
-double component(Vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
 Vec3 axis_vector(int axis, double sign) {
   return {axis == 0 ? sign : 0.0, axis == 1 ? sign : 0.0, axis == 2 ? sign : 0.0};
 }
@@ -20,16 +18,16 @@ void consider_background(const Scene& sc, const Ray& ray, double s_min, double& 
   if (!sc.room) return;
   if (auto s = intersect_plane(ray, {0, 0, sc.wall_z}, {0, 0, 1}, s_min, s_max)) {
     const Vec3 p = ray.at(*s);
-    if (std::abs(p.x) <= sc.half_width && p.y >= sc.floor_y && p.y <= sc.wall_top) {
+    if (std::abs(p[0]) <= sc.half_width && p[1] >= sc.floor_y && p[1] <= sc.wall_top) {
       s_max = *s;
-      best = Hit{*s, Surface::wall, p, {0, 0, 1}, wall_albedo(p.x, p.y)};
+      best = Hit{*s, Surface::wall, p, {0, 0, 1}, wall_albedo(p[0], p[1])};
     }
   }
   if (auto s = intersect_plane(ray, {0, sc.floor_y, 0}, {0, 1, 0}, s_min, s_max)) {
     const Vec3 p = ray.at(*s);
-    if (std::abs(p.x) <= sc.half_width && p.z >= sc.wall_z && p.z <= sc.floor_front) {
+    if (std::abs(p[0]) <= sc.half_width && p[2] >= sc.wall_z && p[2] <= sc.floor_front) {
       s_max = *s;
-      best = Hit{*s, Surface::floor, p, {0, 1, 0}, floor_albedo(p.x, p.z)};
+      best = Hit{*s, Surface::floor, p, {0, 1, 0}, floor_albedo(p[0], p[2])};
     }
   }
 }
@@ -54,7 +52,7 @@ void consider_box(const Scene& sc, const Ray& ray, double t, double s_min, doubl
   if (auto h = intersect_box(local, sc.box_half, s_min, s_max)) {
     const Vec3 lp = local.at(h->s);
     const int ua = (h->axis + 1) % 3, va = (h->axis + 2) % 3;
-    const double u = component(lp, ua) / component(sc.box_half, ua), v = component(lp, va) / component(sc.box_half, va);
+    const double u = lp[ua] / sc.box_half[ua], v = lp[va] / sc.box_half[va];
     s_max = h->s;
     best = Hit{h->s, Surface::box, ray.at(h->s), rotate_y(axis_vector(h->axis, h->sign), angle),
                box_albedo(h->axis, h->sign, u, v)};
@@ -65,10 +63,10 @@ void consider_sheet(const Scene& sc, const Ray& ray, double t, double s_min, dou
   if (auto s = intersect_wave_sheet(ray, sc.sheet, t, s_min, s_max)) {
     const Vec3 p = ray.at(*s);
     const WaveSheet& w = sc.sheet;
-    const bool front = ray.dir.z < 0;  // seen from +z
+    const bool front = ray.dir[2] < 0;  // seen from +z
     s_max = *s;
-    best = Hit{*s, Surface::sheet, p, w.normal(p.x, t),
-               sheet_albedo((p.x - w.x0) / (w.x1 - w.x0), (p.y - w.y0) / (w.y1 - w.y0), front)};
+    best = Hit{*s, Surface::sheet, p, w.normal(p[0], t),
+               sheet_albedo((p[0] - w.x0) / (w.x1 - w.x0), (p[1] - w.y0) / (w.y1 - w.y0), front)};
   }
 }
 
@@ -104,7 +102,7 @@ std::optional<Hit> trace(const Scene& scene, const Ray& ray, double t, double s_
 Vec3 shade(const Scene& scene, const Hit& hit) {
   const double lambert = std::max(0.0, dot(hit.normal, scene.light_dir));
   const Vec3 c = hit.albedo * (scene.ambient + (1 - scene.ambient) * lambert);
-  return {std::clamp(c.x, 0.0, 1.0), std::clamp(c.y, 0.0, 1.0), std::clamp(c.z, 0.0, 1.0)};
+  return {std::clamp(c[0], 0.0, 1.0), std::clamp(c[1], 0.0, 1.0), std::clamp(c[2], 0.0, 1.0)};
 }
 
 Vec3 sky_colour(const Scene& scene) { return scene.sky; }

@@ -7,7 +7,7 @@ namespace {
 
 // ordered_json keeps the keys in the order written here, which reads better than sorted.
 
-nlohmann::ordered_json vec(Vec3 v) { return nlohmann::ordered_json::array({v.x, v.y, v.z}); }
+nlohmann::ordered_json vec(Vec3 v) { return nlohmann::ordered_json::array({v[0], v[1], v[2]}); }
 
 nlohmann::ordered_json describe_scene(const Scene& s) {
   const WaveSheet& w = s.sheet;

@@ -58,8 +58,8 @@ Vec3 floor_albedo(double x, double z) {
 
 Vec3 sphere_albedo(Vec3 local_dir) {
   // Colour follows longitude (so any turn about the axis changes it), a latitude checker on top.
-  const double lon = std::atan2(local_dir.x, local_dir.z) / (2 * std::numbers::pi) + 0.5;
-  const double lat = std::asin(std::clamp(local_dir.y, -1.0, 1.0)) / std::numbers::pi + 0.5;
+  const double lon = std::atan2(local_dir[0], local_dir[2]) / (2 * std::numbers::pi) + 0.5;
+  const double lat = std::asin(std::clamp(local_dir[1], -1.0, 1.0)) / std::numbers::pi + 0.5;
   const Vec3 c = hue(std::fmod(lon, 1.0));
   return checker(lon * 12, lat * 6) ? c * 0.9 : lerp(c, Vec3{1, 1, 1}, 0.6);
 }

@@ -63,11 +63,11 @@ std::optional<double> intersect_wave_sheet(const Ray& ray, const WaveSheet& shee
   if (!span) return std::nullopt;
   const auto gap = [&](double s) {
     const Vec3 p = ray.at(s);
-    return p.z - sheet.depth(p.x, t);
+    return p[2] - sheet.depth(p[0], t);
   };
   const double length = span->second - span->first;
-  const double steps_x = std::abs(ray.dir.x) * length / sheet.wavelength * kStepsPerWavelength;
-  const double steps_z = std::abs(ray.dir.z) * length / sheet.amplitude * kStepsPerAmplitude;
+  const double steps_x = std::abs(ray.dir[0]) * length / sheet.wavelength * kStepsPerWavelength;
+  const double steps_z = std::abs(ray.dir[2]) * length / sheet.amplitude * kStepsPerAmplitude;
   const int steps = std::max(kMinSteps, static_cast<int>(std::ceil(std::max(steps_x, steps_z))));
   const double step = length / steps;
   double a = span->first, ga = gap(a);

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <set>
 
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 
 namespace s4d::train {
 
@@ -43,7 +43,7 @@ float range_limit(const std::string& array) { return ends_with(array, ".adam_v")
 
 uint32_t local_limit(uint32_t gaussians) { return std::max<uint32_t>(16, gaussians / 100); }
 
-Divergence find_divergence(const run::Checkpoint& state, const PartName& part, uint32_t extra_rows) {
+Divergence find_divergence(const model::Checkpoint& state, const PartName& part, uint32_t extra_rows) {
   const model::HostState& s = state.state;
   const size_t n = extra_rows > 0 ? extra_rows : s.cloud.size();
   std::vector<std::string> found;

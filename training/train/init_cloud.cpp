@@ -174,7 +174,7 @@ io::GaussianCloud initial_cloud(const data::Dataset& dataset, int sh_degree, uin
   const size_t used = std::min(kFrustumCameras, train.size());
   for (size_t i = 0; i < used; ++i) cameras.push_back(train[i * train.size() / used]);
   // The region the cameras look at; the origin when their axes are parallel.
-  const data::Point3 centre = data::nearest_to_optical_axes(train).value_or(data::Point3{0, 0, 0});
+  const Vec3 centre = data::nearest_to_optical_axes(train).value_or(Vec3{0, 0, 0});
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   const float half = static_cast<float>(dataset.extent);

@@ -4,22 +4,22 @@
 #include <cmath>
 #include <limits>
 
+#include "s4d/util/vec3.h"
+
 namespace s4d::train {
 namespace {
 
-using V3 = std::array<double, 3>;
-
 // Camera centre and the world direction of pixel point (x, y) (OpenCV axes: R p + t).
 struct PixelRay {
-  V3 origin, dir;
+  Vec3 origin, dir;
 };
 
 PixelRay pixel_ray(const io::CameraView& c, double x, double y) {
   const auto& m = c.world_to_cam;
   auto r = [&](int i, int j) { return m[size_t(i * 4 + j)]; };
-  const V3 t{r(0, 3), r(1, 3), r(2, 3)};
-  V3 origin{}, dir{};
-  const V3 d_cam{(x - c.cx) / c.fx, (y - c.cy) / c.fy, 1.0};
+  const Vec3 t{r(0, 3), r(1, 3), r(2, 3)};
+  Vec3 origin{}, dir{};
+  const Vec3 d_cam{(x - c.cx) / c.fx, (y - c.cy) / c.fy, 1.0};
   for (int j = 0; j < 3; ++j) {
     origin[j] = -(r(0, j) * t[0] + r(1, j) * t[1] + r(2, j) * t[2]);  // -R^T t
     dir[j] = r(0, j) * d_cam[0] + r(1, j) * d_cam[1] + r(2, j) * d_cam[2];  // R^T d
@@ -28,7 +28,7 @@ PixelRay pixel_ray(const io::CameraView& c, double x, double y) {
 }
 
 // Image point and depth of a world point; depth <= 0 behind the camera.
-std::array<double, 3> project(const io::CameraView& c, const V3& p) {
+std::array<double, 3> project(const io::CameraView& c, const Vec3& p) {
   const auto& m = c.world_to_cam;
   double q[3];
   for (int i = 0; i < 3; ++i) q[i] = m[size_t(i * 4)] * p[0] + m[size_t(i * 4 + 1)] * p[1] + m[size_t(i * 4 + 2)] * p[2] + m[size_t(i * 4 + 3)];
@@ -123,7 +123,7 @@ std::optional<double> consistent_depth(const ViewImage& source, double x, double
   const uint32_t n = std::max<uint32_t>(2, s.depth_samples);
   for (uint32_t k = 0; k < n; ++k) {
     const double depth = range->first + (range->second - range->first) * (k + 0.5) / n;
-    const V3 p{ray.origin[0] + ray.dir[0] * depth, ray.origin[1] + ray.dir[1] * depth, ray.origin[2] + ray.dir[2] * depth};
+    const Vec3 p{ray.origin[0] + ray.dir[0] * depth, ray.origin[1] + ray.dir[1] * depth, ray.origin[2] + ray.dir[2] * depth};
     double cost = 0;
     size_t seen = 0;
     for (const ViewImage& o : others) {

@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "s4d/io/ply_gaussians.h"
-#include "s4d/run/checkpoint.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/run/run_json.h"
 #include "s4d/train/scene_motion.h"
 #include "s4d/run/run_lock.h"
@@ -69,9 +69,9 @@ std::pair<std::array<float, 3>, std::array<float, 3>> bounds(const std::vector<f
 // only when it holds no results either: it was killed before its first checkpoint, so nothing is
 // lost (its loss.csv rows up to then are logged again). One with results (a deleted checkpoint) is
 // refused before anything is loaded or written: training it again would overwrite them.
-std::optional<run::LoadedCheckpoint> checkpoint_to_resume(const run::RunDir& run) {
+std::optional<model::LoadedCheckpoint> checkpoint_to_resume(const run::RunDir& run) {
   if (fs::exists(run.checkpoint()) || fs::exists(run.previous_checkpoint()))
-    return run::read_checkpoint_or_previous(run.checkpoint(), run.previous_checkpoint());
+    return model::read_checkpoint_or_previous(run.checkpoint(), run.previous_checkpoint());
   std::string results;
   auto found = [&](const fs::path& p, const char* name) {
     std::error_code ec;
@@ -175,7 +175,7 @@ Trainer::Trainer(engine::Context& ctx, const run::RunDir& run, const run::RunJso
     throw std::runtime_error(run.run_json().string() + ": field 'stage' = \"" + run::geometry_name(*run_json.stage) +
                              "\": expected \"" + run::geometry_name(expected_stage) +
                              "\" for settings with fine_iterations = " + std::to_string(config_.fine_iterations));
-  std::optional<run::LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
+  std::optional<model::LoadedCheckpoint> from = checkpoint_to_resume(run);  // before anything is loaded or written
   dataset_ = data::load_dataset(run_json.data, load_options(config_, true));
   // Runs from before the recipe stored no resolved value; nothing is left to the data on resume.
   const nlohmann::json recipe = adapt_to_data(config_, dataset_);

@@ -49,8 +49,8 @@ nlohmann::json Trainer::Impl::meta(double seconds) const {
   return j;
 }
 
-run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
-  run::Checkpoint cp{meta(seconds), gaussians->download(), {}};
+model::Checkpoint Trainer::Impl::snapshot(double seconds) const {
+  model::Checkpoint cp{meta(seconds), gaussians->download(), {}};
   if (field) {
     cp.extra = {{"field.planes", field->download_planes()},
                 {"field.mlp", field->download_mlp()},
@@ -66,7 +66,7 @@ run::Checkpoint Trainer::Impl::snapshot(double seconds) const {
   return cp;
 }
 
-void Trainer::Impl::restore(const run::Checkpoint& cp) {
+void Trainer::Impl::restore(const model::Checkpoint& cp) {
   gaussians = std::make_unique<model::TrainableGaussians>(ctx, cp.state, "gaussians");
   sized_for = UINT32_MAX;
   const std::string stage_in_file = cp.meta.at("stage").get<std::string>();
@@ -120,7 +120,7 @@ void Trainer::Impl::restore(const run::Checkpoint& cp) {
   }
 }
 
-Divergence Trainer::Impl::divergence(const run::Checkpoint& state) const {
+Divergence Trainer::Impl::divergence(const model::Checkpoint& state) const {
   return find_divergence(state, [this](const std::string& array, uint64_t index) {
     const bool planes = array.rfind("field.planes", 0) == 0;
     return field ? (planes ? deform::plane_part(field->shape(), index) : deform::mlp_part(field->shape(), index)) : "";
@@ -128,16 +128,16 @@ Divergence Trainer::Impl::divergence(const run::Checkpoint& state) const {
 }
 
 void Trainer::Impl::remove_gaussians(const std::vector<uint32_t>& rows, double seconds) {
-  run::Checkpoint cp = snapshot(seconds);
+  model::Checkpoint cp = snapshot(seconds);
   cp.state = train::remove_gaussians(cp.state, rows);
   std::erase_if(cp.extra, [](const auto& e) { return e.first == "field.static_mask"; });
   restore(cp);
 }
 
 void Trainer::Impl::checkpoint(double seconds) {
-  run::Checkpoint cp = snapshot(seconds);
+  model::Checkpoint cp = snapshot(seconds);
   if (Divergence d = divergence(cp); d.found()) throw StateOutOfRange(std::move(d));
-  run::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
+  model::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
   newest_damaged = false;
   io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);
   last_good = std::move(cp);

@@ -19,10 +19,10 @@
 #include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/stage_timer.h"
 #include "s4d/densify/densifier.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
 #include "s4d/optim/image_loss.h"
-#include "s4d/run/checkpoint.h"
 #include "s4d/splat/rasterizer.h"
 #include "s4d/train/divergence.h"
 #include "s4d/train/stage_runner.h"
@@ -83,7 +83,7 @@ struct Trainer::Impl {
   double seconds_before = 0;
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
-  run::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
+  model::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
   // Every densification's counts, and every seeding's (train.json "densify_log"; kept in checkpoints).
   nlohmann::json densify_log = nlohmann::json::array();
   // The fewest Gaussians pruning may leave (visible_content.h); 0 until measured at the first densification.
@@ -124,13 +124,13 @@ struct Trainer::Impl {
   // run fails before any training).
   void make_field(uint32_t seed);
   nlohmann::json meta(double seconds) const;
-  run::Checkpoint snapshot(double seconds) const;
-  void restore(const run::Checkpoint& cp);
+  model::Checkpoint snapshot(double seconds) const;
+  void restore(const model::Checkpoint& cp);
   // Saves the current state as the checkpoint and the PLY and makes it the last good state;
   // StateOutOfRange when it holds values out of range (divergence.h; nothing written).
   void checkpoint(double seconds);
   // What `state` holds out of range, the field's parts named.
-  Divergence divergence(const run::Checkpoint& state) const;
+  Divergence divergence(const model::Checkpoint& state) const;
   // The current state without these Gaussians (the still mask is measured again).
   void remove_gaussians(const std::vector<uint32_t>& rows, double seconds);
 

@@ -11,25 +11,15 @@ namespace {
 // would flip over the pole.
 constexpr double kMaxForwardUpCosine = 0.98;
 
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-Vec3 normalized(const Vec3& a) { return scale(a, 1.0 / norm(a)); }
-
 // Rodrigues: v rotated by `angle` about the unit `axis`.
 Vec3 rotate(const Vec3& v, const Vec3& axis, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
-  return add(add(scale(v, c), scale(cross(axis, v), s)), scale(axis, dot(axis, v) * (1 - c)));
+  return v * c + cross(axis, v) * s + axis * (dot(axis, v) * (1 - c));
 }
 
 }  // namespace
 
-CameraControl::CameraControl(const Vec3& up, double speed) : up_(normalized(up)), speed_(speed) {
+CameraControl::CameraControl(const Vec3& up, double speed) : up_(normalize(up)), speed_(speed) {
   axes_ = {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
   pivot_ = {0, 0, 1};
 }
@@ -38,18 +28,18 @@ void CameraControl::snap(const io::CameraView& camera, double pivot_depth) {
   const auto& m = camera.world_to_cam;
   for (int k = 0; k < 3; ++k) axes_[k] = {m[4 * k], m[4 * k + 1], m[4 * k + 2]};
   for (int j = 0; j < 3; ++j) position_[j] = -(m[j] * m[3] + m[4 + j] * m[7] + m[8 + j] * m[11]);
-  pivot_ = add(position_, scale(axes_[2], pivot_depth));
+  pivot_ = position_ + axes_[2] * pivot_depth;
   focal_per_height_ = camera.fy / camera.height;
   aspect_ = camera.fx / camera.fy;
 }
 
 void CameraControl::rotate_about_pivot(const Vec3& axis, double angle) {
   if (angle == 0) return;  // no input leaves the pose bit for bit (the viewer reuses still frames)
-  position_ = add(pivot_, rotate(sub(position_, pivot_), axis, angle));
+  position_ = pivot_ + rotate(position_ - pivot_, axis, angle);
   for (Vec3& a : axes_) a = rotate(a, axis, angle);
   // Re-orthonormalise so many small turns do not accumulate drift.
-  axes_[2] = normalized(axes_[2]);
-  axes_[0] = normalized(cross(axes_[1], axes_[2]));
+  axes_[2] = normalize(axes_[2]);
+  axes_[0] = normalize(cross(axes_[1], axes_[2]));
   axes_[1] = cross(axes_[2], axes_[0]);
 }
 
@@ -60,23 +50,23 @@ void CameraControl::orbit(double yaw, double pitch) {
 }
 
 void CameraControl::pan(double dx, double dy, double height) {
-  const double per_pixel = norm(sub(pivot_, position_)) / (focal_per_height_ * height);
-  const Vec3 delta = scale(add(scale(axes_[0], dx), scale(axes_[1], dy)), -per_pixel);
-  position_ = add(position_, delta);
-  pivot_ = add(pivot_, delta);
+  const double per_pixel = norm(pivot_ - position_) / (focal_per_height_ * height);
+  const Vec3 delta = (axes_[0] * dx + axes_[1] * dy) * -per_pixel;
+  position_ = position_ + delta;
+  pivot_ = pivot_ + delta;
 }
 
 void CameraControl::zoom(double steps) {
   if (steps == 0) return;
-  const double distance = std::max(1e-3, norm(sub(pivot_, position_)) * std::pow(0.9, steps));
-  position_ = sub(pivot_, scale(axes_[2], distance));
+  const double distance = std::max(1e-3, norm(pivot_ - position_) * std::pow(0.9, steps));
+  position_ = pivot_ - axes_[2] * distance;
 }
 
 void CameraControl::fly(double forward, double right, double up, double seconds) {
-  const Vec3 dir = add(add(scale(axes_[2], forward), scale(axes_[0], right)), scale(axes_[1], -up));
-  const Vec3 delta = scale(dir, speed_ * seconds);
-  position_ = add(position_, delta);
-  pivot_ = add(pivot_, delta);
+  const Vec3 dir = axes_[2] * forward + axes_[0] * right + axes_[1] * -up;
+  const Vec3 delta = dir * (speed_ * seconds);
+  position_ = position_ + delta;
+  pivot_ = pivot_ + delta;
 }
 
 io::CameraView CameraControl::view(uint32_t width, uint32_t height, const std::string& name, double time) const {
@@ -108,9 +98,9 @@ splat::Camera CameraControl::camera(uint32_t width, uint32_t height) const {
 
 Vec3 estimate_up(const std::vector<io::CameraView>& cameras) {
   Vec3 sum{0, 0, 0};
-  for (const io::CameraView& c : cameras) sum = sub(sum, {c.world_to_cam[4], c.world_to_cam[5], c.world_to_cam[6]});
+  for (const io::CameraView& c : cameras) sum = sum - Vec3{c.world_to_cam[4], c.world_to_cam[5], c.world_to_cam[6]};
   if (norm(sum) < 1e-6) return {0, 0, 1};
-  return normalized(sum);
+  return normalize(sum);
 }
 
 double median_depth(const io::CameraView& camera, const std::vector<float>& means, double fallback) {

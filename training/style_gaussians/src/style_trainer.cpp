@@ -13,13 +13,13 @@
 
 #include "s4d/data/frame_cache.h"
 #include "s4d/engine/buffer_from.h"
+#include "s4d/model/checkpoint.h"
 #include "s4d/optim/adam.h"
 #include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/optim/lr_schedule.h"
 #include "s4d/optim/tv_loss.h"
 #include "s4d/primitives/add.h"
-#include "s4d/run/checkpoint.h"
 #include "s4d/scene/cached_scene.h"
 #include "s4d/scene/styled_scene.h"
 #include "s4d/splat/rasterizer.h"
@@ -124,7 +124,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   double seconds_before = 0;
   std::chrono::steady_clock::time_point start;  // of this process's run()
   train::Recovery recovery_state;
-  run::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
+  model::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
   double last_loss = 0;
   train::Evaluation test;  // the closing test
 
@@ -192,9 +192,9 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   bool keeps_loss_row(const std::string& row) const override { return std::strtoul(row.c_str(), nullptr, 10) <= done; }
   double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
   void save(double seconds) override {
-    run::Checkpoint cp = snapshot(seconds);
+    model::Checkpoint cp = snapshot(seconds);
     if (train::Divergence d = train::find_divergence(cp, {}, count); d.found()) throw train::StateOutOfRange(std::move(d));
-    run::write_checkpoint(checkpoint_path(), cp);
+    model::write_checkpoint(checkpoint_path(), cp);
     last_good = std::move(cp);
   }
   void restore_last_good() override { restore(last_good); }
@@ -228,8 +228,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     return j;
   }
 
-  run::Checkpoint snapshot(double seconds) const {
-    run::Checkpoint cp{meta(seconds), {}, {}};
+  model::Checkpoint snapshot(double seconds) const {
+    model::Checkpoint cp{meta(seconds), {}, {}};
     const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k) {
       if (floats[k] == 0) continue;
@@ -240,7 +240,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     return cp;
   }
 
-  void restore(const run::Checkpoint& cp) {
+  void restore(const model::Checkpoint& cp) {
     const nlohmann::json saved = cp.meta.at("settings");
     if (saved != to_json(config))
       throw std::runtime_error(checkpoint_path().string() + " was written with other settings (" + saved.dump() +
@@ -386,7 +386,7 @@ StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, c
   if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
   impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config);
   fs::create_directories(impl_->dir);
-  if (fs::exists(impl_->checkpoint_path())) impl_->restore(run::read_checkpoint(impl_->checkpoint_path()));
+  if (fs::exists(impl_->checkpoint_path())) impl_->restore(model::read_checkpoint(impl_->checkpoint_path()));
   impl_->last_good = impl_->snapshot(impl_->seconds_before);
 }
 

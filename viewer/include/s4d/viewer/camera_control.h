@@ -8,10 +8,9 @@
 
 #include "s4d/io/nerf_cameras.h"
 #include "s4d/splat/rasterizer.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::viewer {
-
-using Vec3 = std::array<double, 3>;
 
 class CameraControl {
  public:

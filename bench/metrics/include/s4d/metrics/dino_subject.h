@@ -14,7 +14,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/dino_vit.h"
-#include "s4d/ref/nn_ref.h"
+#include "s4d/util/chw.h"
 
 namespace s4d::metrics {
 
@@ -22,7 +22,7 @@ inline constexpr uint32_t kDinoShortSide = 224;
 
 // dino_transform(224) of an RGB frame: the network input [3, h, w]. Throws std::invalid_argument
 // when the image is not RGB.
-ref::Chw<float> dino_transform(const io::ImageF& rgb);
+util::Chw<float> dino_transform(const io::ImageF& rgb);
 
 // s_i of one frame from the unit features of the video's first frame, the previous one and it.
 double subject_pair_score(const std::vector<double>& first, const std::vector<double>& previous,

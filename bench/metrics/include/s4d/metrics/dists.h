@@ -16,7 +16,7 @@
 #include "s4d/io/image_io.h"
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/torchvision_vgg.h"
-#include "s4d/ref/nn_ref.h"
+#include "s4d/util/chw.h"
 
 namespace s4d::metrics {
 
@@ -24,7 +24,7 @@ inline constexpr std::array<int, 5> kDistsTaps = {3, 8, 15, 22, 29};  // VGG16 r
 inline constexpr double kDistsC1 = 1e-6, kDistsC2 = 1e-6;
 
 // One image's stages: the raw input, then the five taps, [C, H, W] in double.
-using DistsFeatures = std::vector<ref::Chw<double>>;
+using DistsFeatures = std::vector<util::Chw<double>>;
 
 // 1 - sum (alpha S1 + beta S2) with alpha, beta already normalised, one entry per channel of all
 // stages in order. Throws std::invalid_argument when shapes or counts differ.

@@ -19,7 +19,7 @@
 #include "s4d/io/safetensors.h"
 #include "s4d/nn/torchvision_alexnet.h"
 #include "s4d/nn/torchvision_vgg.h"
-#include "s4d/ref/nn_ref.h"
+#include "s4d/util/chw.h"
 
 namespace s4d::metrics {
 
@@ -31,14 +31,14 @@ inline constexpr double kLpipsEps = 1e-10;  // normalize_tensor's eps, added to 
 inline constexpr std::array<int, 5> kLpipsVggTaps = {3, 8, 15, 22, 29};
 
 // One image's taps, each channel vector unit-normalised, [C, H, W] in double.
-using LpipsFeatures = std::vector<ref::Chw<double>>;
+using LpipsFeatures = std::vector<util::Chw<double>>;
 
 // The LPIPS head on normalised taps: sum_l mean_{h,w} sum_c lin[l][c] (a_l - b_l)^2. Throws
 // std::invalid_argument when the taps' shapes or the head widths differ.
 double lpips_head(const LpipsFeatures& a, const LpipsFeatures& b, const std::vector<std::vector<double>>& lin);
 
 // Unit-normalises every pixel's channel vector in place (LPIPS's normalize_tensor).
-void normalise_channels(ref::Chw<double>& f);
+void normalise_channels(util::Chw<double>& f);
 
 enum class LpipsNet { vgg, alex };
 // What the scaling layer receives: 2x - 1 of the [0, 1] frame (richzhang's lpips, pyiqa: the

@@ -9,7 +9,7 @@
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
 #include "s4d/nn/tensor.h"
-#include "s4d/ref/nn_ref.h"
+#include "s4d/util/chw.h"
 
 namespace s4d::metrics {
 
@@ -28,6 +28,6 @@ ChannelAffine normalisation(const std::array<float, 3>& mean, const std::array<f
 nn::Tensor upload_rgb(engine::Context& ctx, const io::ImageF& image, const ChannelAffine& map, const std::string& metric);
 
 // The tensor's values (after all work submitted so far) as double.
-ref::Chw<double> download_double(engine::Context& ctx, const nn::Tensor& t);
+util::Chw<double> download_double(engine::Context& ctx, const nn::Tensor& t);
 
 }  // namespace s4d::metrics

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "s4d/ref/nn_ref.h"
+#include "s4d/util/chw.h"
 
 namespace s4d::metrics {
 
@@ -15,6 +15,6 @@ std::vector<int> torch_nearest_index(int in, int out);
 // mode='bicubic', align_corners=False, antialias=False, to out_h x out_w: source coordinate
 // float(in / out) (dst + 0.5) - 0.5 (not clamped), taps floor - 1 .. floor + 2 clamped to the border,
 // Keys' cubic with A = -0.75; separable in double. Throws std::invalid_argument for an empty size.
-ref::Chw<double> torch_bicubic_resize(const ref::Chw<double>& x, uint32_t out_h, uint32_t out_w);
+util::Chw<double> torch_bicubic_resize(const util::Chw<double>& x, uint32_t out_h, uint32_t out_w);
 
 }  // namespace s4d::metrics

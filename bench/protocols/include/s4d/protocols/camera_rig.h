@@ -28,10 +28,9 @@
 #include "s4d/data/dataset.h"
 #include "s4d/io/nerf_cameras.h"
 #include "s4d/protocols/protocol.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::protocols {
-
-using Vec3 = std::array<double, 3>;
 
 struct RigSummary {
   Vec3 centre{};       // the point nearest to all optical axes

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "s4d/data/dataset.h"
+#include "s4d/util/vec3.h"
 
 namespace s4d::data {
 
@@ -43,7 +44,7 @@ struct DatasetSummary {
   size_t train_times = 0;         // distinct times among the train views
   double train_views_per_time = 0;  // train views / train_times: 1 for a monocular sequence
   bool monocular = false;           // every train time has exactly one train view
-  std::array<double, 3> centre_min{}, centre_max{};  // camera centres, all views
+  Vec3 centre_min{}, centre_max{};  // camera centres, all views
   double extent = 0;                                 // Dataset::extent
   std::array<float, 3> background{};
   std::string background_source;      // Dataset::background_source
@@ -52,7 +53,7 @@ struct DatasetSummary {
   std::array<float, 3> points_min{}, points_max{};
   // The point the facing check aims at: the point cloud's centroid, else the point nearest to every
   // camera's optical axis; unset when neither exists (one camera direction and no point cloud).
-  std::optional<std::array<double, 3>> scene_centre;
+  std::optional<Vec3> scene_centre;
   std::string scene_centre_from;  // "point cloud centroid" or "nearest point to the optical axes"
   std::vector<std::string> notes;  // what was not checked, and why
 };

@@ -10,6 +10,7 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/run/checkpoint.h"
 #include "s4d/splat/gaussian_buffers.h"
 #include "s4d/splat/rasterizer.h"
 
@@ -20,9 +21,10 @@ using splat::Attr;
 template <class T>
 using CloudArrays = splat::PerAttr<T, splat::kCloudAttrCount>;
 
-// Densification statistics (ALGORITHMS.md 2.2), one float per Gaussian each.
-enum Stat : uint32_t { kGradAccum, kGradCount, kMaxRadius, kStatCount };
-const char* stat_name(Stat s);
+// Densification statistics (ALGORITHMS.md 2.2), one float per Gaussian each, named as checkpoints list them.
+using run::Stat;
+using enum run::Stat;
+using run::stat_name;
 
 // Everything per Gaussian for `count` Gaussians, on the host (checkpoints, tests).
 struct HostState {

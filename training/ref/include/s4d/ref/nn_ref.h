@@ -8,19 +8,11 @@
 #include <limits>
 #include <vector>
 
+#include "s4d/util/chw.h"
+
 namespace s4d::ref {
 
-template <class T>
-struct Chw {
-  uint32_t c = 0, h = 0, w = 0;
-  std::vector<T> v;  // [c, h, w]
-
-  Chw() = default;
-  Chw(uint32_t channels, uint32_t height, uint32_t width)
-      : c(channels), h(height), w(width), v(size_t{channels} * height * width, T(0)) {}
-  T& at(uint32_t ch, uint32_t y, uint32_t x) { return v[(size_t{ch} * h + y) * w + x]; }
-  const T& at(uint32_t ch, uint32_t y, uint32_t x) const { return v[(size_t{ch} * h + y) * w + x]; }
-};
+using util::Chw;  // the twins' images: s4d/util/chw.h, shared with the metrics
 
 // ReflectionPad2d(1): -1 -> 1, n -> n - 2.
 inline uint32_t reflect1(int64_t i, uint32_t n) {

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "s4d/util/vec3.h"
 #include "s4d_splat.h"
 
 namespace s4d::ref {
@@ -99,14 +100,12 @@ template <class T>
 constexpr T lit(double v) { return static_cast<T>(v); }
 
 template <class T>
-using Vec3 = std::array<T, 3>;
-template <class T>
 using Mat3 = std::array<T, 9>;  // row-major
 
 // Real spherical harmonics basis Y_k(d) and, when dY is non-null, dY_k/d(x, y, z) with x, y, z
 // treated as independent (the projection onto the sphere's tangent is applied by the caller).
 template <class T>
-void sh_basis(int degree, const Vec3<T>& d, std::array<T, 16>& Y, std::array<Vec3<T>, 16>* dY) {
+void sh_basis(int degree, const Vec3Of<T>& d, std::array<T, 16>& Y, std::array<Vec3Of<T>, 16>* dY) {
   const T x = d[0], y = d[1], z = d[2];
   const T c0 = lit<T>(kShC0), c1 = lit<T>(kShC1);
   auto c2 = [](int k) { return lit<T>(kShC2[static_cast<size_t>(k)]); };
@@ -157,15 +156,15 @@ struct Projection {
   std::array<T, 4> q{};  // normalised (w, x, y, z)
   T q_norm{};            // |raw quaternion|; 0 means "no rotation information", see normalise_quat
   Mat3<T> R{};           // world rotation of the Gaussian
-  Vec3<T> s{};           // scales
+  Vec3Of<T> s{};         // scales
   Mat3<T> sigma{};       // 3D covariance
   Mat3<T> W{};           // rotation part of world_to_cam
-  Vec3<T> t{};           // camera-space mean
+  Vec3Of<T> t{};         // camera-space mean
   T rx{}, ry{};          // x/z and y/z after the guard-band clamp
   bool clamp_x = false, clamp_y = false;
   std::array<T, 6> M{};  // J*W, 2x3 row-major
   T a{}, b{}, c{}, det{};  // dilated 2D covariance [[a, b], [b, c]]
-  Vec3<T> dir{};         // normalize(mean - campos), for SH
+  Vec3Of<T> dir{};       // normalize(mean - campos), for SH
   T dist{};              // |mean - campos|
 };
 
@@ -244,10 +243,10 @@ Projection<T> project_one(const Gaussians<T>& g, size_t i, const Camera<T>& cam)
   // catches rounding and NaN.
   p.visible = p.det > 0;
 
-  const Vec3<T> campos = {-(p.W[0] * V[3] + p.W[3] * V[7] + p.W[6] * V[11]),
+  const Vec3Of<T> campos = {-(p.W[0] * V[3] + p.W[3] * V[7] + p.W[6] * V[11]),
                           -(p.W[1] * V[3] + p.W[4] * V[7] + p.W[7] * V[11]),
                           -(p.W[2] * V[3] + p.W[5] * V[7] + p.W[8] * V[11])};
-  const Vec3<T> d = {mu[0] - campos[0], mu[1] - campos[1], mu[2] - campos[2]};
+  const Vec3Of<T> d = {mu[0] - campos[0], mu[1] - campos[1], mu[2] - campos[2]};
   p.dist = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   for (size_t k = 0; k < 3; ++k) p.dir[k] = d[k] / p.dist;
   return p;
@@ -315,7 +314,7 @@ namespace detail {
 // Colour backward: SH coefficients (or the override colour) and the mean through the view direction.
 template <class T>
 void sh_bwd(const Gaussians<T>& g, size_t i, const Projection<T>& p, const Projected<T>& fwd, const T* v_rgb,
-            GaussianGrads<T>& out, Vec3<T>& v_mu) {
+            GaussianGrads<T>& out, Vec3Of<T>& v_mu) {
   if (!g.colors.empty()) {
     for (size_t ch = 0; ch < 3; ++ch) out.v_colors[3 * i + ch] = v_rgb[ch];
     return;
@@ -323,10 +322,10 @@ void sh_bwd(const Gaussians<T>& g, size_t i, const Projection<T>& p, const Proje
   T vc[3];
   for (size_t ch = 0; ch < 3; ++ch) vc[ch] = fwd.clamped[3 * i + ch] ? T(0) : v_rgb[ch];
   std::array<T, 16> Y;
-  std::array<Vec3<T>, 16> dY;
+  std::array<Vec3Of<T>, 16> dY;
   sh_basis<T>(g.sh_degree, p.dir, Y, &dY);
   const size_t K = g.sh_coeffs(), active = static_cast<size_t>((g.sh_degree + 1) * (g.sh_degree + 1));
-  Vec3<T> v_dir{};
+  Vec3Of<T> v_dir{};
   for (size_t k = 0; k < active; ++k) {
     T f_dot = 0;
     for (size_t ch = 0; ch < 3; ++ch) {
@@ -345,7 +344,7 @@ template <class T>
 void covariance_bwd(size_t i, const Projection<T>& p, const Mat3<T>& G, GaussianGrads<T>& out) {
   // Sigma = N N^T with N = R S: v_N = 2 G N; v_R = v_N S; v_s_k = sum_r v_N[r][k] R[r][k].
   Mat3<T> vR{};
-  Vec3<T> vs{};
+  Vec3Of<T> vs{};
   for (size_t r = 0; r < 3; ++r)
     for (size_t k = 0; k < 3; ++k) {
       T vN = 0;
@@ -377,7 +376,6 @@ template <class T>
 GaussianGrads<T> project_bwd(const Gaussians<T>& g, const Camera<T>& cam, const Projected<T>& fwd,
                              const ProjectedGrads<T>& v) {
   using detail::Mat3;
-  using detail::Vec3;
   const size_t n = g.size();
   GaussianGrads<T> out;
   out.v_means.assign(3 * n, T(0)), out.v_log_scales.assign(3 * n, T(0)), out.v_quats.assign(4 * n, T(0));
@@ -389,7 +387,7 @@ GaussianGrads<T> project_bwd(const Gaussians<T>& g, const Camera<T>& cam, const 
     const T o = fwd.opacity[i];
     out.v_opacity_logits[i] = v.v_opacity[i] * o * (1 - o);
 
-    Vec3<T> v_mu{};
+    Vec3Of<T> v_mu{};
     detail::sh_bwd(g, i, p, fwd, &v.v_rgb[3 * i], out, v_mu);
 
     // Conic = inverse of S2 = [[a, b], [b, c]]: v_S2 = -S2^-1 G_conic S2^-1 with G_conic symmetric
@@ -419,7 +417,7 @@ GaussianGrads<T> project_bwd(const Gaussians<T>& g, const Camera<T>& cam, const 
       for (size_t c = 0; c < 3; ++c)
         for (size_t k = 0; k < 3; ++k) v_J[3 * r + c] += v_M[3 * r + k] * p.W[3 * c + k];
     const T tx = p.t[0], ty = p.t[1], tz = p.t[2];
-    Vec3<T> v_t{};
+    Vec3Of<T> v_t{};
     // J00 = fx/tz, J02 = -fx*rx/tz with rx = tx/tz unless clamped (and the same for y).
     const T v_rx = -cam.fx / tz * v_J[2], v_ry = -cam.fy / tz * v_J[5];
     v_t[2] += -cam.fx / (tz * tz) * v_J[0] - cam.fy / (tz * tz) * v_J[4];

@@ -1,12 +1,14 @@
-// Training checkpoints: one file holding everything a run needs to continue exactly where it
-// stopped (Gaussians, Adam moments, densification statistics, iteration, random state, learning-rate
-// scale), written atomically so that a crash or kill -9 leaves the previous checkpoint intact.
+// The checkpoint file: one file holding a run's Gaussians and every other array a run needs to
+// continue or to render, written atomically so that a crash or kill -9 leaves the previous file
+// intact. What renders reads it here; the trainer reads and writes its whole state through
+// s4d/model/checkpoint.h, on top of this file.
 //
 // Format S4DCKPT2: "S4DCKPT2", u64 header length, u64 FNV-1a 64 of the header bytes, a JSON header
-// (meta, and per array its name, float count and "fnv1a64", the FNV-1a 64 of its bytes as 16 hex
-// digits, in file order), then the arrays as little-endian float32. S4DCKPT1 (no header checksum,
-// no array checksums) is still read, unverified. The style files of stage 4 (style_file.h)
-// use the same container.
+// (meta, sh_degree, count, and per array its name, float count and "fnv1a64", the FNV-1a 64 of its
+// bytes as 16 hex digits, in file order), then the arrays as little-endian float32: the cloud's
+// (splat::kCloudAttrs), the trainer's (trainer_array_names()), then any further ones. S4DCKPT1 (no
+// header checksum, no array checksums) is still read, unverified. The style files of stage 4
+// (style_file.h) use the same container.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -17,15 +19,39 @@
 
 #include <nlohmann/json.hpp>
 
-#include "s4d/model/trainable_gaussians.h"
+#include "s4d/io/ply_gaussians.h"
 
 namespace s4d::run {
 
+using NamedArray = std::pair<std::string, std::vector<float>>;
+
+// Densification statistics (ALGORITHMS.md 2.2), one float per Gaussian each: the trainer keeps them
+// (s4d/model/trainable_gaussians.h), and every checkpoint lists them under these names.
+enum Stat : uint32_t { kGradAccum, kGradCount, kMaxRadius, kStatCount };
+const char* stat_name(Stat s);
+
+// The per-Gaussian arrays every checkpoint lists right after the cloud's, in file order: each cloud
+// attribute's two Adam moments ("means.adam_m", "means.adam_v", ...), then the statistics. Their
+// values are the trainer's; what only renders passes over them, and a style file, which holds no
+// Gaussians, lists them empty.
+const std::vector<std::string>& trainer_array_names();
+
+// A checkpoint as read.
 struct Checkpoint {
   nlohmann::json meta;  // iteration, stage, rng state, lr scale... (owned by the trainer)
-  model::HostState state;
-  // Further named arrays after the Gaussians' (the deformation field and its Adam moments).
-  std::vector<std::pair<std::string, std::vector<float>>> extra;
+  io::GaussianCloud cloud;
+  std::vector<std::vector<float>> trainer;  // one per trainer_array_names(), in that order
+  // Further named arrays after those (the deformation field and its Adam moments; a style's arrays).
+  std::vector<NamedArray> extra;
+};
+
+// A checkpoint to write, by reference: writing copies no array.
+struct CheckpointRef {
+  const nlohmann::json& meta;
+  const io::GaussianCloud& cloud;
+  // One per trainer_array_names(), in that order; none: each listed empty (a file of no Gaussians).
+  std::vector<const std::vector<float>*> trainer;
+  const std::vector<NamedArray>& extra;
 };
 
 // FNV-1a 64 of `bytes` (offset basis 14695981039346656037, prime 1099511628211): the checksum of
@@ -33,8 +59,9 @@ struct Checkpoint {
 uint64_t fnv1a64(const void* bytes, size_t size);
 
 // Throws std::invalid_argument naming the array and index of the first non-finite value (a
-// checkpoint never holds NaN), std::runtime_error when writing fails; the old file stays then.
-void write_checkpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);
+// checkpoint never holds NaN) or when the trainer's arrays are not one per name, std::runtime_error
+// when writing fails; the old file stays then.
+void write_checkpoint(const std::filesystem::path& path, const CheckpointRef& checkpoint);
 
 // Throws std::runtime_error naming the file and what is wrong: missing, not a checkpoint,
 // truncated, a checksum mismatch ("header: checksum mismatch", "array 'means': checksum
@@ -49,7 +76,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& path);
 // does that once after resuming from `previous` because `path` was damaged: the damaged file must
 // not replace the good one).
 void write_checkpoint_rotating(const std::filesystem::path& path, const std::filesystem::path& previous,
-                               const Checkpoint& checkpoint, bool rotate = true);
+                               const CheckpointRef& checkpoint, bool rotate = true);
 
 struct LoadedCheckpoint {
   Checkpoint checkpoint;

@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 
 namespace s4d::synth {
 
 struct BodyKey {
   double t = 0;
-  Vec3 centre, half;
+  Vec3 centre{}, half{};
 };
 
 struct Body {
@@ -31,7 +31,7 @@ struct Body {
 
 struct BodyHit {
   double s = 0;
-  Vec3 normal, albedo;
+  Vec3 normal{}, albedo{};
 };
 
 // Nearest hit of `body` at time t with s in (s_min, s_max).

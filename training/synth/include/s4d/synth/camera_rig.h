@@ -4,14 +4,14 @@
 #include <array>
 #include <vector>
 
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 
 namespace s4d::synth {
 
 // Camera-to-world in OpenGL axes: right, up, back (the camera looks along -back). The principal
 // point is the image centre; pixel (i, j) covers [i, i+1] x [j, j+1], rows from the top.
 struct PinholeCamera {
-  Vec3 position, right, up, back;
+  Vec3 position{}, right{}, up{}, back{};
   int width = 0, height = 0;
   double focal = 0;  // pixels
 

@@ -4,7 +4,7 @@
 #include <optional>
 #include <utility>
 
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 
 namespace s4d::synth {
 

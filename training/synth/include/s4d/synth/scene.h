@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "s4d/synth/bodies.h"
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 #include "s4d/synth/wave_sheet.h"
 
 namespace s4d::synth {
@@ -52,8 +52,8 @@ struct Scene {
 struct Hit {
   double s = 0;  // ray parameter (distance, as ray directions are unit)
   Surface surface = Surface::wall;
-  Vec3 point, normal;  // normal faces the ray's origin
-  Vec3 albedo;
+  Vec3 point{}, normal{};  // normal faces the ray's origin
+  Vec3 albedo{};
 };
 
 // Nearest hit at time t with s in (s_min, s_max).

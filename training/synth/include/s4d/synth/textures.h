@@ -2,7 +2,7 @@
 // with both coarse structure and fine, non-repeating detail so that multi-view correspondences
 // are unambiguous.
 #pragma once
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 
 namespace s4d::synth {
 

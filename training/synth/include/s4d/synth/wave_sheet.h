@@ -5,7 +5,7 @@
 #pragma once
 #include <optional>
 
-#include "s4d/synth/vec3.h"
+#include "s4d/synth/ray.h"
 
 namespace s4d::synth {
 

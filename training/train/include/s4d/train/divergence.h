@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace s4d::run {
+namespace s4d::model {
 struct Checkpoint;
 }
 
@@ -38,6 +38,6 @@ using PartName = std::function<std::string(const std::string& array, uint64_t in
 // arrays but masks). `part` names parts of the extra arrays; may be empty. With `extra_rows` > 0 the
 // extra arrays hold that many Gaussians' rows each (stage 4's per-Gaussian style), so they are
 // scanned, named and repaired per Gaussian like the cloud's.
-Divergence find_divergence(const run::Checkpoint& state, const PartName& part = {}, uint32_t extra_rows = 0);
+Divergence find_divergence(const model::Checkpoint& state, const PartName& part = {}, uint32_t extra_rows = 0);
 
 }  // namespace s4d::train
