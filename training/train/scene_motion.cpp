@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <map>
 #include <vector>
 
@@ -65,6 +66,24 @@ MotionCheck check_motion(const data::Dataset& dataset, data::FrameCache& frames)
                 m.cameras, m.comparisons, 100 * kMovingShare);
   m.why = line;
   return m;
+}
+
+nlohmann::json skip_field_if_still(run::TrainConfig& config, const data::Dataset& dataset, data::FrameCache& frames) {
+  const MotionCheck motion = check_motion(dataset, frames);
+  nlohmann::json decision = motion.to_json();
+  if (motion.motion != Motion::still) {
+    decision["trained"] = "yes";
+  } else if (config.fine_iterations_given) {
+    decision["trained"] = "yes: --fine-iters asked for it";
+  } else {
+    // Its steps go to the static stage, which then trains the Gaussians as long as both stages would.
+    run::set_iterations(config, config.iterations + config.fine_iterations);
+    config.fine_iterations = 0;
+    decision["trained"] = "no: the 4DGS stage is skipped and its steps go to the static stage (--fine-iters N trains it anyway)";
+    std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped and its steps go to the static stage, "
+              << config.iterations << " steps (--fine-iters N trains it anyway)\n";
+  }
+  return decision;
 }
 
 }  // namespace s4d::train

@@ -132,28 +132,12 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   if (!dataset_.background_conflict.empty())
     std::cerr << "warning: " << dataset_.root.string() << ": background: " << dataset_.background_conflict << "\n";
   nlohmann::json recipe = adapt_to_data(config_, dataset_);
-  if (config_.fine_iterations > 0) {
-    data::FrameCache frames(dataset_, kFrameCacheBytes);
-    const MotionCheck motion = check_motion(dataset_, frames);
-    recipe["deformation_field"] = motion.to_json();
-    if (motion.motion == Motion::still && config_.fine_iterations_given) {
-      recipe["deformation_field"]["trained"] = "yes: --fine-iters asked for it";
-    } else if (motion.motion == Motion::still) {
-      // Its steps go to the static stage, which then trains the Gaussians as long as both stages would.
-      run::set_iterations(config_, config_.iterations + config_.fine_iterations);
-      config_.fine_iterations = 0;
-      recipe["deformation_field"]["trained"] = "no: the 4DGS stage is skipped and its steps go to the static stage "
-                                               "(--fine-iters N trains it anyway)";
-      std::cerr << "no deformation field: " << motion.why << "; the 4DGS stage is skipped and its steps go to the static stage, "
-                << config_.iterations << " steps (--fine-iters N trains it anyway)\n";
-    } else {
-      recipe["deformation_field"]["trained"] = "yes";
-    }
-  }
   InitReport init;
   const io::GaussianCloud initial = initial_cloud(dataset_, config_.sh_degree, config_.random_init_points,
                                                   max_initial_points(config_), config_.seed, &init);
   impl_ = std::make_unique<Impl>(ctx, run::RunDir{run_dir}, config_, dataset_);
+  // Before the field is made; the frames the check decodes stay cached for training.
+  if (config_.fine_iterations > 0) recipe["deformation_field"] = skip_field_if_still(config_, dataset_, impl_->frames);
   impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here

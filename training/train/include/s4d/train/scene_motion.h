@@ -10,6 +10,7 @@
 
 #include "s4d/data/dataset.h"
 #include "s4d/data/frame_cache.h"
+#include "s4d/run/train_config.h"
 
 namespace s4d::train {
 
@@ -32,5 +33,10 @@ struct MotionCheck {
 };
 
 MotionCheck check_motion(const data::Dataset& dataset, data::FrameCache& frames);
+
+// A new run's decision: when the frames show no motion and the fine stage's length was not asked for
+// (TrainConfig::fine_iterations_given), the 4DGS stage is skipped and its steps go to the static
+// stage, said in one line. Returns train.json's recipe "deformation_field": the check and "trained".
+nlohmann::json skip_field_if_still(run::TrainConfig& config, const data::Dataset& dataset, data::FrameCache& frames);
 
 }  // namespace s4d::train
