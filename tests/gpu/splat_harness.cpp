@@ -147,4 +147,14 @@ Scene random_scene(size_t n, int sh_degree, bool colors, std::mt19937& rng) {
   return g;
 }
 
+void expect_param_grads_allclose(const ref::GaussianGrads<float>& got, const ref::GaussianGrads<float>& want, bool colors,
+                                 const Tolerance& tol) {
+  expect_allclose(got.v_means, want.v_means, tol, "v_means");
+  expect_allclose(got.v_log_scales, want.v_log_scales, tol, "v_log_scales");
+  expect_allclose(got.v_quats, want.v_quats, tol, "v_quats");
+  expect_allclose(got.v_opacity_logits, want.v_opacity_logits, tol, "v_opacity_logits");
+  if (colors) expect_allclose(got.v_colors, want.v_colors, tol, "v_colors");
+  else expect_allclose(got.v_sh, want.v_sh, tol, "v_sh");
+}
+
 }  // namespace s4d::test

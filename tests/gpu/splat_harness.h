@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <random>
 
+#include "expect_allclose.h"
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/ref/splat_raster_ref.h"
@@ -33,6 +34,11 @@ struct GpuForward {
   uint32_t longest_tile_list = 0;
 };
 GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& cam, const std::array<float, 3>& bg);
+
+// Each parameter's gradient in `got` (the GPU's) against `want` (the twin's) within `tol`: means, log
+// scales, quaternions, opacity logits, and the colours or the SH, as the scene has.
+void expect_param_grads_allclose(const ref::GaussianGrads<float>& got, const ref::GaussianGrads<float>& want, bool colors,
+                                 const Tolerance& tol);
 
 struct GpuBackward {
   ref::GaussianGrads<float> grads;    // v_mean2d holds the screen-space mean cotangent from grad2d

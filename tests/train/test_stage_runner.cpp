@@ -99,6 +99,29 @@ train::Divergence field_cause() {
   return {.where = "out of range: 'field.planes' at 1 entry (up to 1e+30; in level 0 plane xt)", .gaussians = {}, .local = false};
 }
 
+// Runs `stage` to its end on a loss.csv of its own; returns what the runner said on std::cerr.
+std::string run_to_end(FakeStage& stage) {
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  CerrCapture err;
+  CHECK(runner.run(stage, stop));
+  return err.text.str();
+}
+
+// Runs `stage` until the runner gives up; returns its error ("" if it did not).
+std::string run_error(FakeStage& stage) {
+  const LossFile log;
+  train::StageRunner runner(log.path, "iteration,what");
+  const std::atomic<bool> stop{false};
+  try {
+    runner.run(stage, stop);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("the stage runner writes rows and checkpoints at their cadence and tests before the end") {
@@ -143,15 +166,7 @@ TEST_CASE("a non-finite loss or checkpoint rolls back to the last good state and
 TEST_CASE("a stage that keeps diverging stops after kMaxRollbacks rollbacks and names its last checkpoint") {
   FakeStage stage;
   stage.nan_always = 3;
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  std::string what;
-  try {
-    runner.run(stage, stop);
-  } catch (const std::runtime_error& e) {
-    what = e.what();
-  }
+  const std::string what = run_error(stage);
   CHECK(what.find("diverged 9 times") != std::string::npos);
   CHECK(what.find("fake.s4dckpt") != std::string::npos);
   CHECK(stage.rec.rollbacks == train::StageRunner::kMaxRollbacks);
@@ -172,65 +187,45 @@ TEST_CASE("guard: a few Gaussians holding the cause are removed and checkpointed
   FakeStage stage;
   stage.nan_at = {8};
   stage.cause = local_cause();
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  CerrCapture err;
-  CHECK(runner.run(stage, stop));
+  const std::string err = run_to_end(stage);
   CHECK(stage.removed == std::vector<uint32_t>{3, 4});
   CHECK(stage.rec.repairs == 1);
   CHECK(stage.rec.removed == 2);
   CHECK(stage.rec.rollbacks == 0);
   CHECK(stage.rec.lr_scale == 1);
   CHECK(stage.done == 25);  // went on from the step that failed
-  CHECK_MESSAGE(err.text.str().find("fake: the loss became non-finite at iteration 8: out of range: 'sh' of 2 Gaussians; "
-                                    "removed those 2 Gaussians and went on\n") != std::string::npos, err.text.str());
+  CHECK_MESSAGE(err.find("fake: the loss became non-finite at iteration 8: out of range: 'sh' of 2 Gaussians; "
+                                    "removed those 2 Gaussians and went on\n") != std::string::npos, err);
 }
 
 TEST_CASE("guard: a checkpoint refused for a cause the stage names is repaired the same way") {
   FakeStage stage;
   stage.bad_save_at = {10};
   stage.cause = local_cause();
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  CerrCapture err;
-  CHECK(runner.run(stage, stop));
+  const std::string err = run_to_end(stage);
   CHECK(stage.removed == std::vector<uint32_t>{3, 4});
   CHECK(stage.rec.rollbacks == 0);
-  CHECK_MESSAGE(err.text.str().find("removed those 2 Gaussians and went on") != std::string::npos, err.text.str());
+  CHECK_MESSAGE(err.find("removed those 2 Gaussians and went on") != std::string::npos, err);
 }
 
 TEST_CASE("guard: a field tensor out of range is named in the rollback's line when the last good state is clean") {
   FakeStage stage;
   stage.nan_at = {13};
   stage.cause = field_cause();
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  CerrCapture err;
-  CHECK(runner.run(stage, stop));
+  const std::string err = run_to_end(stage);
   CHECK(stage.removed.empty());
   CHECK(stage.rec.rollbacks == 1);
   CHECK(stage.rec.lr_scale == 0.5);
-  CHECK_MESSAGE(err.text.str().find("fake: the loss became non-finite at iteration 13: out of range: 'field.planes' at 1 entry "
+  CHECK_MESSAGE(err.find("fake: the loss became non-finite at iteration 13: out of range: 'field.planes' at 1 entry "
                                     "(up to 1e+30; in level 0 plane xt); rolled back to iteration 10") != std::string::npos,
-                err.text.str());
+                err);
 }
 
 TEST_CASE("guard: a cause the last good state holds too stops training at once, naming it and the checkpoint") {
   FakeStage stage;
   stage.nan_at = {13};
   stage.cause = stage.good_cause = field_cause();
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  std::string what;
-  try {
-    runner.run(stage, stop);
-  } catch (const std::runtime_error& e) {
-    what = e.what();
-  }
+  const std::string what = run_error(stage);
   CHECK_MESSAGE(what.find("the last good state (fake.s4dckpt, iteration 10) holds the cause too: out of range: "
                           "'field.planes' at 1 entry") != std::string::npos, what);
   CHECK_MESSAGE(what.find("training stopped") != std::string::npos, what);
@@ -242,15 +237,7 @@ TEST_CASE("guard: repairs stop after kMaxRepairs, and the cause is then named") 
   stage.nan_always = 3;
   stage.rec.repairs = train::StageRunner::kMaxRepairs;
   stage.cause = stage.good_cause = local_cause();
-  const LossFile log;
-  train::StageRunner runner(log.path, "iteration,what");
-  const std::atomic<bool> stop{false};
-  std::string what;
-  try {
-    runner.run(stage, stop);
-  } catch (const std::runtime_error& e) {
-    what = e.what();
-  }
+  const std::string what = run_error(stage);
   CHECK(stage.removed.empty());
   CHECK_MESSAGE(what.find("holds the cause too: out of range: 'sh' of 2 Gaussians") != std::string::npos, what);
 }
