@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The speed/accuracy trade of 4DGS training on the built-in scene: one knob at a time around the
+# The speed/accuracy trade of 4DGS training on one scene (the built-in one, or DATA): one knob at a time around the
 # `fast` preset (Gaussian budget, resolution, SH degree, HexPlane resolution, deformation MLP width,
 # iterations), each point trained to the end and scored on the held-out camera over all times.
 # Writes OUT/points.jsonl (one JSON line per point: seconds, peak device memory, test PSNR/SSIM) and,
@@ -7,6 +7,10 @@
 # pareto_device_peak_mib.png. Finished points are kept, so an interrupted sweep continues.
 #
 # Usage: bench/pareto_sweep.sh [OUT_DIR]
+#   DATA=DIR sweeps that dataset instead of the built-in scene (any layout `train` reads), e.g. a
+#   monocular object from `style4d synth --dnerf --motion squash --rgba --random-init 20000`. The
+#   half-resolution point is rescored at full resolution on a rig capture's camera 0 only; elsewhere
+#   it keeps its own-resolution score. NO_STYLE=1 leaves out the style model's points.
 #   ITERS / FINE_ITERS (default 900 / 1500, the fast preset's) set the base point's run length;
 #   smaller values give a quick sweep of the same shape. REPORT_ONLY=1 writes the reports from the
 #   points finished so far and trains nothing. Wall-clock times: run it on a quiet machine
@@ -18,7 +22,8 @@ exe="$build/style4d"
 iters="${ITERS:-900}"
 fine="${FINE_ITERS:-1500}"
 mkdir -p "$out"
-[ -f "$out/data/poses_bounds.npy" ] || "$exe" synth --out "$out/data" > "$out/synth.log" 2>&1
+data="${DATA:-$out/data}"
+[ -n "${DATA:-}" ] || [ -f "$data/poses_bounds.npy" ] || "$exe" synth --out "$data" > "$out/synth.log" 2>&1
 
 # A run trained below the data's resolution is scored like the others: its test camera rendered at
 # the full resolution (a copy of the run with downscale 1) against the captured frames, through
@@ -36,7 +41,7 @@ j["settings"]["downscale"] = 1
 json.dump(j, open(sys.argv[1], "w"), indent=2)
 PY
   "$exe" render --run "$work/run" --path test --out "$work/test" > "$work/render.log" 2>&1
-  "$exe" bench --frames "$out/data/cam00" --original "$work/test/cam00" --ground-truth "$out/data/cam00" \
+  "$exe" bench --frames "$data/cam00" --original "$work/test/cam00" --ground-truth "$data/cam00" \
     --style-image "${STYLE:-assets/styles/builtin.png}" --out "$work/bench" > "$work/bench.log" 2>&1
   python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))["results"][0]
 print(json.dumps({"test_psnr": r["psnr"], "test_ssim": r["content_ssim"]}))' "$work/bench/report.json"
@@ -52,10 +57,10 @@ point() {
     rm -rf "$run"
     mkdir -p "$out/runs"
     echo "[sweep] $label: style4d train $*" >&2
-    "$exe" train --data "$out/data" --out "$run" --preset fast --iters "$iters" --fine-iters "$fine" "$@" > "$out/runs/$label.log" 2>&1
+    "$exe" train --data "$data" --out "$run" --preset fast --iters "$iters" --fine-iters "$fine" "$@" > "$out/runs/$label.log" 2>&1
   fi
   local full="{}"
-  if python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["settings"]["downscale"] == 1)' "$run/run.json"; then
+  if [ -d "$data/cam00" ] && python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["settings"]["downscale"] == 1)' "$run/run.json"; then
     full=$(full_resolution_scores "$run")
   fi
   python3 - "$run/train.json" "$label" "$*" "$full" <<'PY'
@@ -102,6 +107,7 @@ PY
 # stylized frames; the warp errors are the spiral render's and the 2D stylizer's on the same spiral,
 # under the renderer's exact flow (lower is steadier; the DIS-flow ones are kept as *_dis).
 style="${STYLE:-assets/styles/builtin.png}"
+if [ -z "${NO_STYLE:-}" ]; then
 point base > /dev/null
 {
   style_point colors --method colors --iters 500
@@ -109,6 +115,7 @@ point base > /dev/null
   style_point full_x2 --method full --iters 1000 --mlp-iters 120
 } > "$out/style_points.jsonl"
 "$build/s4d_pareto_report" "$out/style_points.jsonl" "$out/style"
+fi
 
 # Cheapest first, so that a sweep cut short still has the most points.
 {

@@ -1,7 +1,8 @@
 // A model sized to the scene: a new run whose frames show no motion skips the deformation field
 // (train/scene_motion.h), says so in one line and in train.json's recipe; --fine-iters still trains
 // one; a scene that moves keeps it. On `synth --still` (every frame the built-in scene at t = 0)
-// and the built-in scene itself.
+// and the built-in scene itself. The SH degree: a preset's run chooses it from held-out views
+// (train/sh_choice.h), says so and keeps the choice everywhere; --sh-degree D keeps D.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.h"
+#include "s4d/train/sh_choice.h"
 
 using namespace s4d;
 namespace fs = std::filesystem;
@@ -18,6 +20,15 @@ namespace fs = std::filesystem;
 namespace {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The SH coefficients per colour channel a binary PLY's header declares: f_dc_* and f_rest_* properties / 3.
+size_t ply_sh_coeffs(const fs::path& ply) {
+  std::ifstream in(ply, std::ios::binary);
+  size_t floats = 0;
+  for (std::string line; std::getline(in, line) && line != "end_header";)
+    if (contains(line, " f_dc_") || contains(line, " f_rest_")) ++floats;
+  return floats / 3;
+}
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
 
@@ -58,14 +69,35 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   const nlohmann::json asked = read_json(dir / "r_asked" / "train.json");
   CHECK(asked["stage"] == "fine");
   CHECK(asked["dataset"]["recipe"]["deformation_field"]["trained"] == "yes: --fine-iters asked for it");
+  // The preset's SH degree 1 is the most the run keeps: degree 1 active from step 10 (fast's 300 of
+  // 900, scaled to 30), both degrees rendered on the held-out camera at step 20.
+  const nlohmann::json& sh = asked["dataset"]["recipe"]["sh_degree"];
+  REQUIRE_MESSAGE(sh.is_object(), asked["dataset"].dump());
+  const std::vector<double> psnr = sh["psnr_by_degree"].get<std::vector<double>>();
+  REQUIRE(psnr.size() == 2);
+  const int chosen = train::lowest_sufficient_degree(psnr);
+  CHECK(sh["degree"] == chosen);
+  CHECK(sh["at_step"] == 20);
+  CHECK(sh["held_out"] == true);
+  CHECK(asked["settings"]["sh_degree"] == chosen);
+  CHECK(asked["settings"]["sh_degree_auto"] == false);
+  CHECK(read_json(dir / "r_asked" / "run.json")["settings"]["sh_degree"] == chosen);
+  CHECK(ply_sh_coeffs(dir / "r_asked" / "geometry" / "gaussians.ply") == size_t((chosen + 1) * (chosen + 1)));
+  CHECK_MESSAGE(contains(test::read_text(dir / "asked.log"), "SH degree " + std::to_string(chosen) + " of 1: held-out PSNR"),
+                test::read_text(dir / "asked.log"));
 
   // The built-in scene moves: its sliding box alone changes a tenth of a camera's pixels.
   REQUIRE(test::run_style4d("train", "--data " + (dir / "moving").string() + " --run " + (dir / "r_moving").string() +
-                                         " --preset fast --iters 30 --set fine_iterations=3",
+                                         " --preset fast --iters 30 --set fine_iterations=3 --sh-degree 1",
                             dir / "moving.log") == 0);
   const nlohmann::json moving = read_json(dir / "r_moving" / "train.json");
   CHECK(moving["stage"] == "fine");
   const nlohmann::json& m = moving["dataset"]["recipe"]["deformation_field"];
   CHECK(m["motion"] == "moving");
   CHECK(m["changed_share"].get<double>() > 0.1);
+  // A degree asked for is kept as it is.
+  CHECK(moving["settings"]["sh_degree"] == 1);
+  CHECK(moving["settings"]["sh_degree_auto"] == false);
+  CHECK_FALSE(moving["dataset"]["recipe"].contains("sh_degree"));
+  CHECK(ply_sh_coeffs(dir / "r_moving" / "geometry" / "gaussians.ply") == 4);
 }

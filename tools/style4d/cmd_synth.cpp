@@ -39,13 +39,15 @@ int cmd_synth(const std::vector<std::string>& argv) {
                           "                        its focal length in turn (the test camera keeps the rig's)", false, ""},
       {"still", "every frame shows the scene at its first moment (times still run 0..1): a capture of\n"
                 "                        a scene that does not move", false, ""},
+      {"glossy", "surfaces carry a broad white highlight, so colours change with the viewpoint (view-\n"
+                 "                        dependent shading, which higher SH degrees model)", false, ""},
       {"random-init", "write fused.ply with N uniform random points in [-1.3, 1.3]^3 (4DGaussians'\n"
                       "                        synthetic recipe) instead of points3D.ply's surface points", true, "N"},
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage("synth", "--out DIR [--cams N] [--frame-count T] [--size WxH] [--seed S] [--video | --dnerf [--rgba]] [--object | --motion NAME]\n"
-                       "       [--mixed-distances] [--random-init N] [--still]",
+                       "       [--mixed-distances] [--random-init N] [--still] [--glossy]",
                        "Renders the built-in dynamic scene (static textured wall and floor, a spinning sphere,\n"
                        "a box sliding along an arc, a waving sheet) with an analytic CPU ray caster into a\n"
                        "DyNeRF/Neu3D dataset: DIR/camNN/NNNN.png (frame k has t = k/(T-1); DIR/camNN.mp4 with\n"
@@ -71,6 +73,7 @@ int cmd_synth(const std::vector<std::string>& argv) {
   options.mixed_distances = args.flag("mixed-distances");
   options.random_init = parse_number<int>("random-init", args.get_or("random-init", "0"));
   options.still = args.flag("still");
+  options.glossy = args.flag("glossy");
   try {
     synth::check_options(options);
   } catch (const std::invalid_argument& e) {  // a flag out of its range

@@ -119,7 +119,10 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   }
   if (auto v = args.get("seed")) c.seed = parse_number<uint32_t>("seed", *v);
   if (auto v = args.get("budget")) c.budget = parse_number<uint32_t>("budget", *v);
-  if (auto v = args.get("sh-degree")) c.sh_degree = parse_number<int>("sh-degree", *v);
+  if (auto v = args.get("sh-degree")) {  // a degree asked for is kept; "auto" chooses up to the preset's
+    c.sh_degree_auto = *v == "auto";
+    if (!c.sh_degree_auto) c.sh_degree = parse_number<int>("sh-degree", *v);
+  }
   if (auto v = args.get("lr-scale")) c.lr_scale = parse_real<double>("lr-scale", *v);
   if (auto v = args.get("checkpoint-every")) c.checkpoint_every = parse_number<uint32_t>("checkpoint-every", *v);
   if (auto v = args.get("time-budget")) c.time_budget = parse_duration("time-budget", *v);
@@ -216,7 +219,9 @@ int cmd_train(const std::vector<std::string>& argv) {
                      "                        uniform border colour, else the layout's)", true, "R,G,B"},
       group("model"),
       {"budget", "most Gaussians densification may create", true, "N"},
-      {"sh-degree", "highest spherical-harmonic degree, 0..3", true, "D"},
+      {"sh-degree", "spherical-harmonic degree 0..3, kept as given; default auto: the lowest degree up to\n"
+                    "                        the preset's (fast 1, default 3) that serves held-out views as well\n"
+                    "                        (train.json dataset.recipe.sh_degree)", true, "D"},
       {"static-motion", "Gaussians moving less than X x scene extent skip the deformation field (0: off)", true, "X"},
       {"lr-scale", "multiply every learning rate (default 1)", true, "X"},
       {"set", "KEY=VALUE: any setting of train.json's 'settings' (repeatable), e.g. grid_lr=0.005", true, "KEY=VALUE"},

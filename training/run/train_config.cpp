@@ -16,6 +16,7 @@ TrainConfig preset_config(const std::string& name) {
   TrainConfig c;
   c.preset = name;
   c.seed_views = 4;
+  c.sh_degree_auto = true;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from
     // step 500 every 100 (its opacity reset at step 3,000 falls in the stage's last densification
@@ -115,7 +116,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
 
 
 #define S4D_CONFIG_FIELDS(X)                                                                                     \
-  X(preset) X(iterations) X(seed) X(downscale) X(frames) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every)              \
+  X(preset) X(iterations) X(seed) X(downscale) X(frames) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every) X(sh_degree_auto)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
   X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(seed_views) X(test_every)               \
@@ -169,6 +170,10 @@ struct SettingReader {
       if (i > static_cast<int64_t>(hi)) bad("must be in " + range);
       out = static_cast<T>(i);
     }
+  }
+  void read(const nlohmann::json& v, bool& out) const {
+    if (!v.is_boolean()) bad("expected true or false");
+    out = v.get<bool>();
   }
   void read(const nlohmann::json& v, double& out) const {
     if (!v.is_number()) bad("expected a number");

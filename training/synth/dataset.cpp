@@ -30,6 +30,8 @@ constexpr int kMaxCams = 99, kMaxFrames = 9999, kMinSide = 8, kMaxSide = 4096;
 
 // DyNeRF's capture rate; the loader ignores it (time comes from the frame index).
 constexpr double kVideoFps = 30;
+// synth --glossy: the highlight's strength, about half the brightest albedo, so that views differ clearly.
+constexpr double kGlossySpecular = 0.5;
 
 // Margin on the rendered depth range, so content at the edges of the range is not clipped.
 constexpr double kNearScale = 0.9, kFarScale = 1.1;
@@ -118,6 +120,7 @@ void write_dataset(const fs::path& out_arg, const SynthOptions& options, const P
   util::write_file_atomic(partial / kPartialMarker, "an unfinished style4d synth dataset; safe to delete\n");
 
   Scene scene;
+  if (options.glossy) scene.specular = kGlossySpecular;
   ArcRig rig;
   if (!options.motion.empty()) {
     scene.builtin_objects = false;

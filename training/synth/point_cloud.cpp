@@ -40,7 +40,7 @@ std::vector<ColouredPoint> sample_points(const Scene& scene, const std::vector<P
       const Ray ray = cam.ray(unit_double(h) * cam.width, unit_double(mix64(h)) * cam.height);
       const auto hit = trace(scene, ray, 0.0);
       if (!hit) continue;
-      const Vec3 colour = shade(scene, *hit);
+      const Vec3 colour = shade(scene, *hit, ray.dir);
       points.push_back({static_cast<float>(hit->point[0]), static_cast<float>(hit->point[1]),
                         static_cast<float>(hit->point[2]), to_byte(colour[0]), to_byte(colour[1]), to_byte(colour[2])});
     }

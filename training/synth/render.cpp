@@ -30,7 +30,7 @@ void render_row(const Scene& scene, const PinholeCamera& cam, double t, const Re
       const double px = x + ((k % n) + jx) / n, py = y + ((k / n) + jy) / n;
       const Ray ray = cam.ray(px, py);
       if (const auto hit = trace(scene, ray, t)) {
-        sum = sum + shade(scene, *hit);
+        sum = sum + shade(scene, *hit, ray.dir);
         ++hits;
         const double depth = cam.view_depth(hit->point);
         range.min_depth = std::min(range.min_depth, depth);

@@ -99,9 +99,14 @@ std::optional<Hit> trace(const Scene& scene, const Ray& ray, double t, double s_
   return best;
 }
 
-Vec3 shade(const Scene& scene, const Hit& hit) {
+Vec3 shade(const Scene& scene, const Hit& hit, const Vec3& view_dir) {
   const double lambert = std::max(0.0, dot(hit.normal, scene.light_dir));
-  const Vec3 c = hit.albedo * (scene.ambient + (1 - scene.ambient) * lambert);
+  Vec3 c = hit.albedo * (scene.ambient + (1 - scene.ambient) * lambert);
+  if (scene.specular > 0) {
+    const Vec3 half = normalize(scene.light_dir - view_dir);
+    const double highlight = scene.specular * std::pow(std::max(0.0, dot(hit.normal, half)), scene.shininess);
+    c = c + Vec3{highlight, highlight, highlight};
+  }
   return {std::clamp(c[0], 0.0, 1.0), std::clamp(c[1], 0.0, 1.0), std::clamp(c[2], 0.0, 1.0)};
 }
 

@@ -68,6 +68,7 @@ std::string scene_json(const Scene& scene, const ArcRig& rig, const SynthOptions
       {"motion", options.still ? "none: every frame shows t = 0"
                  : options.motion.empty() ? "built-in sphere, box and sheet" : options.motion},
       {"frames_rgba", options.rgba},
+      {"shading", options.glossy ? "Lambert plus a white Blinn-Phong highlight (view-dependent)" : "Lambert (matte)"},
       {"camera_distances", options.mixed_distances ? "1, 1.4, 0.75 x the rig's, focal 1, 1.2, 0.85 x, in turn" : "one"},
       {"init_cloud", options.random_init > 0 ? "fused.ply: uniform random points in [-1.3, 1.3]^3, random colours"
                                              : "points3D.ply: surface points the cameras see at t = 0"},

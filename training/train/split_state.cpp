@@ -1,5 +1,6 @@
 #include "s4d/train/split_state.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,6 +52,24 @@ model::HostState remove_gaussians(const model::HostState& s, std::span<const uin
     throw std::invalid_argument("remove_gaussians: row " + std::to_string(removed[next]) +
                                 " is past the cloud's " + std::to_string(n) + " Gaussians or out of order");
   return gather_state_rows(s, kept);
+}
+
+model::HostState with_sh_degree(const model::HostState& s, int degree) {
+  if (degree < 0 || degree > s.cloud.sh_degree)
+    throw std::invalid_argument("with_sh_degree: degree " + std::to_string(degree) + " is not in 0.." +
+                                std::to_string(s.cloud.sh_degree));
+  const size_t n = s.cloud.size(), from = s.cloud.sh_coeffs() * 3, to = size_t((degree + 1) * (degree + 1)) * 3;
+  auto cut = [&](const std::vector<float>& rows) {
+    std::vector<float> out(n * to);
+    for (size_t g = 0; g < n; ++g)
+      std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(g * from), to, out.begin() + static_cast<std::ptrdiff_t>(g * to));
+    return out;
+  };
+  model::HostState out = s;
+  const splat::Attr sh = splat::Attr::sh;
+  out.cloud.sh_degree = degree;
+  out.cloud.sh = cut(s.cloud.sh), out.m[sh] = cut(s.m[sh]), out.v[sh] = cut(s.v[sh]);
+  return out;
 }
 
 }  // namespace s4d::train

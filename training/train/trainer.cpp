@@ -246,6 +246,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageScope timed(m.ctx, "densify");
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
     if (m.mask_due()) m.update_mask();
+    m.choose_sh_degree_if_due(seconds());
     m.plan_time_if_due(seconds());
   }
   void add_progress(ProgressValues& shown) override {

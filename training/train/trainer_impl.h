@@ -188,6 +188,11 @@ struct Trainer::Impl {
   // misses), else every open view.
   std::vector<const data::View*> seed_pool() const;
 
+  // ---- The SH degree chosen from the data (trainer_sh_choice.cpp, sh_choice.h).
+  // Once due: renders the held-out views at each degree, keeps the lowest that serves them as well,
+  // cuts the SH to it, records the evidence in the recipe and checkpoints.
+  void choose_sh_degree_if_due(double seconds);
+
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first
   // kTimeMarkAt steps (shaders and buffers warm), and at the fine stage's start.

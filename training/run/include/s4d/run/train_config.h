@@ -40,6 +40,11 @@ struct TrainConfig {
   // Model.
   int sh_degree = 3;              // stored degree; the active degree grows by one every sh_up_every
   uint32_t sh_up_every = 1000;
+  // true: sh_degree is the most the run may keep. Once the top degree has trained for sh_up_every
+  // steps, the run measures what each degree adds on held-out views and keeps the lowest that
+  // serves them as well (train/sh_choice.h); the choice then replaces sh_degree and this turns false.
+  // false for runs from before it existed; the presets set it, and --sh-degree D turns it off.
+  bool sh_degree_auto = false;
   uint32_t random_init_points = 2000;  // when the dataset has no point cloud
   // Loss: (1 - ssim_weight) L1 + ssim_weight (1 - SSIM).
   float ssim_weight = 0.2f;

@@ -36,6 +36,8 @@ struct SynthOptions {
   int random_init = 0;
   // Every frame shows the scene at t = 0 (times still run 0..1): a capture of a scene that does not move.
   bool still = false;
+  // Surfaces carry a white specular highlight (Scene::specular): colour depends on the viewpoint.
+  bool glossy = false;
 };
 
 // Throws std::invalid_argument naming the bad value.

@@ -40,6 +40,9 @@ struct Scene {
 
   Vec3 light_dir = normalize(Vec3{0.35, 0.9, 0.55});  // towards the light
   double ambient = 0.3;
+  // A white Blinn-Phong highlight of this strength (0: matte), so that a surface's colour depends
+  // on where it is seen from (synth --glossy); a low exponent keeps it broad, as low SH degrees can fit.
+  double specular = 0.0, shininess = 4.0;
 
   // The point every camera looks at.
   Vec3 centre{0.0, 0.0, 0.0};
@@ -60,8 +63,9 @@ struct Hit {
 std::optional<Hit> trace(const Scene& scene, const Ray& ray, double t, double s_min = 1e-6,
                          double s_max = 1e30);
 
-// Lambertian shading with one directional light plus ambient (no shadows), in [0, 1].
-Vec3 shade(const Scene& scene, const Hit& hit);
+// Lambertian shading with one directional light plus ambient (no shadows), and the scene's
+// specular highlight as seen along `view_dir` (the ray's direction), in [0, 1].
+Vec3 shade(const Scene& scene, const Hit& hit, const Vec3& view_dir);
 
 // What a ray that hits nothing sees (not reached from the default cameras).
 Vec3 sky_colour(const Scene& scene);

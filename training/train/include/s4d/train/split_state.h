@@ -16,4 +16,8 @@ model::HostState gather_state(const model::HostState& s, std::span<const uint32_
 // std::invalid_argument for a row past the cloud or out of order.
 model::HostState remove_gaussians(const model::HostState& s, std::span<const uint32_t> removed);
 
+// The state with its SH (and their Adam moments) cut to `degree`'s coefficients, each Gaussian's
+// first ones kept. Throws std::invalid_argument for a degree above the stored one or below 0.
+model::HostState with_sh_degree(const model::HostState& s, int degree);
+
 }  // namespace s4d::train
