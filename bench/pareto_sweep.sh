@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The speed/accuracy trade of 4DGS training on one scene (the built-in one, or DATA): one knob at a time around the
-# `fast` preset (Gaussian budget, resolution, SH degree, HexPlane resolution, deformation MLP width,
-# iterations), each point trained to the end and scored on the held-out camera over all times.
+# `fast` preset (Gaussian budget, resolution, SH degree fixed at 0, 1 or 2 where the preset chooses
+# it from the data, HexPlane resolution, deformation MLP width, iterations), each point trained to the end and scored on the held-out camera over all times.
 # Writes OUT/points.jsonl (one JSON line per point: seconds, peak device memory, test PSNR/SSIM) and,
 # through s4d_pareto_report, OUT/pareto.md, pareto.json and the plots pareto_seconds.png and
 # pareto_device_peak_mib.png. Finished points are kept, so an interrupted sweep continues.
@@ -57,7 +57,7 @@ point() {
     rm -rf "$run"
     mkdir -p "$out/runs"
     echo "[sweep] $label: style4d train $*" >&2
-    "$exe" train --data "$data" --out "$run" --preset fast --iters "$iters" --fine-iters "$fine" "$@" > "$out/runs/$label.log" 2>&1
+    "$exe" train --data "$data" --run "$run" --preset fast --iters "$iters" --fine-iters "$fine" "$@" > "$out/runs/$label.log" 2>&1
   fi
   local full="{}"
   if [ -d "$data/cam00" ] && python3 -c 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["settings"]["downscale"] == 1)' "$run/run.json"; then
@@ -127,6 +127,7 @@ fi
   point budget_5k --budget 5000
   point mlp_16 --set field_width=16
   point sh0 --sh-degree 0
+  point sh1 --sh-degree 1
   point planes_16 --set 'field_resolution=[16,16,16,8]'
   point sh2 --sh-degree 2
   point planes_64 --set 'field_resolution=[64,64,64,16]'

@@ -91,205 +91,277 @@ bool same_view(const FrameView& a, const FrameView& b) {
          a.style.mix == b.style.mix && a.style.alpha == b.style.alpha && a.order == b.order;
 }
 
+// One viewer session: the window and its device, the scene and the view, and what the frames so
+// far measured. run_viewer drives it a frame at a time.
+class Session {
+ public:
+  Session(const scene::TrainedRun& run, const ViewerOptions& options)
+      : run_(run),
+        options_(options),
+        cameras_(dataset_cameras(run.dataset)),
+        window_(open_window(run, options, cameras_)),
+        ctx_(context_options(window_)),
+        swapchain_(ctx_, window_.create_surface(ctx_.instance())),
+        input_((resize_swapchain(), window_.handle())),  // the swapchain sized before the input and panel, as they expect
+        imgui_(ctx_, window_.handle(), swapchain_),
+        styles_(ctx_, run, options.style),
+        selection_(styles_.shown()),
+        last_styled_(selection_.style > 0 ? selection_.style : 1),
+        renderer_(ctx_, run.dataset.background),
+        playback_{.time = options.time, .playing = options.play},
+        control_(estimate_up(cameras_), kFlySpeedPerDepth * pivot_depth(options.camera)),
+        recording_(!options.record.empty()),
+        clip_(clip_seconds(run.dataset)),
+        resolution_({.budget_ms = options.frame_budget_ms}) {
+    control_.snap(cameras_[options.camera], pivot_depth(options.camera));
+    for (const io::CameraView& c : cameras_) camera_names_.push_back(c.name);
+    info_ = {.device = ctx_.info().name,
+             .gaussians = styles_.source().size(),
+             .dynamic = styles_.source().dynamic(),
+             .cameras = &camera_names_,
+             .styles = &run.styles};
+    summary_.device = ctx_.info().name;
+    // A warm-up render of the first view, unshown: the instance buffers grow to the scene here, so
+    // the first frame on screen is not a partial one (overflow) followed by its re-render.
+    const auto [w, h] = window_.framebuffer_size();
+    if (w > 0 && h > 0)
+      renderer_.render_now(styles_.source(), control_.camera(static_cast<uint32_t>(w), static_cast<uint32_t>(h)),
+                           playback_.time, swapchain_.pixel_order());
+    last_ = std::chrono::steady_clock::now();
+  }
+
+  // One pass of the frame loop; false once the window closes, Esc is pressed or exit_after is reached.
+  bool frame() {
+    if (window_.should_close()) return false;
+    glfwPollEvents();
+    const auto [w, h] = window_.framebuffer_size();
+    if (w == 0 || h == 0) {  // minimised: render nothing, keep the clock from jumping
+      glfwWaitEvents();
+      last_ = std::chrono::steady_clock::now();
+      return true;
+    }
+    if (recreate_ || swapchain_.extent().width != static_cast<uint32_t>(w) ||
+        swapchain_.extent().height != static_cast<uint32_t>(h)) {
+      swapchain_.recreate(static_cast<uint32_t>(w), static_cast<uint32_t>(h));
+      imgui_.on_swapchain_recreated(swapchain_);
+      recreate_ = false;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    const double seconds = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+
+    const ImGuiIO& io = ImGui::GetIO();
+    const InputFrame in = input_.poll(io.WantCaptureMouse, io.WantCaptureKeyboard);
+    if (in.quit) return false;
+    apply_input(in, seconds);
+    const PanelActions act = draw_panel_frame();
+    const int snap = act.snap_camera >= 0 ? act.snap_camera : in.snap_camera;
+    if (snap >= 0 && static_cast<size_t>(snap) < cameras_.size()) snap_to(static_cast<size_t>(snap));
+
+    wait_for_last_frame();
+    const std::optional<uint32_t> image = swapchain_.acquire();
+    if (!image) {
+      imgui_.skip_frame();
+      recreate_ = true;
+      return true;
+    }
+    const bool screenshot = in.screenshot || act.screenshot;
+    const FrameView view = present(*image, screenshot);
+    info_.frame_ms = seconds * 1000;
+    if (recording_) path_.add(control_, info_.width, info_.height, playback_.time);
+    if (screenshot) save_screenshot(view);
+    if (in.toggle_record || act.toggle_record) toggle_recording();
+    ++summary_.frames;
+    if (summary_.frames > 1) total_ms_ += info_.frame_ms;  // the first frame's time includes start-up
+    return !(options_.exit_after && summary_.frames >= options_.exit_after);
+  }
+
+  // Waits for the device, writes a camera path still being recorded, and sums up the session.
+  ViewerSummary finish() {
+    ctx_.wait_idle();
+    if (recording_ && !path_.empty())
+      path_.write(options_.record.empty() ? next_free(options_.out_dir, "camera_path", "json") : options_.record);
+    summary_.mean_frame_ms = summary_.frames > 1 ? total_ms_ / static_cast<double>(summary_.frames - 1) : 0;
+    summary_.mean_scale = summary_.rasterized ? total_scale_ / static_cast<double>(summary_.rasterized) : 0;
+    summary_.mean_rasterized_ms = measured_ ? total_raster_ms_ / static_cast<double>(measured_) : 0;
+    return summary_;
+  }
+
+ private:
+  static Window open_window(const scene::TrainedRun& run, const ViewerOptions& options,
+                            const std::vector<io::CameraView>& cameras) {
+    if (options.camera >= cameras.size())
+      throw std::invalid_argument("--camera " + std::to_string(options.camera) + ": the run's dataset has cameras 0.." +
+                                  std::to_string(cameras.size() - 1));
+    const auto [win_w, win_h] = window_size(options, cameras[options.camera]);
+    return Window("style4d view " + run.root.filename().string(), win_w, win_h);
+  }
+  static engine::ContextOptions context_options(Window& window) {
+    engine::ContextOptions o = engine::ContextOptions::from_env();
+    o.instance_extensions = window.instance_extensions();
+    o.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+    o.can_present = &Window::can_present;
+    return o;
+  }
+  void resize_swapchain() {
+    const auto [fb_w, fb_h] = window_.framebuffer_size();
+    swapchain_.recreate(static_cast<uint32_t>(fb_w), static_cast<uint32_t>(fb_h));
+  }
+  // The pivot: the median depth of the Gaussians, where they are at the current time.
+  double pivot_depth(size_t i) {
+    const splat::Camera cam = splat::to_splat_camera(cameras_[i]);
+    return median_depth(cameras_[i], scene::download_cloud(ctx_, styles_.source().at(playback_.time, cam)).means, 1.0);
+  }
+
+  // Camera, playback, style and blend from this frame's input.
+  void apply_input(const InputFrame& in, double seconds) {
+    control_.orbit(-in.drag_dx * kOrbitRadiansPerPixel, -in.drag_dy * kOrbitRadiansPerPixel);
+    control_.pan(in.pan_dx, in.pan_dy, swapchain_.extent().height);
+    control_.zoom(in.scroll);
+    control_.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
+    if (in.toggle_play) playback_.playing = !playback_.playing;
+    size_t& style = selection_.style;
+    if (run_.styles.size() > 1 && in.next_style) style = (style + 1) % run_.styles.size();
+    if (run_.styles.size() > 1 && in.toggle_original) style = style == 0 ? last_styled_ : 0;
+    if (style > 0) last_styled_ = style;
+    selection_.alpha = std::clamp(selection_.alpha + kBlendStep * static_cast<float>(in.blend_step), 0.0f, 1.0f);
+    playback_.advance(seconds, clip_);
+  }
+
+  PanelActions draw_panel_frame() {
+    imgui_.new_frame();
+    info_.width = swapchain_.extent().width, info_.height = swapchain_.extent().height;
+    info_.recording = recording_, info_.recorded = path_.size();
+    const PanelActions act = draw_panel(info_, playback_, selection_);
+    if (const std::string refused = styles_.update(selection_); !refused.empty()) info_.message = refused;
+    return act;
+  }
+
+  void snap_to(size_t camera) {
+    ctx_.wait_idle();  // the pivot reads the source's buffers, which the last frame may still read
+    control_.snap(cameras_[camera], pivot_depth(camera));
+    info_.message = "camera " + std::to_string(camera) + ": " + camera_names_[camera];
+  }
+
+  // Waits for the previous frame (its acquire semaphore and panel buffers are reused) and takes its
+  // measurement: start of the render to its pixels on screen, the panel's work included.
+  void wait_for_last_frame() {
+    if (last_submit_) ctx_.wait(last_submit_);
+    // The last frame rasterized past the instance buffers' capacity (they grew, and it showed the
+    // nearest Gaussians only): present() renders it again.
+    overflowed_ = rendered_ && !renderer_.finish();
+    rendered_ = false;
+    if (measuring_) {
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring_->first).count();
+      resolution_.measured(ms, measuring_->second);
+      total_raster_ms_ += ms, ++measured_;
+      measuring_.reset();
+    }
+  }
+
+  // Renders the view when it changed, refines or completes it when due, copies the pixels into the
+  // swapchain image under the panel and presents it. Moving: the policy's scale. Still for the
+  // policy's settle time: refine to full resolution once, then reuse those pixels. A screenshot is
+  // always of a full-resolution frame.
+  FrameView present(uint32_t image, bool screenshot) {
+    const auto t0 = std::chrono::steady_clock::now();
+    engine::Recorder rec(ctx_, "viewer frame");
+    const FrameView view{.camera = control_.camera(info_.width, info_.height),
+                         .time = playback_.time,
+                         .style = styles_.shown(),
+                         .order = swapchain_.pixel_order()};
+    const bool changed = !shown_ || !same_view(*shown_, view);
+    if (changed) changed_at_ = t0;
+    const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at_).count();
+    if (overflowed_ && !changed) {  // the same view at the same scale, complete this time
+      renderer_.render(styles_.source(), view.camera, view.time, view.order, rec, renderer_.scale());
+      rendered_ = true;
+      ++summary_.rerendered;
+    } else if (changed || (renderer_.scale() != 1 && (screenshot || resolution_.refine(still_ms)))) {
+      const double scale = changed && !screenshot ? resolution_.scale(true) : 1.0;
+      renderer_.render(styles_.source(), view.camera, view.time, view.order, rec, scale);
+      rendered_ = true;
+      shown_ = view;
+      measuring_.emplace(t0, scale);
+      const splat::Camera small = scaled_camera(view.camera, scale);
+      info_.render_width = small.width, info_.render_height = small.height;
+      ++summary_.rasterized;
+      total_scale_ += scale;
+    }
+    record_copy(rec, renderer_.pixels(), swapchain_.image(image), swapchain_.extent());
+    imgui_.record(rec.handle(), image, swapchain_.extent());
+    last_submit_ = ctx_.submit(std::move(rec), {.wait = swapchain_.acquired(),
+                                                .wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                                .signal = swapchain_.rendered(image)});
+    if (!swapchain_.present(image)) recreate_ = true;
+    info_.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return view;
+  }
+
+  void save_screenshot(const FrameView& view) {
+    ctx_.wait(last_submit_);
+    if (rendered_ && !renderer_.finish()) {  // a complete frame to save (and to show from the next one)
+      renderer_.render_now(styles_.source(), view.camera, view.time, view.order, renderer_.scale());
+      ++summary_.rerendered;
+    }
+    rendered_ = false;
+    fs::create_directories(options_.out_dir);
+    const fs::path file = next_free(options_.out_dir, "screenshot", "png");
+    io::write_png(file, renderer_.read_rgb());
+    info_.message = "saved " + file.string();
+  }
+
+  void toggle_recording() {
+    if (recording_ && !path_.empty()) {
+      const fs::path file = options_.record.empty() ? next_free(options_.out_dir, "camera_path", "json") : options_.record;
+      path_.write(file);
+      info_.message = "saved " + file.string() + " (replay: style4d render --ply ... --cameras it)";
+    }
+    recording_ = !recording_;
+  }
+
+  const scene::TrainedRun& run_;
+  const ViewerOptions& options_;
+  const std::vector<io::CameraView> cameras_;
+  std::vector<std::string> camera_names_;
+  Window window_;
+  engine::Context ctx_;
+  Swapchain swapchain_;
+  Input input_;
+  ImGuiLayer imgui_;
+  StyleSwitch styles_;
+  StyleSelection selection_;
+  size_t last_styled_;  // what T returns to from "original" (styles[0])
+  FrameRenderer renderer_;
+  Playback playback_;
+  CameraControl control_;
+  CameraPath path_;
+  bool recording_;
+  const double clip_;
+  PanelInfo info_;
+  ViewerSummary summary_;
+  double total_ms_ = 0, total_scale_ = 0, total_raster_ms_ = 0;
+  uint64_t measured_ = 0;  // rasterized frames whose time was measured (all but a last one)
+  uint64_t last_submit_ = 0;
+  bool rendered_ = false;    // the last submission rasterized a frame, which renderer.finish() checks
+  bool overflowed_ = false;  // ... and it overflowed the instance buffers
+  AdaptiveResolution resolution_;
+  std::optional<FrameView> shown_;  // what renderer.pixels() hold
+  std::chrono::steady_clock::time_point changed_at_;  // when the view last changed
+  // The last rasterized frame, measured once its submission completes: start time and scale.
+  std::optional<std::pair<std::chrono::steady_clock::time_point, double>> measuring_;
+  bool recreate_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
 }  // namespace
 
 ViewerSummary run_viewer(const scene::TrainedRun& run, const ViewerOptions& options) {
-  const std::vector<io::CameraView> cameras = dataset_cameras(run.dataset);
-  if (options.camera >= cameras.size())
-    throw std::invalid_argument("--camera " + std::to_string(options.camera) + ": the run's dataset has cameras 0.." +
-                                std::to_string(cameras.size() - 1));
-  const auto [win_w, win_h] = window_size(options, cameras[options.camera]);
-  Window window("style4d view " + run.root.filename().string(), win_w, win_h);
-
-  engine::ContextOptions context_options = engine::ContextOptions::from_env();
-  context_options.instance_extensions = window.instance_extensions();
-  context_options.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
-  context_options.can_present = &Window::can_present;
-  engine::Context ctx(context_options);
-
-  Swapchain swapchain(ctx, window.create_surface(ctx.instance()));
-  const auto [fb_w, fb_h] = window.framebuffer_size();
-  swapchain.recreate(static_cast<uint32_t>(fb_w), static_cast<uint32_t>(fb_h));
-  Input input(window.handle());
-  ImGuiLayer imgui(ctx, window.handle(), swapchain);
-
-  StyleSwitch styles(ctx, run, options.style);
-  StyleSelection selection = styles.shown();
-  size_t last_styled = selection.style > 0 ? selection.style : 1;  // what T returns to from "original" (styles[0])
-  FrameRenderer renderer(ctx, run.dataset.background);
-  std::vector<std::string> camera_names;
-  for (const io::CameraView& c : cameras) camera_names.push_back(c.name);
-  Playback playback{.time = options.time, .playing = options.play};
-
-  // The pivot: the median depth of the Gaussians, where they are at the current time.
-  auto pivot_depth = [&](size_t i) {
-    const splat::Camera cam = splat::to_splat_camera(cameras[i]);
-    return median_depth(cameras[i], scene::download_cloud(ctx, styles.source().at(playback.time, cam)).means, 1.0);
-  };
-  CameraControl control(estimate_up(cameras), kFlySpeedPerDepth * pivot_depth(options.camera));
-  control.snap(cameras[options.camera], pivot_depth(options.camera));
-  CameraPath path;
-  bool recording = !options.record.empty();
-  const fs::path out_dir = options.out_dir;
-  const double clip = clip_seconds(run.dataset);
-
-  PanelInfo info{.device = ctx.info().name,
-                 .gaussians = styles.source().size(),
-                 .dynamic = styles.source().dynamic(),
-                 .cameras = &camera_names,
-                 .styles = &run.styles};
-  ViewerSummary summary{.device = ctx.info().name};
-  double total_ms = 0, total_scale = 0, total_raster_ms = 0;
-  uint64_t measured = 0;  // rasterized frames whose time was measured (all but a last one)
-  uint64_t last_submit = 0;
-  bool rendered = false;  // the last submission rasterized a frame, which renderer.finish() checks
-  AdaptiveResolution resolution({.budget_ms = options.frame_budget_ms});
-  std::optional<FrameView> shown;  // what renderer.pixels() hold
-  std::chrono::steady_clock::time_point changed_at;  // when the view last changed
-  // The last rasterized frame, measured once its submission completes: start time and scale.
-  std::optional<std::pair<std::chrono::steady_clock::time_point, double>> measuring;
-  bool recreate = false;
-  {  // A warm-up render of the first view, unshown: the instance buffers grow to the scene here, so
-     // the first frame on screen is not a partial one (overflow) followed by its re-render.
-    const auto [w, h] = window.framebuffer_size();
-    if (w > 0 && h > 0)
-      renderer.render_now(styles.source(), control.camera(static_cast<uint32_t>(w), static_cast<uint32_t>(h)),
-                          playback.time, swapchain.pixel_order());
+  Session session(run, options);
+  while (session.frame()) {
   }
-  auto last = std::chrono::steady_clock::now();
-
-  while (!window.should_close()) {
-    glfwPollEvents();
-    const auto [w, h] = window.framebuffer_size();
-    if (w == 0 || h == 0) {  // minimised: render nothing, keep the clock from jumping
-      glfwWaitEvents();
-      last = std::chrono::steady_clock::now();
-      continue;
-    }
-    if (recreate || swapchain.extent().width != static_cast<uint32_t>(w) ||
-        swapchain.extent().height != static_cast<uint32_t>(h)) {
-      swapchain.recreate(static_cast<uint32_t>(w), static_cast<uint32_t>(h));
-      imgui.on_swapchain_recreated(swapchain);
-      recreate = false;
-    }
-    const auto now = std::chrono::steady_clock::now();
-    const double seconds = std::chrono::duration<double>(now - last).count();
-    last = now;
-
-    // Input and panel.
-    const ImGuiIO& io = ImGui::GetIO();
-    const InputFrame in = input.poll(io.WantCaptureMouse, io.WantCaptureKeyboard);
-    if (in.quit) break;
-    control.orbit(-in.drag_dx * kOrbitRadiansPerPixel, -in.drag_dy * kOrbitRadiansPerPixel);
-    control.pan(in.pan_dx, in.pan_dy, swapchain.extent().height);
-    control.zoom(in.scroll);
-    control.fly(in.fly_forward, in.fly_right, in.fly_up, seconds);
-    if (in.toggle_play) playback.playing = !playback.playing;
-    size_t& style = selection.style;
-    if (run.styles.size() > 1 && in.next_style) style = (style + 1) % run.styles.size();
-    if (run.styles.size() > 1 && in.toggle_original) style = style == 0 ? last_styled : 0;
-    if (style > 0) last_styled = style;
-    selection.alpha = std::clamp(selection.alpha + kBlendStep * static_cast<float>(in.blend_step), 0.0f, 1.0f);
-    playback.advance(seconds, clip);
-    imgui.new_frame();
-    info.width = swapchain.extent().width, info.height = swapchain.extent().height;
-    info.recording = recording, info.recorded = path.size();
-    const PanelActions act = draw_panel(info, playback, selection);
-    if (const std::string refused = styles.update(selection); !refused.empty()) info.message = refused;
-    const int snap = act.snap_camera >= 0 ? act.snap_camera : in.snap_camera;
-    if (snap >= 0 && static_cast<size_t>(snap) < cameras.size()) {
-      ctx.wait_idle();  // the pivot reads the source's buffers, which the last frame may still read
-      control.snap(cameras[static_cast<size_t>(snap)], pivot_depth(static_cast<size_t>(snap)));
-      info.message = "camera " + std::to_string(snap) + ": " + camera_names[static_cast<size_t>(snap)];
-    }
-
-    // The frame: wait for the previous one (its acquire semaphore and panel buffers are reused).
-    if (last_submit) ctx.wait(last_submit);
-    // The last frame rasterized past the instance buffers' capacity (they grew, and it showed the
-    // nearest Gaussians only): render it again, below.
-    const bool overflowed = rendered && !renderer.finish();
-    rendered = false;
-    if (measuring) {  // start of the render to its pixels on screen, the panel's work included
-      const double ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - measuring->first).count();
-      resolution.measured(ms, measuring->second);
-      total_raster_ms += ms, ++measured;
-      measuring.reset();
-    }
-    const std::optional<uint32_t> image = swapchain.acquire();
-    if (!image) {
-      imgui.skip_frame();
-      recreate = true;
-      continue;
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    engine::Recorder rec(ctx, "viewer frame");
-    // Moving: the policy's scale. Still for the policy's settle time: refine to full resolution
-    // once, then reuse those pixels. A screenshot is always of a full-resolution frame.
-    const bool screenshot = in.screenshot || act.screenshot;
-    const FrameView view{.camera = control.camera(info.width, info.height),
-                         .time = playback.time,
-                         .style = styles.shown(),
-                         .order = swapchain.pixel_order()};
-    const bool changed = !shown || !same_view(*shown, view);
-    if (changed) changed_at = t0;
-    const double still_ms = std::chrono::duration<double, std::milli>(t0 - changed_at).count();
-    if (overflowed && !changed) {  // the same view at the same scale, complete this time
-      renderer.render(styles.source(), view.camera, view.time, view.order, rec, renderer.scale());
-      rendered = true;
-      ++summary.rerendered;
-    } else if (changed || (renderer.scale() != 1 && (screenshot || resolution.refine(still_ms)))) {
-      const double scale = changed && !screenshot ? resolution.scale(true) : 1.0;
-      renderer.render(styles.source(), view.camera, view.time, view.order, rec, scale);
-      rendered = true;
-      shown = view;
-      measuring.emplace(t0, scale);
-      const splat::Camera small = scaled_camera(view.camera, scale);
-      info.render_width = small.width, info.render_height = small.height;
-      ++summary.rasterized;
-      total_scale += scale;
-    }
-    record_copy(rec, renderer.pixels(), swapchain.image(*image), swapchain.extent());
-    imgui.record(rec.handle(), *image, swapchain.extent());
-    last_submit = ctx.submit(std::move(rec), {.wait = swapchain.acquired(),
-                                              .wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                              .signal = swapchain.rendered(*image)});
-    if (!swapchain.present(*image)) recreate = true;
-    info.render_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    info.frame_ms = seconds * 1000;
-
-    if (recording) path.add(control, info.width, info.height, playback.time);
-    if (screenshot) {
-      ctx.wait(last_submit);
-      if (rendered && !renderer.finish()) {  // a complete frame to save (and to show from the next one)
-        renderer.render_now(styles.source(), view.camera, view.time, view.order, renderer.scale());
-        ++summary.rerendered;
-      }
-      rendered = false;
-      fs::create_directories(out_dir);
-      const fs::path file = next_free(out_dir, "screenshot", "png");
-      io::write_png(file, renderer.read_rgb());
-      info.message = "saved " + file.string();
-    }
-    if (in.toggle_record || act.toggle_record) {
-      if (recording && !path.empty()) {
-        const fs::path file = options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record;
-        path.write(file);
-        info.message = "saved " + file.string() + " (replay: style4d render --ply ... --cameras it)";
-      }
-      recording = !recording;
-    }
-    ++summary.frames;
-    if (summary.frames > 1) total_ms += info.frame_ms;  // the first frame's time includes start-up
-    if (options.exit_after && summary.frames >= options.exit_after) break;
-  }
-  ctx.wait_idle();
-  if (recording && !path.empty())
-    path.write(options.record.empty() ? next_free(out_dir, "camera_path", "json") : options.record);
-  summary.mean_frame_ms = summary.frames > 1 ? total_ms / static_cast<double>(summary.frames - 1) : 0;
-  summary.mean_scale = summary.rasterized ? total_scale / static_cast<double>(summary.rasterized) : 0;
-  summary.mean_rasterized_ms = measured ? total_raster_ms / static_cast<double>(measured) : 0;
-  return summary;
+  return session.finish();
 }
 
 }  // namespace s4d::viewer
