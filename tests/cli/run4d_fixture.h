@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "max_abs_diff.h"
 #include "cli_run.h"
 #include "s4d/io/image_io.h"
 
@@ -37,16 +38,6 @@ inline const Run4d& run4d() {
     return out;
   }();
   return r;
-}
-
-// The largest absolute difference of two images of the same size.
-inline float max_abs_diff(const io::ImageF& a, const io::ImageF& b) {
-  REQUIRE(a.width == b.width);
-  REQUIRE(a.height == b.height);
-  REQUIRE(a.channels == b.channels);
-  float worst = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, std::abs(a.data[i] - b.data[i]));
-  return worst;
 }
 
 // PREFIX + k + ".png": frame files (prefix "000" gives the protocol's 000K.png for the fixture's

@@ -8,10 +8,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "max_abs_diff.h"
 #include "colmap_fixture.h"
 #include "s4d/synth/dataset.h"
 
 using namespace s4d;
+using test::max_abs_diff;
 namespace fs = std::filesystem;
 
 namespace {
@@ -33,12 +35,6 @@ void write_fixture(const fs::path& root, const data::Dataset& ref, const test::C
   } else {
     test::write_colmap_txt(root / "sparse" / "0", model);
   }
-}
-
-double max_abs_diff(const std::array<double, 16>& a, const std::array<double, 16>& b) {
-  double worst = 0;
-  for (size_t k = 0; k < 16; ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
-  return worst;
 }
 
 double intrinsics_diff(const io::CameraView& a, const io::CameraView& b) {

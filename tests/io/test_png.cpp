@@ -6,12 +6,14 @@
 #include <random>
 #include <string>
 
+#include "max_abs_diff.h"
 #include "io_test_util.h"
 #include "s4d/io/image_io.h"
 
 using s4d::io::ImageF;
 using s4d::test::error_at;
 using s4d::test::TempDir;
+using s4d::test::max_abs_diff;
 
 namespace {
 
@@ -22,13 +24,6 @@ ImageF random_image(int w, int h, int c, unsigned seed) {
   img.data.resize(static_cast<size_t>(w * h * c));
   for (float& v : img.data) v = u(rng);
   return img;
-}
-
-// Largest |a - b| over two equally shaped images.
-float max_abs_diff(const ImageF& a, const ImageF& b) {
-  float worst = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, std::abs(a.data[i] - b.data[i]));
-  return worst;
 }
 
 }  // namespace

@@ -5,19 +5,15 @@
 
 #include <cmath>
 
+#include "max_abs_diff.h"
 #include "s4d/frame_stylizers/builtin_style.h"
 #include "s4d/frame_stylizers/patch_stylizer.h"
 #include "stylize_fixtures.h"
 
 using namespace s4d;
+using test::max_abs_diff;
 
 namespace {
-
-double max_abs_diff(const io::ImageF& a, const io::ImageF& b) {
-  double m = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) m = std::max(m, static_cast<double>(std::abs(a.data[i] - b.data[i])));
-  return m;
-}
 
 double stats_distance(const std::vector<double>& a, const std::vector<double>& b) {
   double d = 0;

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "max_abs_diff.h"
 #include "s4d/io/image_io.h"
 #include "s4d/io/nerf_cameras.h"
 #include "s4d/scene/trained_run.h"
@@ -20,19 +21,7 @@
 namespace fs = std::filesystem;
 using s4d::test::read_text;
 using s4d::test::run_style4d;
-
-namespace {
-
-float max_abs_diff(const s4d::io::ImageF& a, const s4d::io::ImageF& b) {
-  REQUIRE(a.width == b.width);
-  REQUIRE(a.height == b.height);
-  REQUIRE(a.channels == b.channels);
-  float worst = 0;
-  for (size_t i = 0; i < a.data.size(); ++i) worst = std::max(worst, std::abs(a.data[i] - b.data[i]));
-  return worst;
-}
-
-}  // namespace
+using s4d::test::max_abs_diff;
 
 TEST_CASE("a headless capture matches the offline renderer's image of the same camera") {
   const fs::path run = s4d::test::trained_run();
