@@ -9,8 +9,8 @@
 # Usage: bench/pareto_sweep.sh [OUT_DIR]
 #   DATA=DIR sweeps that dataset instead of the built-in scene (any layout `train` reads), e.g. a
 #   monocular object from `style4d synth --dnerf --motion squash --rgba --random-init 20000`. The
-#   half-resolution point is rescored at full resolution on a rig capture's camera 0 only; elsewhere
-#   it keeps its own-resolution score. NO_STYLE=1 leaves out the style model's points.
+#   half-resolution point is rescored at full resolution on a rig capture's camera 0, and left out
+#   elsewhere. NO_STYLE=1 leaves out the style model's points.
 #   ITERS / FINE_ITERS (default 900 / 1500, the fast preset's) set the base point's run length;
 #   smaller values give a quick sweep of the same shape. REPORT_ONLY=1 writes the reports from the
 #   points finished so far and trains nothing. Wall-clock times: run it on a quiet machine
@@ -120,7 +120,9 @@ fi
 # Cheapest first, so that a sweep cut short still has the most points.
 {
   point base
-  point half_res --set downscale=2
+  # Scored at full resolution on a rig's camera 0 only: elsewhere its own-resolution PSNR would
+  # not be comparable with the others', so the point is left out.
+  [ ! -d "$data/cam00" ] || point half_res --set downscale=2
   base_iters=$iters base_fine=$fine
   iters=$((base_iters / 2)) fine=$((base_fine / 2)); point iters_half
   iters=$base_iters fine=$base_fine
