@@ -43,6 +43,7 @@ TEST_CASE("time budget: schedules scale from the starting settings, whatever ear
   run::TrainConfig start = run::preset_config("fast");
   run::TrainConfig c = start;
   c.lr_scale = 0.25;  // halved twice by rollbacks: kept
+  c.sh_degree = 0, c.sh_degree_auto = false;  // the SH degree chosen since the start: kept
   train::fit_schedules(c, start, 450, 3000);
   CHECK(c.iterations == 450);
   CHECK(c.densify_from == start.densify_from / 2);
@@ -51,10 +52,13 @@ TEST_CASE("time budget: schedules scale from the starting settings, whatever ear
   CHECK(c.fine_densify_until == start.fine_densify_until * 2);
   CHECK(c.densify_every == start.densify_every / 2);  // the shorter stage's factor: as many densifications
   CHECK(c.lr_scale == 0.25);
+  CHECK(c.sh_degree == 0);
+  CHECK_FALSE(c.sh_degree_auto);
   train::fit_schedules(c, start, 900, 1500);  // back to the start: exactly its schedules
   CHECK(run::to_json(c) == [&] {
     run::TrainConfig s = start;
     s.lr_scale = 0.25;
+    s.sh_degree = 0, s.sh_degree_auto = false;
     return run::to_json(s);
   }());
   run::TrainConfig static_only = start;
