@@ -35,6 +35,9 @@ TEST_CASE("train --preset default trains the paper's width-128, five-head field,
   // 30: 19.19 dB against 18.90 static, and 13.16 dB on the moving box against 12.73.
   CHECK(j["test_psnr"].get<double>() > j["static"]["test_psnr"].get<double>() + 0.1);
   CHECK(j["moving"]["psnr"].get<double>() > j["static"]["moving"]["psnr"].get<double>() + 0.2);
+  // The sh head deforms all 16 degree-3 coefficients: the SH choice keeps degree 3 and says why.
+  CHECK(j["settings"]["sh_degree"] == 3);
+  CHECK(j["dataset"]["recipe"]["sh_degree"]["why"].get<std::string>().starts_with("kept: the deformation field's sh head"));
 
   // Every head's output layer got a gradient: its Adam second moment is not all zero.
   const gpu::DeformShape s = deform::deform_shape(run::field_config(run::preset_config("default"), {-1, -1, -1}, {1, 1, 1}));

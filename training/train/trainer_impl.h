@@ -192,6 +192,9 @@ struct Trainer::Impl {
   // Once due: renders the held-out views at each degree, keeps the lowest that serves them as well,
   // cuts the SH to it, records the evidence in the recipe and checkpoints.
   void choose_sh_degree_if_due(double seconds);
+  // Ends the choice: recipe.sh_degree = evidence, the settings (config.sh_degree already the choice)
+  // in run.json, and a checkpoint of the state as it now is.
+  void record_sh_choice(const nlohmann::json& evidence, double seconds);
 
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first

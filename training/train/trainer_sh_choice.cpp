@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "s4d/train/sh_choice.h"
+#include "s4d_deform.h"
 #include "s4d/train/split_state.h"
 #include "trainer_impl.h"
 
@@ -13,6 +14,17 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
   if (!config.sh_degree_auto || config.sh_degree == 0) return;
   const uint32_t done = fine() ? config.iterations + iteration : iteration;
   if (done < sh_choice_step(config)) return;
+  if (config.fine_iterations > 0 && head(S4D_DEFORM_HEAD_SH)) {
+    // The field's sh head (4DGaussians' DyNeRF heads) deforms all 16 degree-3 coefficients, so
+    // none can be cut; said once, and the degree stays.
+    record_sh_choice({{"degree", config.sh_degree},
+                      {"at_step", done},
+                      {"why", "kept: the deformation field's sh head deforms all 16 degree-3 coefficients "
+                              "(field_heads includes dsh)"}},
+                     seconds);
+    std::cerr << "SH degree " << config.sh_degree << " kept: the deformation field's sh head deforms every coefficient\n";
+    return;
+  }
   // The held-out views this stage models: the static stage's time window, or every time.
   std::vector<const data::View*> views;
   for (const data::View* v : test_views)
@@ -38,16 +50,9 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
     restore(cp);
   }
   config.sh_degree = choice.degree;
-  config.sh_degree_auto = false;
   nlohmann::json evidence = choice.json();
   evidence["held_out"] = held_out;
-  facts["recipe"]["sh_degree"] = evidence;
-  // A resumed run keeps the choice: run.json holds the settings and the recipe it reads back.
-  run::RunJson saved = run::read_run_json(run);
-  saved.settings = config;
-  saved.dataset = facts;
-  run::write_run_json(run, saved);
-  checkpoint(seconds);
+  record_sh_choice(evidence, seconds);
 
   char line[256];
   std::snprintf(line, sizeof line, "SH degree %d of %d: held-out PSNR %.2f dB at degree %d, %.2f dB at degree %d (%u %s views); "
@@ -55,6 +60,17 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
                 choice.degree, stored, choice.psnr.back(), top, choice.psnr[static_cast<size_t>(choice.degree)], choice.degree,
                 choice.views, held_out ? "held-out" : "training", kShKeepDb);
   std::cerr << line << "\n";
+}
+
+void Trainer::Impl::record_sh_choice(const nlohmann::json& evidence, double seconds) {
+  config.sh_degree_auto = false;
+  facts["recipe"]["sh_degree"] = evidence;
+  // A resumed run keeps the choice: run.json holds the settings and the recipe it reads back.
+  run::RunJson saved = run::read_run_json(run);
+  saved.settings = config;
+  saved.dataset = facts;
+  run::write_run_json(run, saved);
+  checkpoint(seconds);
 }
 
 }  // namespace s4d::train
