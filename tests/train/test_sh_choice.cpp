@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -61,4 +62,20 @@ TEST_CASE("cutting the SH to a lower degree keeps each Gaussian's first coeffici
   CHECK(train::with_sh_degree(s, 2).cloud.sh == s.cloud.sh);
   CHECK_THROWS_AS(train::with_sh_degree(s, 3), std::invalid_argument);
   CHECK_THROWS_AS(train::with_sh_degree(s, -1), std::invalid_argument);
+}
+
+TEST_CASE("a field whose sh head deforms every coefficient keeps the degree, decided when the run starts") {
+  run::TrainConfig c = run::preset_config("default");  // 4DGaussians' DyNeRF heads: dx ds dr do dsh
+  const nlohmann::json kept = train::keep_sh_for_field(c);
+  REQUIRE(kept.is_object());
+  CHECK(kept["degree"] == 3);
+  CHECK(kept["why"].get<std::string>().starts_with("kept: the deformation field's sh head"));
+  CHECK_FALSE(c.sh_degree_auto);
+  run::TrainConfig fast = run::preset_config("fast");  // dx ds dr: the choice stays on
+  CHECK(train::keep_sh_for_field(fast).is_null());
+  CHECK(fast.sh_degree_auto);
+  run::TrainConfig still = run::preset_config("default");
+  still.fine_iterations = 0;  // no field at all
+  CHECK(train::keep_sh_for_field(still).is_null());
+  CHECK(still.sh_degree_auto);
 }

@@ -15,6 +15,7 @@
 #include "s4d/model/checkpoint.h"
 #include "s4d/run/run_json.h"
 #include "s4d/train/scene_motion.h"
+#include "s4d/train/sh_choice.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/run/run_size.h"
 #include "s4d/run/stage_times.h"
@@ -138,6 +139,7 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   impl_ = std::make_unique<Impl>(ctx, run::RunDir{run_dir}, config_, dataset_);
   // Before the field is made; the frames the check decodes stay cached for training.
   if (config_.fine_iterations > 0) recipe["deformation_field"] = skip_field_if_still(config_, dataset_, impl_->frames);
+  if (nlohmann::json kept = keep_sh_for_field(config_); !kept.is_null()) recipe["sh_degree"] = kept;
   impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here

@@ -134,6 +134,13 @@ void Trainer::Impl::remove_gaussians(const std::vector<uint32_t>& rows, double s
   restore(cp);
 }
 
+void Trainer::Impl::save_run_json() const {
+  run::RunJson saved = run::read_run_json(run);
+  saved.settings = config;
+  saved.dataset = facts;
+  run::write_run_json(run, saved);
+}
+
 void Trainer::Impl::checkpoint(double seconds) {
   model::Checkpoint cp = snapshot(seconds);
   if (Divergence d = divergence(cp); d.found()) throw StateOutOfRange(std::move(d));

@@ -129,6 +129,9 @@ struct Trainer::Impl {
   // Saves the current state as the checkpoint and the PLY and makes it the last good state;
   // StateOutOfRange when it holds values out of range (divergence.h; nothing written).
   void checkpoint(double seconds);
+  // run.json with the settings and the data's facts as they now are (a plan or a choice changed
+  // them), so that a resumed run continues with them.
+  void save_run_json() const;
   // What `state` holds out of range, the field's parts named.
   Divergence divergence(const model::Checkpoint& state) const;
   // The current state without these Gaussians (the still mask is measured again).
@@ -190,11 +193,8 @@ struct Trainer::Impl {
 
   // ---- The SH degree chosen from the data (trainer_sh_choice.cpp, sh_choice.h).
   // Once due: renders the held-out views at each degree, keeps the lowest that serves them as well,
-  // cuts the SH to it, records the evidence in the recipe and checkpoints.
+  // cuts the SH to it, records the evidence in the recipe, rewrites run.json and checkpoints.
   void choose_sh_degree_if_due(double seconds);
-  // Ends the choice: recipe.sh_degree = evidence, the settings (config.sh_degree already the choice)
-  // in run.json, and a checkpoint of the state as it now is.
-  void record_sh_choice(const nlohmann::json& evidence, double seconds);
 
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first

@@ -4,7 +4,6 @@
 #include <iostream>
 
 #include "s4d/train/sh_choice.h"
-#include "s4d_deform.h"
 #include "s4d/train/split_state.h"
 #include "trainer_impl.h"
 
@@ -14,28 +13,18 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
   if (!config.sh_degree_auto || config.sh_degree == 0) return;
   const uint32_t done = fine() ? config.iterations + iteration : iteration;
   if (done < sh_choice_step(config)) return;
-  if (config.fine_iterations > 0 && head(S4D_DEFORM_HEAD_SH)) {
-    // The field's sh head (4DGaussians' DyNeRF heads) deforms all 16 degree-3 coefficients, so
-    // none can be cut; said once, and the degree stays.
-    record_sh_choice({{"degree", config.sh_degree},
-                      {"at_step", done},
-                      {"why", "kept: the deformation field's sh head deforms all 16 degree-3 coefficients "
-                              "(field_heads includes dsh)"}},
-                     seconds);
-    std::cerr << "SH degree " << config.sh_degree << " kept: the deformation field's sh head deforms every coefficient\n";
-    return;
-  }
   // The held-out views this stage models: the static stage's time window, or every time.
   std::vector<const data::View*> views;
   for (const data::View* v : test_views)
     if (fine() || v->time <= static_window() + 1e-9) views.push_back(v);
   if (views.empty()) views = test_views;
   views = spread_views(views, kPeriodicTestViews);
-  const bool held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end();
 
   // Each degree's render: the degree the schedule has reached so far is the top (a run cut short may
   // end before it reaches the stored one, whose higher coefficients never trained).
-  ShChoice choice{.views = static_cast<uint32_t>(views.size()), .at_step = done};
+  ShChoice choice{.views = static_cast<uint32_t>(views.size()),
+                  .held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end(),
+                  .at_step = done};
   const int stored = config.sh_degree, top = active_degree();
   for (int d = 0; d <= top; ++d) {
     config.sh_degree = d;  // active_degree() is at most the setting
@@ -50,27 +39,17 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
     restore(cp);
   }
   config.sh_degree = choice.degree;
-  nlohmann::json evidence = choice.json();
-  evidence["held_out"] = held_out;
-  record_sh_choice(evidence, seconds);
+  config.sh_degree_auto = false;
+  facts["recipe"]["sh_degree"] = choice.json();
+  save_run_json();  // a resumed run keeps the choice
+  checkpoint(seconds);
 
   char line[256];
   std::snprintf(line, sizeof line, "SH degree %d of %d: held-out PSNR %.2f dB at degree %d, %.2f dB at degree %d (%u %s views); "
                 "a degree is kept when it adds %.2f dB",
                 choice.degree, stored, choice.psnr.back(), top, choice.psnr[static_cast<size_t>(choice.degree)], choice.degree,
-                choice.views, held_out ? "held-out" : "training", kShKeepDb);
+                choice.views, choice.held_out ? "held-out" : "training", kShKeepDb);
   std::cerr << line << "\n";
-}
-
-void Trainer::Impl::record_sh_choice(const nlohmann::json& evidence, double seconds) {
-  config.sh_degree_auto = false;
-  facts["recipe"]["sh_degree"] = evidence;
-  // A resumed run keeps the choice: run.json holds the settings and the recipe it reads back.
-  run::RunJson saved = run::read_run_json(run);
-  saved.settings = config;
-  saved.dataset = facts;
-  run::write_run_json(run, saved);
-  checkpoint(seconds);
 }
 
 }  // namespace s4d::train

@@ -50,10 +50,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
                              {"seconds_per_step", per_step}, {"gaussians", gaussians->size()},
                              {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations}});
   if (config.iterations == was && config.fine_iterations == fine_was) return;
-  // A resumed run continues with the plan: run.json holds the settings it reads back.
-  run::RunJson saved = run::read_run_json(run);
-  saved.settings = config;
-  run::write_run_json(run, saved);
+  save_run_json();  // a resumed run continues with the plan
   if (!first_static && !first_fine) return;  // the later plans are in train.json
   char line[256];
   std::snprintf(line, sizeof line,

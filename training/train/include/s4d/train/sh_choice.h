@@ -23,6 +23,7 @@ struct ShChoice {
   int degree = 0;
   std::vector<double> psnr;  // held-out PSNR (dB) rendered with degrees 0..top
   uint32_t views = 0;        // how many views it was measured on
+  bool held_out = true;      // false: the dataset holds no test view out, so training views were used
   uint32_t at_step = 0;      // steps of the run (both stages) when measured
   nlohmann::json json() const;
 };
@@ -34,5 +35,10 @@ int lowest_sufficient_degree(std::span<const double> psnr_by_degree);
 // The run's step (counted over both stages) after which the choice is made: once the top degree has
 // been active for sh_up_every steps; the last step of the run when that comes later.
 uint32_t sh_choice_step(const run::TrainConfig& config);
+
+// A new run's settings: a deformation field with the sh head deforms all 16 degree-3 coefficients,
+// so nothing can be cut; the choice is turned off, said in one line, and train.json's recipe
+// "sh_degree" says why. Null when the choice stays on (or was never on).
+nlohmann::json keep_sh_for_field(run::TrainConfig& config);
 
 }  // namespace s4d::train
