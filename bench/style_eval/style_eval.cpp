@@ -20,6 +20,7 @@
 #include "s4d/run/names.h"
 #include "s4d/scene/scene_source.h"
 #include "s4d/frame_stylizers/warp_error.h"
+#include "s4d/train/time_budget.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::bench {
@@ -60,48 +61,66 @@ double exact_flow_warp_error(const std::vector<io::ImageF>& frames, const fs::pa
   return scored > 0 ? sum / static_cast<double>(scored) : std::numeric_limits<double>::quiet_NaN();
 }
 
-// Renders the spiral path from the run's original scene and from the style, and measures the
-// temporal warp error of each. The 2D baseline on the same path: the stage-3 stylizer run on the
-// original spiral render as a video, which is what restyling the spiral's frames in 2D gives (frames
-// in DIR/spiral/stylized_2d). Two motions: DIS flow of the original render (occlusions left out), the
-// one stage 3's temporal warm start also follows, and the renderer's exact flow (Style4D-Bench's
-// warp loss), which no 2D stylizer sees; the style keeps the geometry, so one flow serves all three.
-nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun& run, const std::string& name,
-                                  const fs::path& dir, int frames, const frame_stylizers::Stylizer& stylizer,
-                                  const io::ImageF& style_image, const frame_stylizers::StylizeSettings& settings) {
-  const std::vector<protocols::Sequence> seqs =
-      protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), frames);
-  std::vector<std::vector<io::ImageF>> rendered;
-  for (const std::string& source : {std::string("original"), name}) {
-    const fs::path out = dir / "spiral" / (source == "original" ? "original" : "styled");
-    fs::remove_all(out);
-    const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source);
-    protocols::RenderOptions options;
-    options.background = run.dataset.background;
-    options.flow = source == "original";
-    const protocols::ProtocolResult r =
-        protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), seqs, out, options);
-    rendered.push_back(read_sequence(out, r.record.sequences.front()));
-  }
-  std::cerr << "[consistency] the 2D stylizer on the " << rendered[0].size() << " spiral frames\n";
-  const std::vector<io::ImageF> stylized_2d = stylizer.stylize(rendered[0], style_image, settings);
+// The spiral path rendered from `source` of the run into `out` (the original with its exact flow).
+std::vector<io::ImageF> render_spiral(engine::Context& ctx, const scene::TrainedRun& run, const std::string& source,
+                                      const fs::path& out, const std::vector<protocols::Sequence>& seqs) {
+  fs::remove_all(out);
+  const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source);
+  protocols::RenderOptions options;
+  options.background = run.dataset.background;
+  options.flow = source == "original";
+  const protocols::ProtocolResult r = protocols::render_protocol(ctx, *scene, protocols::parse_path("spiral"), seqs, out, options);
+  return read_sequence(out, r.record.sequences.front());
+}
+
+// The spiral path (Style4D-Bench's protocol) rendered from the run's original scene, with the
+// renderer's exact flow, and the 2D baseline on the same path: the stage-3 stylizer run on that
+// render as a video, which is what restyling the spiral's frames in 2D gives (frames in
+// DIR/spiral/stylized_2d). None of it depends on the style, so it runs before stage 4 and times what
+// the measurement after stage 4 costs (a time budget keeps that much for it).
+struct SpiralBaseline {
+  std::vector<protocols::Sequence> seqs;
+  std::vector<io::ImageF> original, stylized_2d;
+  double seconds = 0;
+};
+
+SpiralBaseline spiral_baseline(engine::Context& ctx, const scene::TrainedRun& run, const fs::path& dir, int frames,
+                               const frame_stylizers::Stylizer& stylizer, const io::ImageF& style_image,
+                               const frame_stylizers::StylizeSettings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  SpiralBaseline b;
+  b.seqs = protocols::build_protocol(run.dataset, protocols::parse_path("spiral"), frames);
+  b.original = render_spiral(ctx, run, "original", dir / "spiral" / "original", b.seqs);
+  std::cerr << "[consistency] the 2D stylizer on the " << b.original.size() << " spiral frames\n";
+  b.stylized_2d = stylizer.stylize(b.original, style_image, settings);
   const fs::path out_2d = dir / "spiral" / "stylized_2d";
   fs::remove_all(out_2d);
   fs::create_directories(out_2d);
-  for (size_t i = 0; i < stylized_2d.size(); ++i) {
+  for (size_t i = 0; i < b.stylized_2d.size(); ++i) {
     char file[32];
     std::snprintf(file, sizeof file, "%04zu.png", i);
-    io::write_png(out_2d / file, stylized_2d[i]);
+    io::write_png(out_2d / file, b.stylized_2d[i]);
   }
+  b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return b;
+}
+
+// The temporal warp error of the original spiral render, of the style's and of the 2D baseline's.
+// Two motions: DIS flow of the original render (occlusions left out), the one stage 3's temporal
+// warm start also follows, and the renderer's exact flow (Style4D-Bench's warp loss), which no 2D
+// stylizer sees; the style keeps the geometry, so one flow serves all three.
+nlohmann::json spiral_consistency(engine::Context& ctx, const scene::TrainedRun& run, const std::string& name,
+                                  const fs::path& dir, int frames, const SpiralBaseline& b) {
+  const std::vector<io::ImageF> styled = render_spiral(ctx, run, name, dir / "spiral" / "styled", b.seqs);
   const fs::path flow = dir / "spiral" / "original" / "flow";
   return {{"frames", frames},
-          {"original_render", frame_stylizers::warp_error(rendered[0], rendered[0])},
-          {"styled_render", frame_stylizers::warp_error(rendered[0], rendered[1])},
-          {"stylized_2d", frame_stylizers::warp_error(rendered[0], stylized_2d)},
+          {"original_render", frame_stylizers::warp_error(b.original, b.original)},
+          {"styled_render", frame_stylizers::warp_error(b.original, styled)},
+          {"stylized_2d", frame_stylizers::warp_error(b.original, b.stylized_2d)},
           {"exact_flow",
-           {{"original_render", exact_flow_warp_error(rendered[0], flow)},
-            {"styled_render", exact_flow_warp_error(rendered[1], flow)},
-            {"stylized_2d", exact_flow_warp_error(stylized_2d, flow)}}}};
+           {{"original_render", exact_flow_warp_error(b.original, flow)},
+            {"styled_render", exact_flow_warp_error(styled, flow)},
+            {"stylized_2d", exact_flow_warp_error(b.stylized_2d, flow)}}}};
 }
 
 // The test camera's views in time order (DyNeRF: cam00 over its frames); empty when the test views
@@ -165,22 +184,41 @@ void write_contact_sheet(const scene::TrainedRun& run, const data::Dataset& styl
 
 }  // namespace
 
-nlohmann::json measure_style(engine::Context& ctx, const style_gaussians::StylizeRequest& req, const style_gaussians::StylizeOutcome& out) {
-  if (!out.complete) throw std::invalid_argument("measure_style: style " + out.name + " has not finished stage 4");
+StyleMeasured stylize_and_measure(engine::Context& ctx, const style_gaussians::StylizeRequest& req,
+                                  const std::atomic<bool>& stop) {
   const auto start = std::chrono::steady_clock::now();
+  auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  StyleMeasured m{style_gaussians::stylize_frames(ctx, req), nullptr};
+  style_gaussians::StylizeOutcome& out = m.outcome;
   const scene::TrainedRun& run = out.run;
+  const int spiral = req.spiral_frames > 0 ? req.spiral_frames : static_cast<int>(std::max<size_t>(2, frames_per_camera(run.dataset)));
+  const SpiralBaseline baseline = spiral_baseline(ctx, run, out.dir, spiral, *out.stylizer, out.style_image, out.settings);
+  double deadline = 0, reserve = 0;
+  if (req.time_budget > 0) {
+    // Kept for after stage 4: the measurement there (about what its style-independent part took) and
+    // stage 4's closing test (train::kReserveShare of the budget).
+    reserve = baseline.seconds + train::kReserveShare * req.time_budget;
+    deadline = std::max(1e-3, req.time_budget - since(start) - reserve);
+    std::fprintf(stderr, "time budget: %.0f s for stage 4 of %.0f s (stage 3 %.0f s, the spiral's original render %.0f s; "
+                 "%.0f s kept for the measurement after it)\n", deadline, req.time_budget, out.stage3_seconds,
+                 baseline.seconds, reserve);
+  }
+  style_gaussians::train_style(ctx, req, out, stop, deadline);
+  if (!out.complete) return m;
+  const auto after = std::chrono::steady_clock::now();
   const style_gaussians::StylizedFrames& frames = out.frames;
   const scene::TrainedRun with_style = scene::read_trained_run(req.run);  // now lists the new style
-  const int spiral = req.spiral_frames > 0 ? req.spiral_frames : static_cast<int>(std::max<size_t>(2, frames_per_camera(run.dataset)));
-  const nlohmann::json consistency =
-      spiral_consistency(ctx, with_style, out.name, out.dir, spiral, *out.stylizer, out.style_image, out.settings);
+  const nlohmann::json consistency = spiral_consistency(ctx, with_style, out.name, out.dir, spiral, baseline);
   double stylized_2d = 0, content_2d = 0;
   for (const auto& s : frames.sequences) stylized_2d += s.stylized_warp_error, content_2d += s.content_warp_error;
   const double sequences = static_cast<double>(std::max<size_t>(1, frames.sequences.size()));
   stylized_2d /= sequences, content_2d /= sequences;
   write_contact_sheet(run, frames.dataset, out.eval_dir, out.dir / "contact_sheet.png");
   const nlohmann::json test_camera = test_camera_consistency(run, frames.dataset, out.eval_dir);
-  const nlohmann::json summary = {
+  const double took = since(start);
+  nlohmann::json summary = {
       {"style", out.name},
       {"run", fs::absolute(run.root).string()},
       {"method", run::method_name(req.config.method)},
@@ -196,12 +234,18 @@ nlohmann::json measure_style(engine::Context& ctx, const style_gaussians::Styliz
                      {"content_frames", content_2d},
                      {"spiral_frames", spiral},
                      {"test_camera", test_camera}}},
-      {"seconds", out.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()},
+      {"seconds", took},
       {"device", ctx.info().name},
       {"device_peak_mib", static_cast<double>(ctx.memory_peak()) / (1 << 20)},
       {"settings", style_gaussians::to_json(req.config)}};
+  if (req.time_budget > 0)
+    summary["time_budget"] = {{"given_seconds", req.time_budget}, {"took_seconds", took},
+                              {"stage3_seconds", out.stage3_seconds}, {"spiral_original_seconds", baseline.seconds},
+                              {"stage4_deadline_seconds", deadline}, {"reserve_seconds", reserve},
+                              {"measurement_after_seconds", took - std::chrono::duration<double>(after - start).count()}};
   util::write_file_atomic(out.dir / "stylize.json", summary.dump(2) + "\n");
-  return summary;
+  m.summary = std::move(summary);
+  return m;
 }
 
 }  // namespace s4d::bench

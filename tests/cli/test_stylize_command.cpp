@@ -246,3 +246,45 @@ TEST_CASE("--style-setting paper trains the MLPs from the first step, two views 
   CHECK(test::run_style4d("stylize", "--run " + r.run.string() + " --style " + kStyle + " --style-setting fast", log) != 0);
   CHECK(test::read_text(log).find("setting 'fast' is not tuned or paper") != std::string::npos);
 }
+
+TEST_CASE("stylize --time-budget plans stage 4 from its measured steps, records how the time went, and continues with its plan") {
+  const fs::path dir = styled("budget", "--time-budget 20s --spiral-frames 4");
+  const nlohmann::json j = read_json(dir / "stylize.json");
+  const nlohmann::json& b = j.at("time_budget");
+  CHECK(b.at("given_seconds") == 20.0);
+  CHECK(b.at("took_seconds") == j.at("seconds"));
+  CHECK(read_json(dir / "request.json").at("time_budget") == 20.0);
+  // Stage 4 was given what stage 3 and the spiral's original render left, less the reserve after it
+  // (a thousandth of a second when nothing was left).
+  const double deadline = b.at("stage4_deadline_seconds").get<double>();
+  CHECK((b.at("stage3_seconds").get<double>() + b.at("spiral_original_seconds").get<double>() + deadline +
+             b.at("reserve_seconds").get<double>() <= 20.0 + 1e-6 ||
+         deadline == 1e-3));
+  CHECK(b.at("reserve_seconds").get<double>() > b.at("spiral_original_seconds").get<double>());
+  // The first plan 30 steps after the 20 untimed ones, before the MLPs join; the style ran the
+  // last plan's lengths, and its file records them.
+  const nlohmann::json& s4 = j.at("stage4");
+  const nlohmann::json& plans = s4.at("time_budget").at("plans");
+  REQUIRE(plans.size() >= 1);
+  CHECK(plans[0].at("iteration") == 50);
+  CHECK(plans[0].at("phase") == "colors");
+  CHECK(s4.at("time_budget").at("start_iterations") == 1500);
+  const nlohmann::json& last = plans.back();
+  CHECK(s4.at("iterations") == last.at("iterations"));
+  const run::StyleFile file = run::read_style_file(run::style_file_path(test::run4d().run, "budget"));
+  CHECK(file.settings.at("iterations") == last.at("iterations"));
+  CHECK(file.settings.at("mlp_iterations") == last.at("mlp_iterations"));
+  // The same command again continues the planned style (it is finished) instead of refusing it.
+  const test::Run4d& r = test::run4d();
+  const fs::path log = r.root / "stylize_budget_again.log";
+  REQUIRE_MESSAGE(test::run_style4d("stylize", "--run " + r.run.string() + " --style-image " + kStyle +
+                                                   " --style budget --time-budget 20s --spiral-frames 4",
+                                    log) == 0,
+                  test::read_text(log));
+  CHECK(read_json(dir / "stylize.json").at("stage4").at("iterations") == last.at("iterations"));
+  // Another budget is another request.
+  CHECK(test::run_style4d("stylize", "--run " + r.run.string() + " --style-image " + kStyle +
+                                         " --style budget --time-budget 30s --spiral-frames 4",
+                          log) != 0);
+  CHECK(test::read_text(log).find("--restart") != std::string::npos);
+}

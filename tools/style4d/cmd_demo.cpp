@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -24,6 +25,7 @@
 #include "s4d/bench/style_eval.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/image_io.h"
+#include "s4d/run/style_file.h"
 #include "s4d/run/run_lock.h"
 #include "s4d/style_gaussians/stylize_run.h"
 #include "s4d/frame_stylizers/builtin_style.h"
@@ -39,6 +41,12 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// --time-budget's split, from the demo's own stages on an idle 2-core lavapipe machine (docs/demo.md,
+// 2026-11-26: train 338 s, stylize 83 s, bench and videos 22 s): training gets this share of what is
+// left after the engine check, stylize this share of what is left after training (the rest is the
+// bench's and the videos', which have no length to fit).
+constexpr double kTrainShare = 0.76, kStylizeShareAfterTrain = 0.79;
 
 uint64_t host_peak_bytes() {
   rusage u{};
@@ -73,6 +81,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
       {"style-iters", "stage-4 iterations (default 500)", true, "N"},
       {"mlp-iters", "the last N stage-4 iterations also train the style MLPs (default 60)", true, "N"},
       {"spiral-frames", "frames of the spiral protocol and video (default 60)", true, "N"},
+      {"time-budget", "fit the whole demo to this much time, e.g. 5m: training and stage 4 are planned from their\n"
+                      "                        measured step times (train and stylize --time-budget)", true, "DURATION"},
   };
   Args args(argv, specs);
   if (args.help()) {
@@ -95,6 +105,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   request.config.iterations = parse_number<uint32_t>("style-iters", args.get_or("style-iters", "500"));
   request.config.mlp_iterations = parse_number<uint32_t>("mlp-iters", args.get_or("mlp-iters", "60"));
   const std::string spiral_frames = args.get_or("spiral-frames", "60");
+  const double budget = args.get("time-budget") ? parse_duration("time-budget", *args.get("time-budget")) : 0.0;
   fs::create_directories(out);
   // One demo per folder at a time: a second one on the same --out refuses (run_lock.h); its training
   // and stylize steps also take the run's locks as the commands do.
@@ -127,6 +138,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
   const std::atomic<bool> never_stop{false};
   stage(rec, &ctx, "train", "stages 1-2: static Gaussians, then the 4DGS deformation field", [&] {
     fs::create_directories(run);
+    // A continued demo goes on with its run's own plan (run.json).
+    if (budget > 0) config.time_budget = std::max(1.0, kTrainShare * (budget - seconds_since(start)));
     const run::RunLock run_lock(run);  // as `style4d train`; released before the styles lock it shared
     auto trainer = fs::exists(run / "run.json") ? train::Trainer::resume(ctx, run)
                                                 : std::make_unique<train::Trainer>(ctx, data, config, run);
@@ -142,6 +155,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
                  {"static_test_psnr", train_json.at("static").at("test_psnr")},
                  {"num_gaussians", trained.num_gaussians},
                  {"training_seconds", trained.seconds}};
+    if (budget > 0) rec.time_budget = {{"given_seconds", budget}, {"train_seconds", settings.value("time_budget", 0.0)}};
   });
 
   // Stages 3-4 with the built-in style (written next to the run: the demo needs no file of ours).
@@ -149,8 +163,15 @@ int cmd_demo(const std::vector<std::string>& argv) {
   if (!fs::exists(style_image)) io::write_png(style_image, frame_stylizers::builtin_style());
   request.run = run, request.style_image = style_image, request.name = "builtin";
   request.spiral_frames = parse_number<int>("spiral-frames", spiral_frames);
+  if (budget > 0) {
+    // A continued stylize keeps the budget its request.json was started with.
+    const fs::path started = run::style_dir(run, "builtin") / "request.json";
+    request.time_budget = fs::exists(started) ? nlohmann::json::parse(std::ifstream(started)).value("time_budget", 0.0)
+                                              : std::max(1.0, kStylizeShareAfterTrain * (budget - seconds_since(start)));
+    rec.time_budget["stylize_seconds"] = request.time_budget;
+  }
   stage(rec, &ctx, "stylize", "stages 3-4: the weight-free stylizer on every camera's frames, then Style Gaussians",
-        [&] { rec.stylize = bench::measure_style(ctx, request, style_gaussians::stylize_run(ctx, request, never_stop)); });
+        [&] { rec.stylize = bench::stylize_and_measure(ctx, request, never_stop).summary; });
 
   const fs::path bench_dir = out / "bench";
   stage(rec, nullptr, "bench", "Style4D-Bench: test and spiral protocols rendered and scored, original and style", [&] {
@@ -174,6 +195,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
 
   rec.host_peak_bytes = host_peak_bytes();
   rec.total_seconds = seconds_since(start);
+  if (budget > 0) rec.time_budget["took_seconds"] = rec.total_seconds;
   write_demo_report(rec);
   const bool ok = engine_ok(rec);
   std::cout << "demo: engine on " << ctx.info().name << (ok ? " works" : " FAILED its check") << "; 4DGS test PSNR "

@@ -122,6 +122,8 @@ int cmd_stylize(const std::vector<std::string>& argv) {
       {"region", "stylize only the Gaussians whose centre lies in this world box (min then max corner); "
                  "the rest keep the original look", true, "x0,y0,z0,x1,y1,z1"},
       {"freeze-colors", "method full: train only the MLPs, keep the run's colours and opacities", false, ""},
+      {"time-budget", "fit the whole command to this much time, e.g. 90s, 5m: stage 4's length is planned from\n"
+                      "                        its measured step times, once stage 3 and the measurement's first half are timed", true, "DURATION"},
       group("measurement"),
       {"spiral-frames", "frames of the spiral render that measures consistency (default: the clip's frame count)", true, "N"},
   };
@@ -159,15 +161,17 @@ int cmd_stylize(const std::vector<std::string>& argv) {
   if (auto v = args.get("iters"); v && req.config.method == run::StyleMethod::scratch)
     req.scratch_iterations = parse_number<uint32_t>("iters", *v);
   req.restart = args.flag("restart");
+  if (auto v = args.get("time-budget")) req.time_budget = parse_duration("time-budget", *v);
   if (auto v = args.get("weights")) req.weights = *v;
   req.style_size = parse_number<int>("style-size", args.get_or("style-size", "512"));
   req.spiral_frames = parse_number<int>("spiral-frames", args.get_or("spiral-frames", "0"));
   engine::Context ctx;
   std::signal(SIGINT, request_stylize_stop);
   std::signal(SIGTERM, request_stylize_stop);
-  const style_gaussians::StylizeOutcome out = style_gaussians::stylize_run(ctx, req, g_stop);
-  if (!out.complete) return 130;
-  const nlohmann::json s = bench::measure_style(ctx, req, out);
+  const bench::StyleMeasured m = bench::stylize_and_measure(ctx, req, g_stop);
+  if (!m.outcome.complete) return 130;
+  const style_gaussians::StylizeOutcome& out = m.outcome;
+  const nlohmann::json& s = m.summary;
   const nlohmann::json& exact = s.at("warp_error").at("spiral_exact_flow");
   std::cout << "style " << s.at("style").get<std::string>() << " (" << s.at("method").get<std::string>() << ") in "
             << out.dir.string() << "\n"
@@ -177,7 +181,9 @@ int cmd_stylize(const std::vector<std::string>& argv) {
             << "  spiral warp error, DIS flow:   the style's render " << s.at("warp_error").at("spiral_styled_render").get<double>()
             << ", the 2D stylizer on the spiral " << s.at("warp_error").at("spiral_stylized_2d").get<double>() << "\n"
             << "  warp error, 2D stylized frames (training cameras) " << s.at("warp_error").at("stylized_frames_2d").get<double>() << "\n"
-            << "  seconds                                 " << s.at("seconds").get<double>() << "\n";
+            << "  seconds                                 " << s.at("seconds").get<double>();
+  if (req.time_budget > 0) std::cout << " of a " << req.time_budget << " s budget";
+  std::cout << "\n";
   return 0;
 }
 

@@ -39,6 +39,7 @@ nlohmann::json demo_json(const DemoRecord& r) {
           {"stylize", r.stylize},
           {"bench", r.bench},
           {"videos", r.videos},
+          {"time_budget", r.time_budget},
           {"complete", true}};
 }
 
@@ -49,6 +50,11 @@ std::string stage_table(const DemoRecord& r) {
     md << "| " << s.name << " | " << s.what << " | " << fixed(s.seconds, 1) << " | " << fixed(mib(s.device_peak_bytes), 1) << " |\n";
   md << "| all | the whole demo | " << fixed(r.total_seconds, 1) << " | process peak resident memory: "
      << fixed(mib(r.host_peak_bytes), 0) << " MiB |\n";
+  if (!r.time_budget.is_null())
+    md << "\nTime budget " << fixed(r.time_budget.at("given_seconds").get<double>(), 0) << " s: training was given "
+       << fixed(r.time_budget.at("train_seconds").get<double>(), 0) << " s, stylize "
+       << fixed(r.time_budget.at("stylize_seconds").get<double>(), 0) << " s; the demo took "
+       << fixed(r.total_seconds, 0) << " s.\n";
   return md.str();
 }
 

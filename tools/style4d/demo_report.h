@@ -30,6 +30,7 @@ struct DemoRecord {
   nlohmann::json synth, train, stylize, bench;  // each stage's own summary
   std::vector<std::string> videos;              // relative to out
   double total_seconds = 0;
+  nlohmann::json time_budget;  // --time-budget: given, took, and each stage's share; null without one
 };
 
 bool engine_ok(const DemoRecord& r);

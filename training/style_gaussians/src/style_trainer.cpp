@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -22,6 +23,7 @@
 #include "s4d/primitives/add.h"
 #include "s4d/scene/cached_scene.h"
 #include "s4d/scene/styled_scene.h"
+#include "s4d/style_gaussians/style_budget.h"
 #include "s4d/splat/rasterizer.h"
 #include "s4d/splat/scene_upload.h"
 #include "s4d/train/stage_runner.h"
@@ -36,6 +38,10 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{512} << 20;
+// A time budget's plans (style_budget.h): steps are timed from kTimeMarkAfter steps into a session
+// (the first compile shaders and fill caches); the first plan comes kFirstPlanSteps later, the first
+// after the MLPs join kMinPlanSteps after that, the others every tenth of the stage.
+constexpr uint32_t kTimeMarkAfter = 20, kFirstPlanSteps = 30, kMinPlanSteps = 10;
 constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
 enum Group : uint32_t { gShDc, gShRest, gOpacity, gMlp, gCount };
 
@@ -127,12 +133,22 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   model::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
   double last_loss = 0;
   train::Evaluation test;  // the closing test
+  // A time budget (style_budget.h): `deadline` in seconds(); the lengths are planned from `start_config`.
+  double deadline = 0;
+  StyleConfig start_config;
+  nlohmann::json plans = nlohmann::json::array();
+  uint32_t mark_iteration = 0, session_plans = 0;
+  double mark_seconds = -1;  // < 0: not marked in this session
+  bool mark_mlp = false;     // the phase of the steps since the mark
+  double plain_step = 0, mlp_ratio = kMlpStepRatio;  // measured: a colour-only step, an MLP step in them
 
-  Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg)
+  Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg,
+       double stage_deadline)
       : ctx(c), run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)),
         train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
         rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
-        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed) {
+        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed), deadline(stage_deadline),
+        start_config(cfg) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
     if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
     full = config.method == run::StyleMethod::full;
@@ -212,6 +228,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     }
     return "reset the style of";
   }
+  void after_step() override { plan_time_if_due(); }
   train::ProgressValues final_test() override {
     test = evaluate(test_views, dir / "eval");
     return {{"test_psnr_vs_stylized", test.psnr}};
@@ -225,6 +242,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
       j["lr_scale"] = recovery_state.lr_scale;
     }
     if (recovery_state.repairs > 0) j["guard_repairs"] = recovery_state.repairs, j["guard_reset"] = recovery_state.removed;
+    if (!plans.empty()) j["time_budget"] = {{"start", to_json(start_config)}, {"plans", plans}};  // absent: never planned
     return j;
   }
 
@@ -241,10 +259,16 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   }
 
   void restore(const model::Checkpoint& cp) {
-    const nlohmann::json saved = cp.meta.at("settings");
-    if (saved != to_json(config))
+    // A planned style (time budget) started from the settings asked for and goes on with its plan's lengths.
+    const bool planned = cp.meta.contains("time_budget");
+    const nlohmann::json saved = planned ? cp.meta.at("time_budget").at("start") : cp.meta.at("settings");
+    if (saved != to_json(start_config))
       throw std::runtime_error(checkpoint_path().string() + " was written with other settings (" + saved.dump() +
                                "); pass the same options or --restart");
+    if (planned) {
+      config = style_config_from_json(cp.meta.at("settings"));
+      plans = cp.meta.at("time_budget").at("plans");
+    }
     if (cp.meta.at("count").get<uint32_t>() != count)
       throw std::runtime_error(checkpoint_path().string() + ": trained for another Gaussian count; the run was retrained (use --restart)");
     done = cp.meta.at("iteration").get<uint32_t>();
@@ -267,6 +291,43 @@ struct StyleTrainer::Impl final : train::RunnerStage {
 
   // Method full's MLPs train from this step on (earlier steps are colours only).
   bool mlp_on() const { return full && done + config.mlp_iterations > config.iterations; }
+
+  void mark_time(double now) { mark_iteration = done, mark_seconds = now, mark_mlp = mlp_phase(config, done); }
+
+  // The stage's lengths re-fitted to the deadline from the steps timed since the mark (style_budget.h).
+  void plan_time_if_due() {
+    if (deadline <= 0) return;
+    const double now = seconds();
+    if (mark_seconds < 0) {
+      if (done >= mark_iteration + kTimeMarkAfter) mark_time(now);
+      return;
+    }
+    const bool mlp = mlp_phase(config, done);
+    if (mlp != mark_mlp) return mark_time(now);  // the MLPs joined: time their steps alone
+    const uint32_t steps = done - mark_iteration;
+    const bool first_mlp = mlp && plain_step > 0 && !plans.empty() && plans.back().value("phase", "") != "mlp";
+    const uint32_t due = session_plans == 0 ? kFirstPlanSteps : first_mlp ? kMinPlanSteps : std::max(kMinPlanSteps, config.iterations / 10);
+    if (steps < due || done >= config.iterations) return;
+    const double per_step = (now - mark_seconds) / steps;
+    if (!mlp) plain_step = per_step;
+    else if (plain_step > 0 && full && start_config.mlp_iterations < start_config.iterations) mlp_ratio = per_step / plain_step;
+    const StyleLengths fitted = fitted_style_lengths(start_config, config, done, deadline, now, per_step, mlp_ratio);
+    const bool changed = fitted.iterations != config.iterations;
+    config.iterations = fitted.iterations, config.mlp_iterations = fitted.mlp_iterations;
+    plans.push_back({{"phase", mlp ? "mlp" : "colors"}, {"iteration", done}, {"seconds", now}, {"seconds_per_step", per_step},
+                     {"mlp_step_ratio", mlp_ratio}, {"iterations", config.iterations}, {"mlp_iterations", config.mlp_iterations}});
+    mark_time(now);
+    if (session_plans++ > 0 && !first_mlp) return;  // the later plans are in stylize.json
+    if (!changed) return;
+    std::fprintf(stderr, "time budget: stage 4 %u steps, the last %u with the MLPs (%.3f s per %s step at step %u; %.0f of %.0f s)\n",
+                 config.iterations, config.mlp_iterations, per_step, mlp ? "MLP" : "colour", done, now, deadline);
+  }
+
+  nlohmann::json time_budget_json() const {
+    if (deadline <= 0) return nullptr;
+    return {{"deadline_seconds", deadline}, {"start_iterations", start_config.iterations},
+            {"start_mlp_iterations", start_config.mlp_iterations}, {"plans", plans}};
+  }
 
   // The MLPs' learning rate at step `done` (1-based), which is their step done - (iterations - mlp_iterations).
   double mlp_lr() const {
@@ -381,13 +442,14 @@ struct StyleTrainer::Impl final : train::RunnerStage {
 };
 
 StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, const data::Dataset& stylized, std::string name,
-                           const StyleConfig& config) {
+                           const StyleConfig& config, double deadline) {
   validate(config);
   if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
-  impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config);
+  impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config, deadline);
   fs::create_directories(impl_->dir);
   if (fs::exists(impl_->checkpoint_path())) impl_->restore(model::read_checkpoint(impl_->checkpoint_path()));
   impl_->last_good = impl_->snapshot(impl_->seconds_before);
+  impl_->mark_iteration = impl_->done;  // a session's first steps are not timed
 }
 
 StyleTrainer::~StyleTrainer() = default;
@@ -398,10 +460,10 @@ StyleResult StyleTrainer::run(const std::atomic<bool>& stop) {
   train::StageRunner runner(s.dir / "loss.csv", "iteration,loss,seconds");
   // A refused final checkpoint was repaired (the closing test runs again) or rolled back (training goes on).
   do {
-    if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}};
+    if (!runner.run(s, stop)) return {false, s.done, s.seconds(), s.region_count, {}, s.time_budget_json()};
   } while (!runner.checkpoint(s));
   run::write_style_file(run::style_file_path(s.run.root, s.style), s.style_file());
-  return {true, s.done, s.seconds(), s.region_count, std::move(s.test)};
+  return {true, s.done, s.seconds(), s.region_count, std::move(s.test), s.time_budget_json()};
 }
 
 }  // namespace s4d::style_gaussians

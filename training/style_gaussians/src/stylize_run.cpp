@@ -70,7 +70,13 @@ void write_dataset_layout(const data::Dataset& content, const fs::path& dir) {
 
 }  // namespace
 
-StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, const std::atomic<bool>& stop) {
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+StylizeOutcome stylize_frames(engine::Context& ctx, const StylizeRequest& req) {
   const auto start = std::chrono::steady_clock::now();
   validate(req.config);
   // The run is held shared while its style trains: `train --resume` (exclusive) cannot change the
@@ -100,6 +106,7 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
                             {"network", network},
                             {"settings", to_json(req.config)}};
   if (req.scratch_iterations > 0) request["scratch_iterations"] = req.scratch_iterations;
+  if (req.time_budget > 0) request["time_budget"] = req.time_budget;
   const nlohmann::json previous = read_json_or_null(out.dir / "request.json");
   if (req.restart)
     for (const char* stale : {"checkpoint.s4dckpt", "style.s4dstyle", "run", "eval", "spiral", "stylize.json"})
@@ -119,9 +126,15 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
   const nlohmann::json key = {{"stylizer", stylizer->name()}, {"strength", req.config.strength}, {"seed", req.config.seed},
                               {"style_image", without_image_path(request).at("style_image")}, {"network", network}};
   out.frames = stylize_dataset(run.dataset, *stylizer, style_image, out.settings, key, out.dir / "stylized");
-  const StylizedFrames& frames = out.frames;
+  out.stage3_seconds = out.seconds = seconds_since(start);
+  return out;
+}
 
-  // Stage 4.
+void train_style(engine::Context& ctx, const StylizeRequest& req, StylizeOutcome& out, const std::atomic<bool>& stop,
+                 double deadline) {
+  const auto start = std::chrono::steady_clock::now();
+  const scene::TrainedRun& run = out.run;
+  const std::string& name = out.name;
   nlohmann::json& stage4 = out.stage4;
   fs::path& eval_dir = out.eval_dir;
   eval_dir = out.dir / "eval";
@@ -130,11 +143,12 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
     const fs::path scratch = out.dir / "run";
     run::TrainConfig config = run.config;
     if (req.scratch_iterations > 0) run::set_iterations(config, req.scratch_iterations);
+    config.time_budget = deadline;
     std::unique_ptr<train::Trainer> trainer = fs::exists(scratch / "run.json")
                                                   ? train::Trainer::resume(ctx, scratch)
                                                   : std::make_unique<train::Trainer>(ctx, out.dir / "stylized", config, scratch);
     const train::TrainResult r = trainer->run(stop);
-    if (!r.complete) return out;
+    if (!r.complete) return;
     run::StyleFile file;
     file.method = run::StyleMethod::scratch;
     file.settings = to_json(req.config);
@@ -143,16 +157,16 @@ StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& req, cons
     stage4 = {{"seconds", r.seconds}, {"test_psnr_vs_stylized", r.test.psnr}, {"test_ssim_vs_stylized", r.test.ssim}};
     eval_dir = scratch / "eval";
   } else {
-    StyleTrainer trainer(ctx, run, frames.dataset, name, req.config);
+    StyleTrainer trainer(ctx, run, out.frames.dataset, name, req.config, deadline);
     const StyleResult r = trainer.run(stop);
-    if (!r.complete) return out;
+    if (!r.complete) return;
     stage4 = {{"seconds", r.seconds}, {"iterations", r.iteration}, {"test_psnr_vs_stylized", r.test.psnr},
               {"test_ssim_vs_stylized", r.test.ssim}, {"stylized_gaussians", r.stylized_gaussians}};
+    if (!r.time_budget.is_null()) stage4["time_budget"] = r.time_budget;
   }
 
   out.complete = true;
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return out;
+  out.seconds += seconds_since(start);
 }
 
 }  // namespace s4d::style_gaussians

@@ -10,6 +10,8 @@
 #include <memory>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "s4d/data/dataset.h"
 #include "s4d/engine/context.h"
 #include "s4d/scene/trained_run.h"
@@ -24,6 +26,7 @@ struct StyleResult {
   double seconds = 0;     // training time over all sessions
   uint32_t stylized_gaussians = 0;  // inside the region (all without one)
   train::Evaluation test; // renders of the test views against their stylized frames (complete runs)
+  nlohmann::json time_budget;  // with a deadline: the plans (style_budget.h); else null
 };
 
 class StyleTrainer {
@@ -31,9 +34,10 @@ class StyleTrainer {
   // Trains style `name` of `run` against `stylized` (stylized_frames.h) with `config` (method full or
   // colors). Continues from RUN/style/NAME/checkpoint.s4dckpt when there is one written with the same
   // settings; throws std::runtime_error when its settings differ (name the difference) or the run's
-  // Gaussians changed since.
+  // Gaussians changed since. `deadline` > 0: the stage's training seconds (over all sessions) to end
+  // by; its length is re-planned as it runs (style_budget.h), from `config`'s lengths.
   StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, const data::Dataset& stylized, std::string name,
-               const StyleConfig& config);
+               const StyleConfig& config, double deadline = 0);
   ~StyleTrainer();
 
   // Trains to config.iterations or until `stop`; on completion writes RUN/style/NAME/style.s4dstyle

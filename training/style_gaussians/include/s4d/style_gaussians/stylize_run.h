@@ -1,5 +1,6 @@
-// Stages 3 and 4 of Style4D on a trained run: `style4d stylize` and the demo call this, then
-// measure the result (s4d/bench/style_eval.h). Writes RUN/style/NAME/:
+// Stages 3 and 4 of Style4D on a trained run, as two calls (stylize_frames, then train_style), so
+// that what measures the result (s4d/bench/style_eval.h, which `style4d stylize` and the demo call)
+// can do its style-independent part, and time it, before stage 4. Writes RUN/style/NAME/:
 //   request.json        the settings and style image the style was started with (a different
 //                       request for the same name is refused unless restarted)
 //   stylized/           stage 3's frames (stylized_frames.h), reused when the inputs match
@@ -37,6 +38,9 @@ struct StylizeRequest {
   // Method scratch: the retraining's iterations, its schedules scaled as `train --iters` does
   // (run::set_iterations); 0 keeps the run's own schedule.
   uint32_t scratch_iterations = 0;
+  // Seconds for the whole: stages 3 and 4 and the measurement (bench::stylize_and_measure fits
+  // stage 4 into what is left); 0: the settings' lengths. request.json records it.
+  double time_budget = 0;
 };
 
 // What stages 3 and 4 leave for the measurement; all but `complete` and `dir` are set only when
@@ -53,12 +57,20 @@ struct StylizeOutcome {
   StylizedFrames frames;           // stage 3
   nlohmann::json stage4;           // stage 4's seconds, test PSNR / SSIM against the stylized frames, ...
   std::filesystem::path eval_dir;  // stage 4's test-view renders in the style
-  double seconds = 0;              // stages 3 and 4
+  double seconds = 0;              // stages 3 and 4 (this session)
+  double stage3_seconds = 0;       // this session's, with loading the run
   // The run (shared) and the style (one writer) stay locked until the outcome is dropped, so that
   // the measurement writes under the same locks.
   std::optional<run::RunLock> run_lock, style_lock;
 };
 
-StylizeOutcome stylize_run(engine::Context& ctx, const StylizeRequest& request, const std::atomic<bool>& stop);
+// Locks the run and the style, checks request.json against the request and runs stage 3 (reusing
+// its cached frames); the outcome is not yet complete.
+StylizeOutcome stylize_frames(engine::Context& ctx, const StylizeRequest& request);
+// Stage 4 on what stylize_frames returned: complete, or interrupted by `stop` (checkpoint written).
+// `deadline` > 0: stage 4's training seconds (over all sessions) to end by (style_budget.h; method
+// scratch: the retraining's --time-budget).
+void train_style(engine::Context& ctx, const StylizeRequest& request, StylizeOutcome& out, const std::atomic<bool>& stop,
+                 double deadline = 0);
 
 }  // namespace s4d::style_gaussians
