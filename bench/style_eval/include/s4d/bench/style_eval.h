@@ -23,8 +23,8 @@ struct StyleMeasured {
 
 // Stage 3, the spiral's style-independent renders, stage 4, then the measurement, which writes
 // stylize.json. With request.time_budget, stage 4 gets what is left of it once stage 3 and the
-// style-independent renders took their time, less as much again for the measurement after stage 4
-// and train::kReserveShare for stage 4's closing test.
+// style-independent renders took their time, less three quarters of that again for the measurement
+// after stage 4 and train::kReserveShare for stage 4's closing test.
 StyleMeasured stylize_and_measure(engine::Context& ctx, const style_gaussians::StylizeRequest& request,
                                   const std::atomic<bool>& stop);
 
