@@ -66,4 +66,27 @@ TEST_CASE("train --time-budget plans both stages from measured steps and keeps t
   const double f = saved["settings"]["iterations"].get<double>() / 900;  // fast: 900 static steps, densified 300..700
   CHECK(saved["settings"]["densify_until"].get<double>() == doctest::Approx(700 * f).epsilon(0.02));
   CHECK(b["fine_step_ratio"].get<double>() >= 1.0);  // a 4DGS step costs at least a static one
+  // The first plan chose the Gaussian budget (no --budget given), and the run kept it.
+  const nlohmann::json& g = b["gaussian_budget"];
+  REQUIRE(g.is_object());
+  CHECK(g["start_budget"] == 15000);
+  CHECK(g["share"].get<double>() >= 0.25);
+  CHECK(g["share"].get<double>() <= 1.0);
+  CHECK(g["budget"].get<double>() == doctest::Approx(g["share"].get<double>() * 15000).epsilon(1e-4));
+  CHECK(plans[0]["budget"] == g["budget"]);
+  CHECK(saved["settings"]["budget"] == g["budget"]);
+}
+
+TEST_CASE("train --time-budget keeps a Gaussian budget asked for with --budget") {
+  const fs::path dir = test::fresh_dir("train_budget_given");
+  REQUIRE(test::run_style4d("synth", "--out " + (dir / "d").string() + " --cams 4 --frame-count 3 --size 48x36",
+                            dir / "synth.log") == 0);
+  const fs::path run = dir / "run";
+  const int rc = test::run_style4d("train", "--data " + (dir / "d").string() + " --run " + run.string() +
+                                                " --preset fast --time-budget 8s --budget 9000",
+                                   dir / "train.log");
+  REQUIRE_MESSAGE(test::exit_code(rc) == 0, test::read_text(dir / "train.log"));
+  const nlohmann::json t = nlohmann::json::parse(test::read_text(run / "train.json"));
+  CHECK(t["time_budget"]["gaussian_budget"].is_null());
+  CHECK(t["settings"]["budget"] == 9000);
 }

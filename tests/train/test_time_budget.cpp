@@ -80,3 +80,39 @@ TEST_CASE("time budget: the state round-trips through a checkpoint's JSON and re
   broken.erase("from_seconds");
   CHECK_THROWS_WITH_AS(train::BudgetState::from_json(broken), doctest::Contains("time_budget"), std::runtime_error);
 }
+
+TEST_CASE("time budget: the Gaussian budget keeps the share of the recipe's full-budget time that the run has") {
+  train::TimeEstimate e;
+  e.static_seconds = 100, e.fine_seconds = 300;  // the high end: 400 s with the budget filled
+  CHECK(train::gaussian_budget_share(200, e) == doctest::Approx(0.5));
+  CHECK(train::gaussian_budget_share(400, e) == 1.0);
+  CHECK(train::gaussian_budget_share(4000, e) == 1.0);  // never more than the recipe's budget
+  CHECK(train::gaussian_budget_share(10, e) == train::kMinBudgetShare);
+  CHECK(train::gaussian_budget_share(10, train::TimeEstimate{}) == 1.0);  // nothing estimated: kept
+}
+
+TEST_CASE("time budget: a plan's Gaussian budget survives the schedules' rescaling, and a given one stays given") {
+  const run::TrainConfig start = run::preset_config("fast");
+  run::TrainConfig c = start;
+  c.budget = 7000;
+  c.budget_given = false;
+  train::fit_schedules(c, start, 450, 750);
+  CHECK(c.budget == 7000);
+  CHECK(c.iterations == 450);
+  run::TrainConfig given = start;
+  given.budget_given = true;
+  train::fit_schedules(given, start, 450, 750);
+  CHECK(given.budget_given);
+  CHECK(given.budget == start.budget);
+}
+
+TEST_CASE("time budget: the Gaussian budget choice is kept in checkpoints, and older checkpoints load without it") {
+  train::BudgetState s;
+  s.start = run::preset_config("fast");
+  s.budget_choice = {{"share", 0.5}, {"budget", 7500}};
+  const train::BudgetState back = train::BudgetState::from_json(s.to_json());
+  CHECK(back.budget_choice == s.budget_choice);
+  nlohmann::json old = s.to_json();
+  old.erase("budget_choice");
+  CHECK(train::BudgetState::from_json(old).budget_choice.is_null());
+}

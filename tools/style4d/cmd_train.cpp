@@ -135,9 +135,11 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   nlohmann::json j = run::to_json(c);
   bool background_given = args.get("background").has_value();
   bool fine_given = args.get("fine-iters").has_value();
+  bool budget_given = args.get("budget").has_value();
   for (const std::string& kv : args.get_all("set")) {
     background_given = background_given || kv.starts_with("background=");
     fine_given = fine_given || kv.starts_with("fine_iterations=");
+    budget_given = budget_given || kv.starts_with("budget=");
     const size_t eq = kv.find('=');
     if (eq == std::string::npos || !j.contains(kv.substr(0, eq)))
       throw UsageError("--set: expected KEY=VALUE with KEY one of the settings in train.json, got '" + kv + "'");
@@ -158,6 +160,7 @@ run::TrainConfig config_from_args(const Args& args, const std::string& default_p
   }
   out.background_given = background_given;
   out.fine_iterations_given = fine_given;
+  out.budget_given = budget_given;
   return out;
 }
 

@@ -27,11 +27,18 @@ uint32_t fitted_length(double deadline, double now, uint32_t done, double second
   return static_cast<uint32_t>(std::clamp(done + more, double(done), std::max(cap, double(done))));
 }
 
+double gaussian_budget_share(double recipe_seconds, const TimeEstimate& e) {
+  const double full = e.static_seconds + e.fine_seconds;
+  if (!(full > 0)) return 1;
+  return std::clamp(recipe_seconds / full, kMinBudgetShare, 1.0);
+}
+
 void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t iterations, uint32_t fine) {
   run::TrainConfig scaled = start;
   // Carry what a run changes itself (learning-rate halving, the data's choices) over from `c`.
   scaled.lr_scale = c.lr_scale, scaled.static_max_time = c.static_max_time, scaled.background = c.background;
   scaled.sh_degree = c.sh_degree, scaled.sh_degree_auto = c.sh_degree_auto;  // the SH choice (sh_choice.h)
+  scaled.budget = c.budget, scaled.budget_given = c.budget_given;  // the first plan's (gaussian_budget_share)
   run::set_iterations(scaled, std::max<uint32_t>(1, iterations));
   if (start.fine_iterations > 0) run::set_fine_iterations(scaled, std::max<uint32_t>(1, fine));
   // A shortened run keeps its number of densifications (and so its pruning of what the initial cloud
@@ -44,7 +51,7 @@ void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t 
 
 nlohmann::json BudgetState::to_json() const {
   return {{"fine_ratio", fine_ratio}, {"start", run::to_json(start)}, {"from_iteration", from_iteration},
-          {"from_seconds", from_seconds}, {"plans", plans}};
+          {"from_seconds", from_seconds}, {"plans", plans}, {"budget_choice", budget_choice}};
 }
 
 BudgetState BudgetState::from_json(const nlohmann::json& j) {
@@ -55,6 +62,7 @@ BudgetState BudgetState::from_json(const nlohmann::json& j) {
     s.from_iteration = j.at("from_iteration").get<uint32_t>();
     s.from_seconds = j.at("from_seconds").get<double>();
     s.plans = j.at("plans");
+    s.budget_choice = j.value("budget_choice", nlohmann::json());  // absent in checkpoints from before it
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(std::string("checkpoint meta 'time_budget': ") + e.what());
   }

@@ -34,8 +34,18 @@ void Trainer::Impl::plan_time_if_due(double now) {
   const run::TrainConfig& start = time_plan.start;
   const double fine_deadline = budget * (1 - kReserveShare);
   uint32_t length = config.iterations, fine_length = config.fine_iterations;
+  const uint32_t budget_was = config.budget;
   if (!fine()) {
-    if (first_static) time_plan.fine_ratio = fine_step_ratio(estimate_time(config, per_step, gaussians->size()), config);
+    if (first_static) {
+      const TimeEstimate e = estimate_time(config, per_step, gaussians->size());
+      time_plan.fine_ratio = fine_step_ratio(e, config);
+      if (!config.budget_given) {  // the Gaussian budget is cut with the steps (gaussian_budget_share)
+        const double share = gaussian_budget_share(fine_deadline - now + iteration * per_step, e);
+        config.budget = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(share * start.budget)));
+        time_plan.budget_choice = {{"share", share}, {"recipe_seconds_at_full_budget", e.static_seconds + e.fine_seconds},
+                                   {"budget", config.budget}, {"start_budget", start.budget}};
+      }
+    }
     const double f = fitted_scale(fine_deadline, now, iteration, per_step, time_plan.fine_ratio, start.iterations,
                                   start.fine_iterations);
     length = std::max(iteration, static_cast<uint32_t>(std::lround(f * start.iterations)));
@@ -48,15 +58,16 @@ void Trainer::Impl::plan_time_if_due(double now) {
   mark_time(now);
   time_plan.plans.push_back({{"stage", run::stage_name(stage)}, {"iteration", iteration}, {"seconds", now},
                              {"seconds_per_step", per_step}, {"gaussians", gaussians->size()},
-                             {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations}});
-  if (config.iterations == was && config.fine_iterations == fine_was) return;
+                             {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations},
+                             {"budget", config.budget}});
+  if (config.iterations == was && config.fine_iterations == fine_was && config.budget == budget_was) return;
   save_run_json();  // a resumed run continues with the plan
   if (!first_static && !first_fine) return;  // the later plans are in train.json
   char line[256];
   std::snprintf(line, sizeof line,
-                "time budget: static stage %u steps, 4DGS stage %u (%.3f s per step at %s step %u with %u Gaussians; "
-                "%.0f of %.0f s used)",
-                config.iterations, config.fine_iterations, per_step, run::stage_name(stage), iteration,
+                "time budget: static stage %u steps, 4DGS stage %u, at most %u Gaussians (%.3f s per step at %s step %u "
+                "with %u Gaussians; %.0f of %.0f s used)",
+                config.iterations, config.fine_iterations, config.budget, per_step, run::stage_name(stage), iteration,
                 gaussians->size(), now, budget);
   std::cerr << line << "\n";
 }
@@ -64,7 +75,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
 nlohmann::json Trainer::Impl::time_budget_json(double seconds) const {
   if (config.time_budget <= 0) return nullptr;
   return {{"given_seconds", config.time_budget}, {"took_seconds", seconds}, {"fine_step_ratio", time_plan.fine_ratio},
-          {"plans", time_plan.plans}};
+          {"gaussian_budget", time_plan.budget_choice}, {"plans", time_plan.plans}};
 }
 
 }  // namespace s4d::train

@@ -58,6 +58,9 @@ struct TrainConfig {
   float grad_threshold = 0.0002f, percent_dense = 0.01f, min_opacity = 0.005f;
   float max_screen_radius = 20.0f;  // pixels; applies after the first opacity reset
   uint32_t budget = 1000000;        // at most this many Gaussians
+  // Whether the budget was asked for (--budget, --set budget=...); otherwise a time budget may cut
+  // it (train/time_budget.h, gaussian_budget_share). Not stored.
+  bool budget_given = false;
   // Growth into missed content (train/missing_content.h): at every densification, this many
   // training views are rendered and Gaussians are seeded where the render misses the ground truth.
   // 0: off (runs from before it existed); the presets set 4.

@@ -18,6 +18,8 @@ namespace s4d::train {
 
 // A stage at most this many times its starting length: more steps than the recipe's rarely pay.
 inline constexpr double kMaxStretch = 4.0;
+// The smallest share of the Gaussian budget a plan keeps (gaussian_budget_share).
+inline constexpr double kMinBudgetShare = 0.25;
 // The fine stage ends this share of the budget early, for the closing test and train.json.
 inline constexpr double kReserveShare = 0.03;
 
@@ -42,6 +44,15 @@ uint32_t fitted_length(double deadline, double now, uint32_t done, double second
 // prunes as often as the starting schedule.
 void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t iterations, uint32_t fine);
 
+// The share of the Gaussian budget a time budget keeps, chosen at the first plan: the seconds the
+// recipe may take (the steps done included) over what it takes with the Gaussians filling the budget (the estimate's high end), between
+// kMinBudgetShare and 1. Cutting the budget and the steps together rather than the steps alone: on
+// the built-in scene a third of the budget took 60 % of the time for 27.30 dB, where the steps cut
+// to that time give about 26.75 dB (docs/benchmarks.md, the speed/accuracy trade); a step's cost
+// grows about as the Gaussians^0.5-0.65, so one factor on the budget and the rest on the steps
+// splits a cut about evenly between the two. A budget the run was given (--budget) is kept.
+double gaussian_budget_share(double recipe_seconds, const TimeEstimate& estimate);
+
 // What the trainer keeps between plans (checkpoint meta and train.json "time_budget").
 struct BudgetState {
   double fine_ratio = 0;     // a fine step in static steps (fine_step_ratio); 0 until the first plan
@@ -49,6 +60,7 @@ struct BudgetState {
   uint32_t from_iteration = 0;  // the last plan's point in the current stage
   double from_seconds = 0;
   nlohmann::json plans = nlohmann::json::array();  // every plan: stage, iteration, seconds, s/step, Gaussians, lengths
+  nlohmann::json budget_choice;  // the first plan's Gaussian budget and its evidence; null when --budget was given
 
   nlohmann::json to_json() const;
   // Throws std::runtime_error naming the field when `j` is not what to_json writes.
