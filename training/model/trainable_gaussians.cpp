@@ -43,8 +43,8 @@ void TrainableGaussians::upload(const HostState& state) {
       throw std::invalid_argument(what + ": expected " + std::to_string(n) + " floats for " + std::to_string(count_) +
                                   " Gaussians in the parameters and both Adam moments");
     param_[a] = engine::buffer_from(*ctx_, what, *arrays[a]);
-    m_[a] = engine::buffer_from(*ctx_, what + " adam m", state.m[a]);
-    v_[a] = engine::buffer_from(*ctx_, what + " adam v", state.v[a]);
+    adam_[a] = optim::AdamTensor(*ctx_, what, param_[a], &grad_[a], n, engine::buffer_from(*ctx_, what + " adam m", state.m[a]),
+                                 engine::buffer_from(*ctx_, what + " adam v", state.v[a]));
   }
   for (uint32_t s = 0; s < kStatCount; ++s) {
     const std::string what = name_ + " " + stat_name(Stat(s));
@@ -98,8 +98,9 @@ void TrainableGaussians::adopt(Arrays&& next, uint32_t count) {
     if (b.size() != size_t{count} * 4)
       throw std::invalid_argument(name_ + ": adopted statistic '" + b.name() + "' has the wrong size");
   param_ = std::move(next.param);
-  m_ = std::move(next.m);
-  v_ = std::move(next.v);
+  for (Attr a : kCloudAttrs)
+    adam_[a] = optim::AdamTensor(*ctx_, name_ + " " + splat::attr_name(a), param_[a], &grad_[a], size_t{count} * width(a),
+                                 std::move(next.m[a]), std::move(next.v[a]));
   stat_ = std::move(next.stat);
   count_ = count;
   allocate_grads();
@@ -112,8 +113,8 @@ HostState TrainableGaussians::download() const {
   for (Attr a : kCloudAttrs) {
     const size_t n = size_t{count_} * width(a);
     *arrays[a] = ctx_->download<float>(param_[a], n);
-    s.m[a] = ctx_->download<float>(m_[a], n);
-    s.v[a] = ctx_->download<float>(v_[a], n);
+    s.m[a] = ctx_->download<float>(adam_[a].moment1(), n);
+    s.v[a] = ctx_->download<float>(adam_[a].moment2(), n);
   }
   for (uint32_t k = 0; k < kStatCount; ++k) s.stats[k] = ctx_->download<float>(stat_[k], count_);
   return s;

@@ -1,7 +1,6 @@
 // Trainer::Impl's field, snapshots and checkpoints.
 #include <algorithm>
 #include <optional>
-#include <span>
 #include <stdexcept>
 
 #include "s4d/deform/field_parts.h"
@@ -12,18 +11,6 @@
 
 namespace s4d::train {
 
-namespace {
-
-engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
-  engine::Buffer b(ctx, name, floats * 4);
-  engine::Recorder rec(ctx, "zero " + name);
-  rec.fill(b, 0);
-  ctx.run(std::move(rec));
-  return b;
-}
-
-}  // namespace
-
 void Trainer::Impl::make_field(uint32_t seed) {
   if (config.fine_iterations == 0) return;
   try {
@@ -32,10 +19,8 @@ void Trainer::Impl::make_field(uint32_t seed) {
     throw std::runtime_error(std::string(e.what()) + " (the 4DGS stage of preset '" + config.preset +
                              "'; --preset fast fits lavapipe, --stage static trains without it)");
   }
-  planes_m = zeros(ctx, "field planes adam m", field->plane_floats());
-  planes_v = zeros(ctx, "field planes adam v", field->plane_floats());
-  mlp_m = zeros(ctx, "field mlp adam m", field->mlp_floats());
-  mlp_v = zeros(ctx, "field mlp adam v", field->mlp_floats());
+  field_planes = optim::AdamTensor(ctx, "field.planes", field->planes(), &field->v_planes(), field->plane_floats());
+  field_mlp = optim::AdamTensor(ctx, "field.mlp", field->mlp(), &field->v_mlp(), field->mlp_floats());
 }
 
 nlohmann::json Trainer::Impl::meta(double seconds) const {
@@ -52,12 +37,9 @@ nlohmann::json Trainer::Impl::meta(double seconds) const {
 model::Checkpoint Trainer::Impl::snapshot(double seconds) const {
   model::Checkpoint cp{meta(seconds), gaussians->download(), {}};
   if (field) {
-    cp.extra = {{"field.planes", field->download_planes()},
-                {"field.mlp", field->download_mlp()},
-                {"field.planes.adam_m", ctx.download<float>(planes_m, field->plane_floats())},
-                {"field.planes.adam_v", ctx.download<float>(planes_v, field->plane_floats())},
-                {"field.mlp.adam_m", ctx.download<float>(mlp_m, field->mlp_floats())},
-                {"field.mlp.adam_v", ctx.download<float>(mlp_v, field->mlp_floats())}};
+    cp.extra = {{"field.planes", field->download_planes()}, {"field.mlp", field->download_mlp()}};
+    for (const optim::AdamTensor* t : {&field_planes, &field_mlp})
+      for (auto& moment : t->download_moments(optim::MomentNames::trainer)) cp.extra.push_back(std::move(moment));
     if (still_count > 0) {
       const std::vector<uint32_t> mask = deform::tail_mask(gaussians->size(), still_count);
       cp.extra.emplace_back("field.static_mask", std::vector<float>(mask.begin(), mask.end()));
@@ -105,12 +87,7 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   };
   field->upload_planes(extra("field.planes"));
   field->upload_mlp(extra("field.mlp"));
-  for (auto [buffer, name] : {std::pair{&planes_m, "field.planes.adam_m"}, {&planes_v, "field.planes.adam_v"},
-                              {&mlp_m, "field.mlp.adam_m"}, {&mlp_v, "field.mlp.adam_v"}}) {
-    const std::vector<float>& v = extra(name);
-    if (v.size() * 4 != buffer->size()) throw std::runtime_error(std::string("checkpoint: array '") + name + "' has the wrong size");
-    ctx.upload(*buffer, std::span<const float>(v));
-  }
+  for (optim::AdamTensor* t : {&field_planes, &field_mlp}) t->upload_moments(optim::MomentNames::trainer, extra, "checkpoint");
   for (const auto& [name, values] : cp.extra) {
     if (name != "field.static_mask") continue;
     if (values.size() != gaussians->size())

@@ -22,6 +22,7 @@
 #include "s4d/model/checkpoint.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam.h"
+#include "s4d/optim/adam_tensor.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/splat/rasterizer.h"
 #include "s4d/train/divergence.h"
@@ -64,7 +65,7 @@ struct Trainer::Impl {
   // Stage 2 state: the field, its Adam moments, the deformed Gaussians and a batch's scratch.
   std::unique_ptr<deform::DeformationField> field;
   std::array<float, 3> aabb_min{}, aabb_max{};
-  engine::Buffer planes_m, planes_v, mlp_m, mlp_v;
+  optim::AdamTensor field_planes, field_mlp;  // "field.planes", "field.mlp"
   deform::DeformedCloud deformed;  // the Gaussians at the time of the view in hand (deform_to)
   model::CloudArrays<engine::Buffer> scratch_grad;
   engine::Buffer batch_stats;

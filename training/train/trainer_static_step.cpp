@@ -56,15 +56,12 @@ optim::LossValue Trainer::Impl::forward_loss(const splat::Camera& cam, float ssi
 void Trainer::Impl::record_adam(engine::Recorder& rec) {
   const engine::StageScope timed(ctx, "adam");
   model::TrainableGaussians& g = *gaussians;
-  const uint32_t count = g.size();
   for (splat::Attr a : {splat::Attr::means, splat::Attr::log_scales, splat::Attr::quats, splat::Attr::opacity_logits})
-    adam.record(rec, splat::index(a), g.param(a), g.grad(a), g.moment1(a), g.moment2(a), count * g.width(a));
-  const splat::Attr sh = splat::Attr::sh;
-  adam.record_rows(rec, gShDc, gShRest, g.width(sh), 3, g.param(sh), g.grad(sh), g.moment1(sh), g.moment2(sh),
-                   count * g.width(sh));
+    g.adam(a).record(adam, rec, splat::index(a));
+  g.adam(splat::Attr::sh).record_rows(adam, rec, gShDc, gShRest, g.width(splat::Attr::sh), 3);
   if (fine()) {
-    adam.record(rec, gPlanes, field->planes(), field->v_planes(), planes_m, planes_v, field->plane_floats());
-    adam.record(rec, gMlp, field->mlp(), field->v_mlp(), mlp_m, mlp_v, field->mlp_floats());
+    field_planes.record(adam, rec, gPlanes);
+    field_mlp.record(adam, rec, gMlp);
   }
 }
 

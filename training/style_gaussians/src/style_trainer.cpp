@@ -16,6 +16,7 @@
 #include "s4d/engine/buffer_from.h"
 #include "s4d/model/checkpoint.h"
 #include "s4d/optim/adam.h"
+#include "s4d/optim/adam_tensor.h"
 #include "s4d/optim/grad_mask.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/optim/lr_schedule.h"
@@ -44,20 +45,14 @@ constexpr size_t kFrameCacheBytes = size_t{512} << 20;
 constexpr uint32_t kTimeMarkAfter = 20, kFirstPlanSteps = 30, kMinPlanSteps = 10;
 constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
 enum Group : uint32_t { gShDc, gShRest, gOpacity, gMlp, gCount };
+// The trained tensors' names, as checkpoints hold them.
+const char* const kTensorNames[3] = {"sh_delta", "opacity_delta", "mlp"};
 
 std::vector<const data::View*> views_of(const data::Dataset& d, bool test) {
   std::vector<const data::View*> out;
   for (const data::View& v : d.views)
     if (v.test == test) out.push_back(&v);
   return out;
-}
-
-engine::Buffer zeros(engine::Context& ctx, const std::string& name, size_t floats) {
-  engine::Buffer b(ctx, name, std::max<size_t>(floats, 1) * 4);
-  engine::Recorder rec(ctx, "zero " + name);
-  rec.fill(b, 0);
-  ctx.run(std::move(rec));
-  return b;
 }
 
 // SuperGaussians' initialisation: weights U(-0.5, 0.5), biases 0; "identity" also zeroes the last
@@ -118,9 +113,11 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   uint32_t count = 0, sh_coeffs = 0;
   float depth_scale = 1;
   bool full = false;
-  // Trained per-Gaussian arrays, their gradients and Adam moments: [0] SH deltas, [1] opacity deltas, [2] MLPs.
-  // batch_grad: a batch's later views' gradients, added to grad (config.batch > 1 only).
-  std::array<engine::Buffer, 3> param, grad, m, v, batch_grad;
+  // Trained per-Gaussian arrays and their gradients, with Adam's view of them (`adam_tensors`):
+  // [0] SH deltas, [1] opacity deltas, [2] MLPs. batch_grad: a batch's later views' gradients, added
+  // to grad (config.batch > 1 only).
+  std::array<engine::Buffer, 3> param, grad, batch_grad;
+  std::array<optim::AdamTensor, 3> adam_tensors;
   std::array<size_t, 3> floats{};
   engine::Buffer sh, opacity, target, v_rgb, v_means, v_scales, v_quats;
   splat::StyleMlp mlp_desc{};
@@ -161,13 +158,12 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     count = g.count, sh_coeffs = g.sh_coeffs;
     depth_scale = config.depth_scale > 0 ? config.depth_scale : automatic_depth_scale(ctx, g);
     floats = {size_t{count} * sh_coeffs * 3, count, full ? size_t{count} * S4D_STYLE_MLP_STRIDE : 0};
-    const char* names[3] = {"sh delta", "opacity delta", "mlp"};
     for (size_t k = 0; k < 3; ++k) {
-      param[k] = zeros(ctx, std::string("style ") + names[k], floats[k]);
-      grad[k] = zeros(ctx, std::string("style ") + names[k] + " grad", floats[k]);
-      m[k] = zeros(ctx, std::string("style ") + names[k] + " adam m", floats[k]);
-      v[k] = zeros(ctx, std::string("style ") + names[k] + " adam v", floats[k]);
-      if (config.batch > 1) batch_grad[k] = zeros(ctx, std::string("style ") + names[k] + " batch grad", floats[k]);
+      const std::string what = std::string("style ") + kTensorNames[k];
+      param[k] = engine::zeroed_buffer(ctx, what, floats[k]);
+      grad[k] = engine::zeroed_buffer(ctx, what + " grad", floats[k]);
+      adam_tensors[k] = optim::AdamTensor(ctx, kTensorNames[k], param[k], &grad[k], floats[k]);
+      if (config.batch > 1) batch_grad[k] = engine::zeroed_buffer(ctx, what + " batch grad", floats[k]);
     }
     std::vector<float> mlp = full ? initial_mlp(count, config.mlp_init, config.seed) : std::vector<float>{};
     region_count = count;
@@ -220,11 +216,10 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     for (size_t k = 0; k < 3; ++k) {
       if (floats[k] == 0) continue;
       const size_t width = floats[k] / count;
-      for (engine::Buffer* b : {&param[k], &m[k], &v[k]}) {
-        std::vector<float> values = ctx.download<float>(*b, floats[k]);
-        for (uint32_t g : rows) std::fill_n(values.begin() + g * width, width, 0.0f);
-        ctx.upload(*b, std::span<const float>(values));
-      }
+      std::vector<float> values = ctx.download<float>(param[k], floats[k]);
+      for (uint32_t g : rows) std::fill_n(values.begin() + g * width, width, 0.0f);
+      ctx.upload(param[k], std::span<const float>(values));
+      adam_tensors[k].zero_rows(rows, width);
     }
     return "reset the style of";
   }
@@ -248,12 +243,10 @@ struct StyleTrainer::Impl final : train::RunnerStage {
 
   model::Checkpoint snapshot(double seconds) const {
     model::Checkpoint cp{meta(seconds), {}, {}};
-    const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
     for (size_t k = 0; k < 3; ++k) {
       if (floats[k] == 0) continue;
-      cp.extra.emplace_back(names[k], ctx.download<float>(param[k], floats[k]));
-      cp.extra.emplace_back(std::string(names[k]) + ".adam_m", ctx.download<float>(m[k], floats[k]));
-      cp.extra.emplace_back(std::string(names[k]) + ".adam_v", ctx.download<float>(v[k], floats[k]));
+      cp.extra.emplace_back(kTensorNames[k], ctx.download<float>(param[k], floats[k]));
+      for (auto& moment : adam_tensors[k].download_moments(optim::MomentNames::trainer)) cp.extra.push_back(std::move(moment));
     }
     return cp;
   }
@@ -277,16 +270,19 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     depth_scale = cp.meta.at("depth_scale").get<float>();
     recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0), cp.meta.value("guard_repairs", 0u),
                       cp.meta.value("guard_reset", 0u)};
-    const char* names[3] = {"sh_delta", "opacity_delta", "mlp"};
-    for (size_t k = 0; k < 3; ++k)
-      for (auto [buffer, suffix] : {std::pair{&param[k], ""}, {&m[k], ".adam_m"}, {&v[k], ".adam_v"}}) {
-        if (floats[k] == 0) continue;
-        const std::string array = std::string(names[k]) + suffix;
-        const auto it = std::find_if(cp.extra.begin(), cp.extra.end(), [&](const auto& e) { return e.first == array; });
-        if (it == cp.extra.end() || it->second.size() != floats[k])
-          throw std::runtime_error(checkpoint_path().string() + ": array '" + array + "' is missing or of the wrong size");
-        ctx.upload(*buffer, std::span<const float>(it->second));
-      }
+    auto find = [&](const std::string& array) -> const std::vector<float>& {
+      const auto it = std::find_if(cp.extra.begin(), cp.extra.end(), [&](const auto& e) { return e.first == array; });
+      if (it == cp.extra.end()) throw std::runtime_error(checkpoint_path().string() + ": array '" + array + "' is missing");
+      return it->second;
+    };
+    for (size_t k = 0; k < 3; ++k) {
+      if (floats[k] == 0) continue;
+      const std::vector<float>& values = find(kTensorNames[k]);
+      if (values.size() != floats[k])
+        throw std::runtime_error(checkpoint_path().string() + ": array '" + kTensorNames[k] + "' is of the wrong size");
+      ctx.upload(param[k], std::span<const float>(values));
+      adam_tensors[k].upload_moments(optim::MomentNames::trainer, find, checkpoint_path().string());
+    }
   }
 
   // Method full's MLPs train from this step on (earlier steps are colours only).
@@ -414,10 +410,10 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     adam.upload();
     engine::Recorder rec(ctx, "style update");
     if (colors) {
-      adam.record_rows(rec, gShDc, gShRest, sh_coeffs * 3, 3, param[0], grad[0], m[0], v[0], static_cast<uint32_t>(floats[0]));
-      adam.record(rec, gOpacity, param[1], grad[1], m[1], v[1], count);
+      adam_tensors[0].record_rows(adam, rec, gShDc, gShRest, sh_coeffs * 3, 3);
+      adam_tensors[1].record(adam, rec, gOpacity);
     }
-    if (mlp) adam.record(rec, gMlp, param[2], grad[2], m[2], v[2], static_cast<uint32_t>(floats[2]));
+    if (mlp) adam_tensors[2].record(adam, rec, gMlp);
     ctx.run(std::move(rec));
     return last_loss;
   }

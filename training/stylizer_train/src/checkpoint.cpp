@@ -32,17 +32,15 @@ std::vector<float> read_flat(const io::SafetensorsFile& file, const std::string&
 }  // namespace
 
 void write_checkpoint(engine::Context& ctx, const fs::path& path, const CheckpointState& state,
-                      const std::vector<MomentBuffers>& moments, const std::vector<CheckpointTensor>& kept) {
+                      const std::vector<optim::AdamTensor>& moments, const std::vector<CheckpointTensor>& kept) {
   std::vector<io::NamedTensor> tensors;
   for (const CheckpointTensor& t : kept) {
     const size_t n = t.buffer->size() / sizeof(float);
     tensors.push_back({t.name, {static_cast<int64_t>(n)}, ctx.download<float>(*t.buffer, n)});
   }
-  for (const MomentBuffers& b : moments)
-    for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
-      const size_t n = buffer->size() / sizeof(float);
-      tensors.push_back({b.name + suffix, {static_cast<int64_t>(n)}, ctx.download<float>(*buffer, n)});
-    }
+  for (const optim::AdamTensor& t : moments)
+    for (auto& [name, values] : t.download_moments(optim::MomentNames::pytorch))
+      tensors.push_back({name, {static_cast<int64_t>(values.size())}, std::move(values)});
   const fs::path tmp = path.string() + ".tmp";
   std::map<std::string, std::string> meta{{"step", std::to_string(state.step)}, {"losses", state.losses}};
   for (const auto& [key, value] : state.settings) meta[key] = value;
@@ -62,13 +60,16 @@ CheckpointState read_checkpoint_state(const fs::path& path, const std::vector<st
   return state;
 }
 
-void read_checkpoint_moments(engine::Context& ctx, const fs::path& path, const std::vector<MomentBuffers>& moments) {
+void read_checkpoint_moments(const fs::path& path, std::vector<optim::AdamTensor>& moments) {
   const io::SafetensorsFile file(path);
-  for (const MomentBuffers& b : moments)
-    for (const auto& [buffer, suffix] : {std::pair{b.m, ".exp_avg"}, std::pair{b.v, ".exp_avg_sq"}}) {
-      const std::vector<float> values = read_flat(file, b.name + suffix, *buffer);
-      ctx.upload(*buffer, std::span<const float>(values));
-    }
+  for (optim::AdamTensor& t : moments) {
+    std::vector<float> held;  // the array `find` returned last
+    auto find = [&](const std::string& name) -> const std::vector<float>& {
+      held = file.read(name, {static_cast<int64_t>(t.floats())});
+      return held;
+    };
+    t.upload_moments(optim::MomentNames::pytorch, find, path.string());
+  }
 }
 
 void read_checkpoint_tensors(engine::Context& ctx, const fs::path& path, const std::vector<CheckpointTensor>& tensors) {

@@ -235,27 +235,17 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
         params.insert(params.end(), {&w->weight, &w->bias});
         names.insert(names.end(), {w->name + ".weight", w->name + ".bias"});
       }
-  std::vector<engine::Buffer> moments;
-  moments.reserve(2 * params.size());
-  {
-    engine::Recorder rec(ctx, "adam moments");
-    for (const engine::Buffer* p : params)
-      for (const char* m : {" m", " v"}) {
-        moments.emplace_back(ctx, p->name() + m, p->size());
-        rec.fill(moments.back(), 0);
-      }
-    ctx.run(std::move(rec));
-  }
-  std::vector<MomentBuffers> moment_buffers;
-  for (size_t i = 0; i < params.size(); ++i) moment_buffers.push_back({names[i], &moments[2 * i], &moments[2 * i + 1]});
-  if (done > 0) read_checkpoint_moments(ctx, checkpoint, moment_buffers);
+  std::vector<optim::AdamTensor> moments;  // the gradients are new every step
+  for (size_t i = 0; i < params.size(); ++i)
+    moments.emplace_back(ctx, names[i], *params[i], nullptr, params[i]->size() / sizeof(float));
+  if (done > 0) read_checkpoint_moments(checkpoint, moments);
   std::vector<std::pair<std::string, const nn::ConvWeights*>> mcc_params;
   for (const auto& p : mcc.parameters()) mcc_params.push_back(p);
   // The weights first, then the checkpoint: an interruption between them leaves steps that disagree.
   auto save_all = [&](int step) {
     save(ctx, s.out / "decoder.safetensors", step, decoder.parameters(), std::vector<bool>(decoder.parameters().size(), false));
     save(ctx, s.out / "mcc_module.safetensors", step, mcc_params, {false, false, false, true});
-    write_checkpoint(ctx, checkpoint, {step, s.losses, kept_settings(s)}, moment_buffers, head_tensors);
+    write_checkpoint(ctx, checkpoint, {step, s.losses, kept_settings(s)}, moments, head_tensors);
   };
   optim::Adam adam(ctx, 1, "stylizer adam");
   std::uniform_int_distribution<size_t> pick_content(0, contents.size() - 1), pick_style(0, styles.size() - 1);
@@ -317,9 +307,7 @@ std::vector<nn::MccLossValues> train_stylizer(engine::Context& ctx, const Styliz
     adam.set_group(0, {.lr = hgst_learning_rate(s.lr, step), .beta1 = 0.9, .beta2 = 0.999, .eps = 1e-8}, static_cast<uint32_t>(step));
     adam.upload();
     engine::Recorder rec(ctx, "stylizer adam " + std::to_string(step));
-    for (size_t i = 0; i < params.size(); ++i)
-      adam.record(rec, 0, *params[i], *g[i], moments[2 * i], moments[2 * i + 1],
-                  static_cast<uint32_t>(params[i]->size() / sizeof(float)));
+    for (size_t i = 0; i < params.size(); ++i) moments[i].record(adam, rec, 0, *g[i]);
     ctx.run(std::move(rec));
     losses.push_back(step_loss);
     if (!std::isfinite(losses.back().total))

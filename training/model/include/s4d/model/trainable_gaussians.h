@@ -10,6 +10,7 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
 #include "s4d/io/ply_gaussians.h"
+#include "s4d/optim/adam_tensor.h"
 #include "s4d/run/checkpoint.h"
 #include "s4d/splat/gaussian_buffers.h"
 #include "s4d/splat/rasterizer.h"
@@ -38,6 +39,9 @@ class TrainableGaussians {
   // Uploads `cloud`; moments and statistics start at zero. SH storage is fixed at cloud.sh_degree.
   TrainableGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, std::string name = "gaussians");
   explicit TrainableGaussians(engine::Context& ctx, const HostState& state, std::string name = "gaussians");
+  // Its Adam tensors point at its own buffers: it stays where it was made.
+  TrainableGaussians(const TrainableGaussians&) = delete;
+  TrainableGaussians& operator=(const TrainableGaussians&) = delete;
 
   uint32_t size() const { return count_; }
   int sh_degree() const { return sh_degree_; }  // stored degree
@@ -46,8 +50,10 @@ class TrainableGaussians {
 
   engine::Buffer& param(Attr a) { return param_[a]; }
   engine::Buffer& grad(Attr a) { return grad_[a]; }
-  engine::Buffer& moment1(Attr a) { return m_[a]; }
-  engine::Buffer& moment2(Attr a) { return v_[a]; }
+  engine::Buffer& moment1(Attr a) { return adam_[a].moment1(); }
+  engine::Buffer& moment2(Attr a) { return adam_[a].moment2(); }
+  // The attribute as Adam trains it: its parameter, gradient and moments (optim/adam_tensor.h).
+  const optim::AdamTensor& adam(Attr a) const { return adam_[a]; }
   engine::Buffer& stat(Stat s) { return stat_[s]; }
   const engine::Buffer& param(Attr a) const { return param_[a]; }
   const engine::Buffer& stat(Stat s) const { return stat_[s]; }
@@ -78,7 +84,8 @@ class TrainableGaussians {
   std::string name_;
   uint32_t count_ = 0;
   int sh_degree_ = 0;
-  CloudArrays<engine::Buffer> param_, grad_, m_, v_;
+  CloudArrays<engine::Buffer> param_, grad_;
+  CloudArrays<optim::AdamTensor> adam_;  // on param_ and grad_
   std::array<engine::Buffer, kStatCount> stat_;
 };
 

@@ -12,6 +12,7 @@
 
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
+#include "s4d/optim/adam_tensor.h"
 
 namespace s4d::stylizer_train {
 
@@ -23,13 +24,6 @@ struct CheckpointState {
   std::vector<std::pair<std::string, std::string>> settings;
 };
 
-// One trained tensor's moments on the GPU.
-struct MomentBuffers {
-  std::string name;  // "decoder.1.weight", "mcc_module.MCCN.fc.bias", ...
-  engine::Buffer* m;
-  engine::Buffer* v;
-};
-
 // A tensor the checkpoint holds itself, flat.
 struct CheckpointTensor {
   std::string name;
@@ -38,16 +32,15 @@ struct CheckpointTensor {
 
 // Writes path atomically (a temporary file renamed).
 void write_checkpoint(engine::Context& ctx, const std::filesystem::path& path, const CheckpointState& state,
-                      const std::vector<MomentBuffers>& moments, const std::vector<CheckpointTensor>& tensors);
+                      const std::vector<optim::AdamTensor>& moments, const std::vector<CheckpointTensor>& tensors);
 
 // The metadata. Throws std::runtime_error naming the file and the missing or bad field; `keys` are
 // the settings' names expected.
 CheckpointState read_checkpoint_state(const std::filesystem::path& path, const std::vector<std::string>& keys);
 
-// Uploads the moments; throws std::runtime_error naming the file and tensor that is missing or of
-// another size.
-void read_checkpoint_moments(engine::Context& ctx, const std::filesystem::path& path,
-                             const std::vector<MomentBuffers>& moments);
+// Uploads the moments of every tensor (named "decoder.1.weight", "mcc_module.MCCN.fc.bias", ...);
+// throws std::runtime_error naming the file and tensor that is missing or of another size.
+void read_checkpoint_moments(const std::filesystem::path& path, std::vector<optim::AdamTensor>& moments);
 // Uploads the tensors; throws as read_checkpoint_moments.
 void read_checkpoint_tensors(engine::Context& ctx, const std::filesystem::path& path,
                              const std::vector<CheckpointTensor>& tensors);
