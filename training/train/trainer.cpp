@@ -110,7 +110,7 @@ Trainer::Impl::Impl(engine::Context& c, run::RunDir r, run::TrainConfig& cfg, co
     : ctx(c), run(std::move(r)), config(cfg), dataset(d), recovery{0, cfg.lr_scale}, train_views(select_views(d, cfg, false)),
       test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
       loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
-      sampler(1, cfg.seed) {
+      sampler(1, cfg.seed), target(c, "training") {
   for (const data::View* v : train_views)
     if (v->time <= cfg.static_max_time + 1e-9) static_views.push_back(v);
   sampler = stage_sampler();

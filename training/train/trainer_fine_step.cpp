@@ -63,7 +63,7 @@ optim::LossValue Trainer::Impl::fine_step() {
   const bool stats = iteration < config.fine_densify_until;
   for (uint32_t b = 0; b < batch; ++b) {
     const data::View& view = next_fine_view(config.fine_time_front > 0 && (iteration * batch + b) % 2 == 0);
-    const splat::Camera cam = load_target(view);
+    const splat::Camera cam = target.load(view, frames);
     // Per view two submissions: the deformation, forward and loss; then both backwards.
     splat::GaussianParams params;
     const optim::LossValue value = forward_loss(cam, config.fine_ssim_weight, [&](engine::Recorder& rec) {
@@ -80,7 +80,7 @@ optim::LossValue Trainer::Impl::fine_step() {
     if (b > 0)
       for (splat::Attr a : splat::kCloudAttrs) grads[a] = &scratch_grad[a];
     engine::Recorder rec(ctx, "backward");
-    rast.record_backward(rec, params, {.v_rgb = &v_rgb}, grads);
+    rast.record_backward(rec, params, {.v_rgb = &target.image_gradient()}, grads);
     rec.barrier();
     std::optional<engine::StageScope> timed(std::in_place, ctx, "field");
     field->record_backward(rec, canonical(), static_cast<float>(view.time), grads);

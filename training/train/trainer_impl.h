@@ -30,6 +30,7 @@
 #include "s4d/train/time_budget.h"
 #include "s4d/train/trainer.h"
 #include "s4d/train/view_sampler.h"
+#include "s4d/train/view_target.h"
 
 namespace s4d::train {
 
@@ -60,7 +61,7 @@ struct Trainer::Impl {
   densify::Densifier densifier;
   Evaluator evaluator;
   ViewSampler sampler;
-  engine::Buffer target, v_rgb;
+  ViewTarget target;  // the view in hand's frame and its image gradient
 
   // Stage 2 state: the field, its Adam moments, the deformed Gaussians and a batch's scratch.
   std::unique_ptr<deform::DeformationField> field;
@@ -141,7 +142,6 @@ struct Trainer::Impl {
   // ---- Stage 1 and what both stages' steps share (trainer_static_step.cpp).
   void set_learning_rates(uint32_t step);
   // Uploads a view's target image; returns its camera.
-  splat::Camera load_target(const data::View& view);
   // One submission: the Gaussians that `params` records (nothing to record for stage 1's, the
   // deformation for stage 2's), their forward and the loss against the target; the same again
   // after the rasterizer's instance buffers grew. Returns the loss (maybe non-finite).

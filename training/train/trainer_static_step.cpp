@@ -1,5 +1,5 @@
-// Trainer::Impl's stage-1 step and what both stages' steps share: learning rates, the target
-// image, the loss and the Adam update.
+// Trainer::Impl's stage-1 step and what both stages' steps share: learning rates, the forward and
+// loss against the view's target (view_target.h), and the Adam update.
 #include <cmath>
 #include <span>
 
@@ -24,18 +24,6 @@ void Trainer::Impl::set_learning_rates(uint32_t step) {
   adam.upload();
 }
 
-splat::Camera Trainer::Impl::load_target(const data::View& view) {
-  const io::ImageF& image = frames.get(view);
-  const splat::Camera cam = splat::to_splat_camera(view.camera);
-  const size_t n = size_t{cam.width} * cam.height * 3;
-  if (target.size() < n * 4) {
-    target = engine::Buffer(ctx, "training target", n * 4);
-    v_rgb = engine::Buffer(ctx, "training image gradient", n * 4);
-  }
-  ctx.upload(target, std::span<const float>(image.data));
-  return cam;
-}
-
 optim::LossValue Trainer::Impl::forward_loss(const splat::Camera& cam, float ssim_weight,
                                              const std::function<splat::GaussianParams(engine::Recorder&)>& params) {
   for (;;) {  // twice at most: an overflow grows the instance buffers past the count it read
@@ -46,7 +34,7 @@ optim::LossValue Trainer::Impl::forward_loss(const splat::Camera& cam, float ssi
     rec.barrier();
     {
       const engine::StageScope timed(ctx, "loss");
-      loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, ssim_weight, v_rgb);
+      loss.record(rec, rast.rgb(), target.image(), cam.width, cam.height, 3, ssim_weight, target.image_gradient());
     }
     ctx.run(std::move(rec));
     if (rast.finish_forward()) return loss.value();
@@ -66,14 +54,14 @@ void Trainer::Impl::record_adam(engine::Recorder& rec) {
 }
 
 optim::LossValue Trainer::Impl::static_step() {
-  const splat::Camera cam = load_target(*static_views[sampler.next()]);
+  const splat::Camera cam = target.load(*static_views[sampler.next()], frames);
   const splat::GaussianParams params = gaussians->params(active_degree());
   const optim::LossValue value = forward_loss(cam, config.ssim_weight, [&](engine::Recorder&) { return params; });
   if (!std::isfinite(value.loss)) return value;
   set_learning_rates(iteration);
   // The backward, the densification statistics and Adam: the step's second and last submission.
   engine::Recorder rec(ctx, "training update");
-  rast.record_backward(rec, params, {.v_rgb = &v_rgb}, gaussians->grads());
+  rast.record_backward(rec, params, {.v_rgb = &target.image_gradient()}, gaussians->grads());
   rec.barrier();
   if (iteration < config.densify_until) {
     const engine::StageScope timed(ctx, "densify");

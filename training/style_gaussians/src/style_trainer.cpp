@@ -29,6 +29,7 @@
 #include "s4d/splat/scene_upload.h"
 #include "s4d/train/stage_runner.h"
 #include "s4d/train/view_sampler.h"
+#include "s4d/train/view_target.h"
 #include "s4d/util/atomic_file.h"
 #include "s4d_style_splat.h"
 
@@ -119,7 +120,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   std::array<engine::Buffer, 3> param, grad, batch_grad;
   std::array<optim::AdamTensor, 3> adam_tensors;
   std::array<size_t, 3> floats{};
-  engine::Buffer sh, opacity, target, v_rgb, v_means, v_scales, v_quats;
+  engine::Buffer sh, opacity, v_means, v_scales, v_quats;
+  train::ViewTarget target;  // the view in hand's stylized frame and its image gradient
   splat::StyleMlp mlp_desc{};
   engine::Buffer region_mask;  // [count] u32, 1 = stylized; empty: every Gaussian
   uint32_t region_count = 0;
@@ -144,7 +146,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
       : ctx(c), run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)),
         train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
         rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
-        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed), deadline(stage_deadline),
+        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed), target(c, "style"),
+        deadline(stage_deadline),
         start_config(cfg) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
     if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
@@ -346,28 +349,16 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     return p;
   }
 
-  splat::Camera load_target(const data::View& view) {
-    const io::ImageF& image = frames.get(view);
-    const splat::Camera cam = splat::to_splat_camera(view.camera);
-    const size_t n = size_t{cam.width} * cam.height * 3;
-    if (target.size() < n * 4) {
-      target = engine::Buffer(ctx, "style target", n * 4);
-      v_rgb = engine::Buffer(ctx, "style image gradient", n * 4);
-    }
-    ctx.upload(target, std::span<const float>(image.data));
-    return cam;
-  }
-
   // One view's loss (L1 + TV) and its gradients into `out` (assigned); returns the loss.
   double view_gradients(const data::View& view, bool mlp, std::array<engine::Buffer, 3>& out) {
-    const splat::Camera cam = load_target(view);
+    const splat::Camera cam = target.load(view, frames);
     const splat::GaussianParams p = styled(view, cam, mlp);
     rast.forward(p, cam, run.dataset.background);
     {
       engine::Recorder rec(ctx, "style loss");
-      loss.record(rec, rast.rgb(), target, cam.width, cam.height, 3, config.ssim_weight, v_rgb);
+      loss.record(rec, rast.rgb(), target.image(), cam.width, cam.height, 3, config.ssim_weight, target.image_gradient());
       rec.barrier();
-      if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, v_rgb);
+      if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, target.image_gradient());
       ctx.run(std::move(rec));
     }
     const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
@@ -376,7 +367,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     grads[splat::Attr::means] = &v_means, grads[splat::Attr::log_scales] = &v_scales, grads[splat::Attr::quats] = &v_quats;
     grads[splat::Attr::opacity_logits] = &out[1], grads[splat::Attr::sh] = &out[0];
     if (mlp) grads[splat::Attr::style_mlp] = &out[2];
-    rast.backward(p, {.v_rgb = &v_rgb}, grads);
+    rast.backward(p, {.v_rgb = &target.image_gradient()}, grads);
     return value;
   }
 
