@@ -205,7 +205,8 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"preset", "fast | default | quality (default: fast on a CPU device such as lavapipe, default on a GPU)", true, "P"},
       {"stage", "all: static then 4DGS (default); static: stage 1 only", true, "all|static"},
       {"time-budget", "fit the run to this much training time, e.g. 90s, 20m, 1h30m: both stages' lengths and\n"
-                      "                        schedules are planned from measured step times (train.json time_budget)", true, "DURATION"},
+                      "                        schedules, and the Gaussian budget unless --budget is given, are planned from\n"
+                      "                        measured step times (train.json time_budget)", true, "DURATION"},
       {"iters", "iterations of the static stage; the preset's schedules are scaled to fit", true, "N"},
       {"fine-iters", "iterations of the 4DGS stage; its densification window is scaled to fit", true, "N"},
       {"batch", "views per 4DGS step (default: the preset's)", true, "B"},
