@@ -1,10 +1,23 @@
-// The style4d subcommands. Each takes its arguments (after the subcommand name) and returns the
-// process exit code; errors are thrown and reported by main as one line.
+// The style4d subcommands and their table. Each takes its arguments (after the subcommand name)
+// and returns the process exit code; errors are thrown and reported by main as one line. They live
+// in the s4d_commands library, so that tests call them, and what they are built from, in process.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace s4d::cli {
+
+struct Command {
+  const char* name;
+  const char* summary;  // style4d --help's line
+  std::function<int(const std::vector<std::string>&)> run;
+};
+
+// Every subcommand, in style4d --help's order.
+const std::vector<Command>& command_table();
+// The command named `name`; null when there is none.
+const Command* find_command(const std::string& name);
 
 int cmd_bench(const std::vector<std::string>& args);
 int cmd_check_data(const std::vector<std::string>& args);

@@ -13,43 +13,11 @@
 
 namespace {
 
-struct Command {
-  const char* name;
-  const char* summary;
-  std::function<int(const std::vector<std::string>&)> run;
-};
+using s4d::cli::Command;
+using s4d::cli::command_table;
 
 // Handled by main itself, beside the command table.
 const std::vector<std::string> kBuiltins = {"help", "completion"};
-
-const std::vector<Command>& commands() {
-  static const std::vector<Command> list = {
-      {"synth", "render the built-in synthetic dynamic scene into a DyNeRF/Neu3D dataset (CPU)", s4d::cli::cmd_synth},
-      {"check-data", "check a dataset: layout, cameras, frames, times, bounds, and every problem by file and field",
-       s4d::cli::cmd_check_data},
-      {"devices", "list Vulkan devices and the features the engine uses", s4d::cli::cmd_devices},
-      {"train", "train Gaussians on a dataset (static Gaussians, then 4DGS), with checkpoints and --resume",
-       s4d::cli::cmd_train},
-      {"view", "the real-time viewer of a trained run (or --screenshot: one frame, no window)", s4d::cli::cmd_view},
-      {"render", "render a trained run along a protocol, or a 3DGS PLY from NeRF-style cameras", s4d::cli::cmd_render},
-      {"export-ply", "a trained run's Gaussians at time t (4DGS: deformed) as a standard 3DGS PLY",
-       s4d::cli::cmd_export_ply},
-      {"stylize", "stages 3 and 4: stylize a trained run after a style image (Style Gaussians), with --method ablations",
-       s4d::cli::cmd_stylize},
-      {"stylize-frames", "restyle one camera's frames (folder or video) after a style image", s4d::cli::cmd_stylize_frames},
-      {"make-style", "write the built-in procedural style image", s4d::cli::cmd_make_style},
-      {"train-stylizer", "train the MCCNet/HGST decoder and MCC module (VGG-19 fixed) into a --weights folder",
-       s4d::cli::cmd_train_stylizer},
-      {"bench", "Style4D-Bench metrics of stylised frames against the original render (report.json, .md, .csv, plots)",
-       s4d::cli::cmd_bench},
-      {"sweep", "a benchmark sweep (scenes x styles x methods) as cells: plan, run on Slurm or locally, status, merged table",
-       s4d::cli::cmd_sweep},
-      {"study", "the user study: plan pairs from bench outputs, serve them to participants, report the vote shares",
-       s4d::cli::cmd_study},
-      {"demo", "run the whole pipeline on the built-in scene and style, with a report", s4d::cli::cmd_demo},
-  };
-  return list;
-}
 
 void print_help() {
   std::cout << "usage: style4d COMMAND [options]   (style4d help COMMAND, or style4d COMMAND --help, for details)\n\n"
@@ -58,7 +26,7 @@ void print_help() {
   auto line = [](const std::string& name, const std::string& summary) {
     std::cout << "  " << name << std::string(name.size() < 16 ? 16 - name.size() : 1, ' ') << summary << "\n";
   };
-  for (const auto& c : commands()) line(c.name, c.summary);
+  for (const auto& c : command_table()) line(c.name, c.summary);
   std::cout << "\nthe program:\n";
   line("help COMMAND", "a command's options, grouped (as COMMAND --help)");
   line("completion bash", "a bash completion script: source <(style4d completion bash)");
@@ -68,15 +36,9 @@ void print_help() {
                "  S4D_VALIDATION=1          enable the Vulkan validation layer\n";
 }
 
-const Command* find_command(const std::string& name) {
-  for (const auto& c : commands())
-    if (name == c.name) return &c;
-  return nullptr;
-}
-
 int unknown_command(const std::string& name) {
   std::vector<std::string> names = kBuiltins;
-  for (const auto& c : commands()) names.emplace_back(c.name);
+  for (const auto& c : command_table()) names.emplace_back(c.name);
   const std::string near = s4d::cli::nearest(name, names);
   std::cerr << "style4d: error: unknown command '" << name << "'" << (near.empty() ? "" : "; did you mean '" + near + "'?")
             << " (style4d --help lists the commands)\n";
@@ -89,7 +51,7 @@ int completion(const std::vector<std::string>& args) {
     return 2;
   }
   std::vector<s4d::cli::CommandEntry> entries;
-  for (const auto& c : commands()) entries.push_back({c.name, c.run});
+  for (const auto& c : command_table()) entries.push_back({c.name, c.run});
   std::cout << s4d::cli::bash_completion(entries, kBuiltins);
   return 0;
 }
@@ -119,7 +81,7 @@ int main(int argc, char** argv) {
   }
   const std::string name = args[0];
   args.erase(args.begin());
-  const Command* c = find_command(name);
+  const Command* c = s4d::cli::find_command(name);
   if (!c) return unknown_command(name);
   try {
     return c->run(args);
