@@ -17,6 +17,17 @@ namespace {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+// Trains DIR/run with `options` on a tiny built-in scene (4 cameras, 3 frames, 48x36) written to
+// DIR/d; the log in DIR/train.log. Returns the exit code.
+int train_tiny(const fs::path& dir, const std::string& options) {
+  REQUIRE(test::run_style4d("synth", "--out " + (dir / "d").string() + " --cams 4 --frame-count 3 --size 48x36",
+                            dir / "synth.log") == 0);
+  const int rc = test::run_style4d("train", "--data " + (dir / "d").string() + " --run " + (dir / "run").string() +
+                                                " --preset fast " + options,
+                                   dir / "train.log");
+  return test::exit_code(rc);
+}
+
 }  // namespace
 
 TEST_CASE("--time-budget refuses what is not a duration, as a usage error naming the flag") {
@@ -33,15 +44,10 @@ TEST_CASE("--time-budget refuses what is not a duration, as a usage error naming
 }
 
 TEST_CASE("train --time-budget plans both stages from measured steps and keeps the latest plan in run.json") {
-  const fs::path dir = test::fresh_dir("train_budget");
-  REQUIRE(test::run_style4d("synth", "--out " + (dir / "d").string() + " --cams 4 --frame-count 3 --size 48x36",
-                            dir / "synth.log") == 0);
-  const fs::path run = dir / "run";
-  const int rc = test::run_style4d("train", "--data " + (dir / "d").string() + " --run " + run.string() +
-                                                " --preset fast --time-budget 0.25m",
-                                   dir / "train.log");
+  const fs::path dir = test::fresh_dir("train_budget"), run = dir / "run";
+  const int rc = train_tiny(dir, "--time-budget 0.25m");
   const std::string log = test::read_text(dir / "train.log");
-  REQUIRE_MESSAGE(test::exit_code(rc) == 0, log);
+  REQUIRE_MESSAGE(rc == 0, log);
   CHECK_MESSAGE(contains(log, "time budget: static stage "), log);
   const nlohmann::json t = nlohmann::json::parse(test::read_text(run / "train.json"));
   const nlohmann::json saved = nlohmann::json::parse(test::read_text(run / "run.json"));
@@ -78,14 +84,8 @@ TEST_CASE("train --time-budget plans both stages from measured steps and keeps t
 }
 
 TEST_CASE("train --time-budget keeps a Gaussian budget asked for with --budget") {
-  const fs::path dir = test::fresh_dir("train_budget_given");
-  REQUIRE(test::run_style4d("synth", "--out " + (dir / "d").string() + " --cams 4 --frame-count 3 --size 48x36",
-                            dir / "synth.log") == 0);
-  const fs::path run = dir / "run";
-  const int rc = test::run_style4d("train", "--data " + (dir / "d").string() + " --run " + run.string() +
-                                                " --preset fast --time-budget 8s --budget 9000",
-                                   dir / "train.log");
-  REQUIRE_MESSAGE(test::exit_code(rc) == 0, test::read_text(dir / "train.log"));
+  const fs::path dir = test::fresh_dir("train_budget_given"), run = dir / "run";
+  REQUIRE_MESSAGE(train_tiny(dir, "--time-budget 8s --budget 9000") == 0, test::read_text(dir / "train.log"));
   const nlohmann::json t = nlohmann::json::parse(test::read_text(run / "train.json"));
   CHECK(t["time_budget"]["gaussian_budget"].is_null());
   CHECK(t["settings"]["budget"] == 9000);

@@ -40,8 +40,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kFrameCacheBytes = size_t{512} << 20;
-// A time budget's plans (style_budget.h): steps are timed from kTimeMarkAfter steps into a session
-// (the first compile shaders and fill caches); the first plan comes kFirstPlanSteps later, the first
+// A time budget's plans (style_budget.h): steps are timed from kTimeMarkAfter steps after the
+// trainer starts or resumes (the first compile shaders and fill caches); the first plan comes kFirstPlanSteps later, the first
 // after the MLPs join kMinPlanSteps after that, the others every tenth of the stage.
 constexpr uint32_t kTimeMarkAfter = 20, kFirstPlanSteps = 30, kMinPlanSteps = 10;
 constexpr size_t kGeometryCacheBytes = size_t{1} << 30;
@@ -136,8 +136,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   double deadline = 0;
   StyleConfig start_config;
   nlohmann::json plans = nlohmann::json::array();
-  uint32_t mark_iteration = 0, session_plans = 0;
-  double mark_seconds = -1;  // < 0: not marked in this session
+  uint32_t mark_iteration = 0, plans_made = 0;  // since this trainer started or resumed
+  double mark_seconds = -1;  // < 0: not marked yet
   bool mark_mlp = false;     // the phase of the steps since the mark
   double plain_step = 0, mlp_ratio = kMlpStepRatio;  // measured: a colour-only step, an MLP step in them
 
@@ -288,9 +288,6 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     }
   }
 
-  // Method full's MLPs train from this step on (earlier steps are colours only).
-  bool mlp_on() const { return full && done + config.mlp_iterations > config.iterations; }
-
   void mark_time(double now) { mark_iteration = done, mark_seconds = now, mark_mlp = mlp_phase(config, done); }
 
   // The stage's lengths re-fitted to the deadline from the steps timed since the mark (style_budget.h).
@@ -305,7 +302,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     if (mlp != mark_mlp) return mark_time(now);  // the MLPs joined: time their steps alone
     const uint32_t steps = done - mark_iteration;
     const bool first_mlp = mlp && plain_step > 0 && !plans.empty() && plans.back().value("phase", "") != "mlp";
-    const uint32_t due = session_plans == 0 ? kFirstPlanSteps : first_mlp ? kMinPlanSteps : std::max(kMinPlanSteps, config.iterations / 10);
+    const uint32_t due = plans_made == 0 ? kFirstPlanSteps : first_mlp ? kMinPlanSteps : std::max(kMinPlanSteps, config.iterations / 10);
     if (steps < due || done >= config.iterations) return;
     const double per_step = (now - mark_seconds) / steps;
     if (!mlp) plain_step = per_step;
@@ -316,7 +313,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     plans.push_back({{"phase", mlp ? "mlp" : "colors"}, {"iteration", done}, {"seconds", now}, {"seconds_per_step", per_step},
                      {"mlp_step_ratio", mlp_ratio}, {"iterations", config.iterations}, {"mlp_iterations", config.mlp_iterations}});
     mark_time(now);
-    if (session_plans++ > 0 && !first_mlp) return;  // the later plans are in stylize.json
+    if (plans_made++ > 0 && !first_mlp) return;  // the later plans are in stylize.json
     if (!changed) return;
     std::fprintf(stderr, "time budget: stage 4 %u steps, the last %u with the MLPs (%.3f s per %s step at step %u; %.0f of %.0f s)\n",
                  config.iterations, config.mlp_iterations, per_step, mlp ? "MLP" : "colour", done, now, deadline);
@@ -374,8 +371,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   // A step over config.batch views: the first view's gradients land in grad, the later ones' are
   // added to them (summed, see StyleConfig::batch); the loss is the views' mean.
   double step() override {
+    const bool mlp = mlp_phase(config, done);  // method full's last mlp_iterations steps
     ++done;
-    const bool mlp = mlp_on();
     last_loss = 0;
     for (uint32_t b = 0; b < config.batch; ++b) {
       const double value = view_gradients(*train_views[sampler.next()], mlp, b == 0 ? grad : batch_grad);
@@ -436,7 +433,7 @@ StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, c
   fs::create_directories(impl_->dir);
   if (fs::exists(impl_->checkpoint_path())) impl_->restore(model::read_checkpoint(impl_->checkpoint_path()));
   impl_->last_good = impl_->snapshot(impl_->seconds_before);
-  impl_->mark_iteration = impl_->done;  // a session's first steps are not timed
+  impl_->mark_iteration = impl_->done;  // the first steps after a start or resume are not timed
 }
 
 StyleTrainer::~StyleTrainer() = default;

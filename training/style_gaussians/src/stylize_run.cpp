@@ -70,12 +70,6 @@ void write_dataset_layout(const data::Dataset& content, const fs::path& dir) {
 
 }  // namespace
 
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-}  // namespace
-
 StylizeOutcome stylize_frames(engine::Context& ctx, const StylizeRequest& req) {
   const auto start = std::chrono::steady_clock::now();
   validate(req.config);
@@ -126,13 +120,12 @@ StylizeOutcome stylize_frames(engine::Context& ctx, const StylizeRequest& req) {
   const nlohmann::json key = {{"stylizer", stylizer->name()}, {"strength", req.config.strength}, {"seed", req.config.seed},
                               {"style_image", without_image_path(request).at("style_image")}, {"network", network}};
   out.frames = stylize_dataset(run.dataset, *stylizer, style_image, out.settings, key, out.dir / "stylized");
-  out.stage3_seconds = out.seconds = seconds_since(start);
+  out.stage3_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 
 void train_style(engine::Context& ctx, const StylizeRequest& req, StylizeOutcome& out, const std::atomic<bool>& stop,
                  double deadline) {
-  const auto start = std::chrono::steady_clock::now();
   const scene::TrainedRun& run = out.run;
   const std::string& name = out.name;
   nlohmann::json& stage4 = out.stage4;
@@ -166,7 +159,6 @@ void train_style(engine::Context& ctx, const StylizeRequest& req, StylizeOutcome
   }
 
   out.complete = true;
-  out.seconds += seconds_since(start);
 }
 
 }  // namespace s4d::style_gaussians

@@ -23,7 +23,7 @@ namespace s4d::style_gaussians {
 struct StyleResult {
   bool complete = false;  // false: interrupted; the checkpoint holds the state to resume from
   uint32_t iteration = 0;
-  double seconds = 0;     // training time over all sessions
+  double seconds = 0;     // training time, summed over a stopped style's runs
   uint32_t stylized_gaussians = 0;  // inside the region (all without one)
   train::Evaluation test; // renders of the test views against their stylized frames (complete runs)
   nlohmann::json time_budget;  // with a deadline: the plans (style_budget.h); else null
@@ -34,7 +34,7 @@ class StyleTrainer {
   // Trains style `name` of `run` against `stylized` (stylized_frames.h) with `config` (method full or
   // colors). Continues from RUN/style/NAME/checkpoint.s4dckpt when there is one written with the same
   // settings; throws std::runtime_error when its settings differ (name the difference) or the run's
-  // Gaussians changed since. `deadline` > 0: the stage's training seconds (over all sessions) to end
+  // Gaussians changed since. `deadline` > 0: the stage's training seconds (summed over a stopped style's runs) to end
   // by; its length is re-planned as it runs (style_budget.h), from `config`'s lengths.
   StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, const data::Dataset& stylized, std::string name,
                const StyleConfig& config, double deadline = 0);

@@ -57,8 +57,7 @@ struct StylizeOutcome {
   StylizedFrames frames;           // stage 3
   nlohmann::json stage4;           // stage 4's seconds, test PSNR / SSIM against the stylized frames, ...
   std::filesystem::path eval_dir;  // stage 4's test-view renders in the style
-  double seconds = 0;              // stages 3 and 4 (this session)
-  double stage3_seconds = 0;       // this session's, with loading the run
+  double stage3_seconds = 0;       // in this process, loading the run included
   // The run (shared) and the style (one writer) stay locked until the outcome is dropped, so that
   // the measurement writes under the same locks.
   std::optional<run::RunLock> run_lock, style_lock;
@@ -68,7 +67,7 @@ struct StylizeOutcome {
 // its cached frames); the outcome is not yet complete.
 StylizeOutcome stylize_frames(engine::Context& ctx, const StylizeRequest& request);
 // Stage 4 on what stylize_frames returned: complete, or interrupted by `stop` (checkpoint written).
-// `deadline` > 0: stage 4's training seconds (over all sessions) to end by (style_budget.h; method
+// `deadline` > 0: stage 4's training seconds (summed over a stopped style's runs) to end by (style_budget.h; method
 // scratch: the retraining's --time-budget).
 void train_style(engine::Context& ctx, const StylizeRequest& request, StylizeOutcome& out, const std::atomic<bool>& stop,
                  double deadline = 0);
