@@ -1,6 +1,6 @@
 // Shared layouts of the 4DGaussians deformation field F(x, y, z, t) (ALGORITHMS.md 3.1-3.2): a
 // multi-resolution HexPlane feeding a small MLP whose heads offset the canonical Gaussians' raw
-// parameters. The kernels (shaders/deform), the host class (training/deform) and the CPU twin
+// parameters. The kernels (shaders/deform), the host class (training/kernels/deform) and the CPU twin
 // (training/ref/include/s4d/ref/hexplane_ref.h, deform_mlp_ref.h, deform_ref.h) all take the plane
 // and weight offsets from the functions below, so there is one definition of both layouts.
 //

@@ -91,7 +91,7 @@
 #define S4D_B_ATTN_CONTENT 2  // [c, n_c] normalised content features
 #define S4D_B_ATTN_OUT 3      // [c, n_c]; the chunk's columns are written
 
-// Vision transformer pieces (DINO ViT, training/nn/dino_vit.h). Tokens are a [C, 1, N] tensor: one
+// Vision transformer pieces (DINO ViT, training/kernels/nn/dino_vit.h). Tokens are a [C, 1, N] tensor: one
 // column per token, the class token first, so 1x1 convolutions are the Linear layers.
 // nn_layernorm: LayerNorm over the channels of each token (PyTorch LayerNorm(C, eps)): mean, then
 // the centred biased variance, one invocation per token looping over C three times.
@@ -117,7 +117,7 @@
 #define S4D_B_TRANSPOSE_IN 0   // [rows, cols]
 #define S4D_B_TRANSPOSE_OUT 1  // [cols, rows]
 
-// nn_group_norm (MUSIQ's patch stem, training/nn/musiq_net.h): a batch of small images stacked along
+// nn_group_norm (MUSIQ's patch stem, training/kernels/nn/musiq_net.h): a batch of small images stacked along
 // H in cells of cell_h rows (height a multiple of cell_h), each normalised on its own: GroupNorm over
 // the window rows [row0, row0 + rows) x cols [col0, col0 + cols) of the cell (biased variance, then
 // weight, bias; S4D_NN_FLAG_RELU: ReLU), every value outside the window set to 0 so it is the zero

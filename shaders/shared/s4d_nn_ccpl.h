@@ -1,5 +1,5 @@
 // Shared layouts of the CCPL kernels (Wu et al. 2022, "CCPL: Contrastive Coherence Preserving Loss",
-// and HGST's variant, ALGORITHMS.md 4.5; host side training/nn/ccpl.cpp, twins in
+// and HGST's variant, ALGORITHMS.md 4.5; host side training/kernels/nn/ccpl.cpp, twins in
 // training/ref/include/s4d/ref/ccpl_ref.h). Features are one image [C, H*W]; the S sampled
 // difference vectors and everything after them are [C, S], one column per sample. The sample
 // indices come from the host (its seeded generator), so the kernels draw nothing.

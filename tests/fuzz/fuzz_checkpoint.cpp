@@ -1,4 +1,4 @@
-// Checkpoint container reader (training/run/checkpoint.cpp). Only the file parsing is built: the
+// Checkpoint container reader (training/runs/run/checkpoint.cpp). Only the file parsing is built: the
 // arrays' names come from that file and header-only splat/gaussian_buffers.h, so no Vulkan code is linked.
 #include "fuzz_common.h"
 #include "s4d/run/checkpoint.h"

@@ -1,4 +1,4 @@
-// NeRF / D-NeRF transforms.json reader (training/io/nerf_cameras.cpp), with and without a default size.
+// NeRF / D-NeRF transforms.json reader (training/host/io/nerf_cameras.cpp), with and without a default size.
 #include "fuzz_common.h"
 #include "s4d/io/nerf_cameras.h"
 

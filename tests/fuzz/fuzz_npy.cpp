@@ -1,4 +1,4 @@
-// NumPy .npy reader (training/data/npy.cpp).
+// NumPy .npy reader (training/host/data/npy.cpp).
 #include "fuzz_common.h"
 #include "s4d/data/npy.h"
 

@@ -1,4 +1,4 @@
-// 3DGS PLY reader (training/io/ply_gaussians.cpp) and the PLY header parser it uses.
+// 3DGS PLY reader (training/host/io/ply_gaussians.cpp) and the PLY header parser it uses.
 #include "fuzz_common.h"
 #include "s4d/io/ply_gaussians.h"
 #include "s4d/io/ply_header.h"

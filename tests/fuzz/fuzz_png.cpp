@@ -1,4 +1,4 @@
-// PNG reader (training/io/png_io.cpp, libpng underneath).
+// PNG reader (training/host/io/png_io.cpp, libpng underneath).
 #include "fuzz_common.h"
 #include "s4d/io/image_io.h"
 

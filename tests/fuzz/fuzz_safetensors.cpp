@@ -1,4 +1,4 @@
-// safetensors reader (training/io/safetensors.cpp): the header, then every tensor at its own shape.
+// safetensors reader (training/host/io/safetensors.cpp): the header, then every tensor at its own shape.
 #include "fuzz_common.h"
 #include "s4d/io/safetensors.h"
 

@@ -1,7 +1,7 @@
 // Random AdaIN-style networks for the tests: parameters of vgg_normalised (up to relu<levels>_1) and
 // its decoder at any channel widths, keyed by their PyTorch state-dict prefix, written as
 // safetensors files, and the double CPU twins of the encoder and decoder composed from the layer
-// twins, written from ALGORITHMS.md 4.2's layer list independently of training/nn/vgg.cpp.
+// twins, written from ALGORITHMS.md 4.2's layer list independently of training/kernels/nn/vgg.cpp.
 #pragma once
 #include <filesystem>
 #include <map>

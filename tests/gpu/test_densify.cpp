@@ -1,4 +1,4 @@
-// Densification on the GPU (training/densify, shaders/densify) against its CPU twin on lavapipe:
+// Densification on the GPU (training/trainers/densify, shaders/densify) against its CPU twin on lavapipe:
 // densify_classify + densify_map + densify_gather + densify_split on a few thousand random Gaussians
 // (every array compared), densify_demote under a budget, empty inputs and results, Adam moment
 // semantics, densify_reset_opacity, densify_accumulate (per view and batched) after real

@@ -1,4 +1,4 @@
-// The renderer's exact optical flow (training/splat/include/s4d/splat/exact_flow.h): its kernels
+// The renderer's exact optical flow (training/kernels/splat/include/s4d/splat/exact_flow.h): its kernels
 // against their CPU twins, the analytic flow of a fronto-parallel plane under a camera translation,
 // the warp loss of two renders under that flow, and zero-area Gaussians (docs/kernel-extremes.md).
 #include <doctest/doctest.h>

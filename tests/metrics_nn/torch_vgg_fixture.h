@@ -1,7 +1,7 @@
 // Random torchvision-style VGGs and AlexNets for the learned-metric tests: "features.<i>" convolutions of VGG16 or
 // VGG19 at shrunken widths, written as safetensors, and their double twin composed from the layer
 // twins (zero-padded 3x3 convolutions, floor-mode pooling), written from torchvision's cfg lists
-// independently of training/nn/torchvision_vgg.cpp.
+// independently of training/kernels/nn/torchvision_vgg.cpp.
 #pragma once
 #include <array>
 #include <random>

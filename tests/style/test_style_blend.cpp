@@ -1,4 +1,4 @@
-// The blend of two styles (training/scene/style_blend.h) on hand-made style files: the ends are
+// The blend of two styles (training/runs/scene/style_blend.h) on hand-made style files: the ends are
 // each style exactly, colours and opacities lerp, MLP weights lerp with the hidden layers of an MLP
 // that adds nothing taken from the other style, and the refusals name what is wrong.
 #include <doctest/doctest.h>

@@ -1,4 +1,4 @@
-// The style file (training/run, s4d/run/style_file.h) and stage 4's settings: round trips, and the clear
+// The style file (training/runs/run, s4d/run/style_file.h) and stage 4's settings: round trips, and the clear
 // errors for files that are missing, truncated, of the wrong sizes or hold NaN.
 #include <doctest/doctest.h>
 

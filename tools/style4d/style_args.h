@@ -1,5 +1,5 @@
 // --style NAME [--mix NAME2 --alpha A]: which style `render --run` and `view` show, or the blend of two
-// (training/scene/style_blend.h), parsed the same way for both.
+// (training/runs/scene/style_blend.h), parsed the same way for both.
 #pragma once
 #include "args.h"
 #include "s4d/scene/trained_run.h"

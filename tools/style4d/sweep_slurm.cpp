@@ -221,7 +221,8 @@ int print_status(const Manifest& m, bool as_json) {
     ++counts[row["state"].get<std::string>()];
     cells.push_back(row);
   }
-  int not_done = static_cast<int>(m.cells.size()) - counts["done"];
+  const int done = counts.count("done") ? counts.at("done") : 0;  // not counts["done"]: that would list "done": 0
+  const int not_done = static_cast<int>(m.cells.size()) - done;
   if (as_json) {
     std::cout << json{{"sweep", m.root.string()}, {"counts", counts}, {"cells", cells}}.dump(2) << "\n";
     return not_done;

@@ -1,5 +1,5 @@
 // Keeps the viewer's scene source in step with the style the panel and keys pick: one of the run's
-// styles, or the blend of two with a factor (training/scene/style_blend.h). A new style or second
+// styles, or the blend of two with a factor (training/runs/scene/style_blend.h). A new style or second
 // style reopens the source; a new blend factor only re-blends the open one's arrays on the host and
 // uploads them, so dragging the slider reads no file.
 #pragma once

@@ -1,5 +1,5 @@
 // PyTorch's F.interpolate(size=...) on the host, as the learned metrics' preprocessing calls it
-// (shared by CKDN's and MUSIQ's resizes; training/nn/torch_cubic.h has the cubic weights).
+// (shared by CKDN's and MUSIQ's resizes; training/kernels/nn/torch_cubic.h has the cubic weights).
 #pragma once
 #include <cstdint>
 #include <vector>

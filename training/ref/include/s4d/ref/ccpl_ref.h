@@ -1,5 +1,5 @@
 // CPU twins of the CCPL kernels (nn_ccpl_gather(_bwd), nn_l2norm_cols(_bwd), nn_patchnce; layouts in
-// shaders/shared/s4d_nn_ccpl.h) and of one level of the whole CCPL term as training/nn/ccpl.cpp
+// shaders/shared/s4d_nn_ccpl.h) and of one level of the whole CCPL term as training/kernels/nn/ccpl.cpp
 // records it: difference vectors of the sampled (anchor, neighbour) pairs of q's and k's features,
 // the projection head Linear(C, C) - ReLU - Linear(C, C / 4) on each column, L2 normalisation,
 // PatchNCE with temperature tau. Templated on the scalar type; tests check the backward against

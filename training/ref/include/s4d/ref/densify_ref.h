@@ -1,4 +1,4 @@
-// CPU twin of densification (shaders/densify/*.comp, host side training/densify): the statistics
+// CPU twin of densification (shaders/densify/*.comp, host side training/trainers/densify): the statistics
 // update from one view or a batch of views, clone / split / prune with the growth budget, and the
 // opacity reset. It takes the kernels' own push constants (gpu::ClassifyParams, built by
 // gpu::densify_classify_params) and calls the shared integer helpers of s4d_densify.h, so decisions,

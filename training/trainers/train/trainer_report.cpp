@@ -38,10 +38,8 @@ bool run_finished(const fs::path& run_dir) {
 
 Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir) {
   if (!fine())
-    return evaluator.evaluate(rast, [&](const data::View&) { return gaussians->params(active_degree()); }, views, frames,
-                              dataset.background, save_dir);
-  return evaluator.evaluate(rast, [&](const data::View& v) { return deform_to(v.time); }, views, frames,
-                            dataset.background, save_dir);
+    return TrainerCore::evaluate([&](const data::View&) { return gaussians->params(active_degree()); }, views, save_dir);
+  return TrainerCore::evaluate([&](const data::View& v) { return deform_to(v.time); }, views, save_dir);
 }
 
 void Trainer::Impl::begin_fine_stage(const Evaluation& static_test) {

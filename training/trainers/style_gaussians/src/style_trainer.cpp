@@ -28,6 +28,7 @@
 #include "s4d/splat/rasterizer.h"
 #include "s4d/splat/scene_upload.h"
 #include "s4d/train/stage_runner.h"
+#include "s4d/train/trainer_core.h"
 #include "s4d/train/view_sampler.h"
 #include "s4d/train/view_target.h"
 #include "s4d/util/atomic_file.h"
@@ -95,22 +96,15 @@ std::vector<uint32_t> inside_region(engine::Context& ctx, const splat::GaussianP
 
 }  // namespace
 
-// Stage 4 as the runner drives it.
-struct StyleTrainer::Impl final : train::RunnerStage {
-  engine::Context& ctx;
+// Stage 4 as the runner drives it; the views, frames, rasterizer, loss, Adam, evaluator and guard
+// are the TrainerCore's.
+struct StyleTrainer::Impl final : train::TrainerCore, train::RunnerStage {
   const scene::TrainedRun& run;
   std::string style;  // the style's name
   StyleConfig config;
   fs::path dir;
-  std::vector<const data::View*> train_views, test_views;
-  data::FrameCache frames;
   std::unique_ptr<scene::CachedScene> geometry;
-  splat::Rasterizer rast;
-  optim::ImageLoss loss;
   optim::TvLoss tv;
-  optim::Adam adam;
-  train::Evaluator evaluator;
-  train::ViewSampler sampler;
   uint32_t count = 0, sh_coeffs = 0;
   float depth_scale = 1;
   bool full = false;
@@ -121,15 +115,11 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   std::array<optim::AdamTensor, 3> adam_tensors;
   std::array<size_t, 3> floats{};
   engine::Buffer sh, opacity, v_means, v_scales, v_quats;
-  train::ViewTarget target;  // the view in hand's stylized frame and its image gradient
   splat::StyleMlp mlp_desc{};
   engine::Buffer region_mask;  // [count] u32, 1 = stylized; empty: every Gaussian
   uint32_t region_count = 0;
   uint32_t done = 0;  // steps done
-  double seconds_before = 0;
   std::chrono::steady_clock::time_point start;  // of this process's run()
-  train::Recovery recovery_state;
-  model::Checkpoint last_good;  // the last state known finite: what a non-finite step rolls back to
   double last_loss = 0;
   train::Evaluation test;  // the closing test
   // A time budget (style_budget.h): `deadline` in seconds(); the lengths are planned from `start_config`.
@@ -143,14 +133,17 @@ struct StyleTrainer::Impl final : train::RunnerStage {
 
   Impl(engine::Context& c, const scene::TrainedRun& r, const data::Dataset& stylized, std::string n, const StyleConfig& cfg,
        double stage_deadline)
-      : ctx(c), run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)),
-        train_views(views_of(stylized, false)), test_views(views_of(stylized, true)), frames(stylized, kFrameCacheBytes),
-        rast(c, "style rasterizer"), loss(c, "style loss"), tv(c, "style tv"), adam(c, gCount, "style adam"), evaluator(c),
-        sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), cfg.seed), target(c, "style"),
-        deadline(stage_deadline),
-        start_config(cfg) {
+      : TrainerCore(c, {.name = "style",
+                        .frames_of = &stylized,
+                        .train_views = views_of(stylized, false),
+                        .test_views = views_of(stylized, true),
+                        .frame_cache_bytes = kFrameCacheBytes,
+                        .adam_groups = gCount,
+                        .seed = cfg.seed,
+                        .background = r.dataset.background}),
+        run(r), style(std::move(n)), config(cfg), dir(run::style_dir(r.root, style)), tv(c, "style tv"),
+        deadline(stage_deadline), start_config(cfg) {
     if (train_views.empty()) throw std::runtime_error(stylized.root.string() + ": no training views to stylize against");
-    if (test_views.empty()) test_views = train::spread_views(train_views, train::kPeriodicTestViews);
     full = config.method == run::StyleMethod::full;
     std::set<double> times;
     for (const data::View& view : stylized.views) times.insert(view.time);
@@ -202,15 +195,14 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   double seconds() const override {
     return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  train::Recovery& recovery() override { return recovery_state; }
+  train::Recovery& recovery() override { return TrainerCore::recovery; }
   void write_loss_row(std::ostream& log, double seconds) const override { log << done << ',' << last_loss << ',' << seconds; }
   bool keeps_loss_row(const std::string& row) const override { return std::strtoul(row.c_str(), nullptr, 10) <= done; }
   double periodic_test() override { return evaluate(train::spread_views(test_views, train::kPeriodicTestViews)).psnr; }
   void save(double seconds) override {
     model::Checkpoint cp = snapshot(seconds);
-    if (train::Divergence d = train::find_divergence(cp, {}, count); d.found()) throw train::StateOutOfRange(std::move(d));
-    model::write_checkpoint(checkpoint_path(), cp);
-    last_good = std::move(cp);
+    train::Divergence d = train::find_divergence(cp, {}, count);
+    save_checked(std::move(cp), std::move(d), [&](const model::Checkpoint& state) { model::write_checkpoint(checkpoint_path(), state); });
   }
   void restore_last_good() override { restore(last_good); }
   train::Divergence divergence() override { return train::find_divergence(snapshot(seconds()), {}, count); }
@@ -235,11 +227,11 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   nlohmann::json meta(double seconds) const {
     nlohmann::json j = {{"iteration", done}, {"seconds", seconds}, {"sampler", sampler.save()}, {"settings", to_json(config)},
                         {"count", count}, {"depth_scale", depth_scale}};
-    if (recovery_state.rollbacks > 0) {  // absent: none, so a run that never rolled back writes what it always did
-      j["rollbacks"] = recovery_state.rollbacks;
-      j["lr_scale"] = recovery_state.lr_scale;
+    if (TrainerCore::recovery.rollbacks > 0) {  // absent: none, so a run that never rolled back writes what it always did
+      j["rollbacks"] = TrainerCore::recovery.rollbacks;
+      j["lr_scale"] = TrainerCore::recovery.lr_scale;
     }
-    if (recovery_state.repairs > 0) j["guard_repairs"] = recovery_state.repairs, j["guard_reset"] = recovery_state.removed;
+    if (TrainerCore::recovery.repairs > 0) j["guard_repairs"] = TrainerCore::recovery.repairs, j["guard_reset"] = TrainerCore::recovery.removed;
     if (!plans.empty()) j["time_budget"] = {{"start", to_json(start_config)}, {"plans", plans}};  // absent: never planned
     return j;
   }
@@ -271,12 +263,10 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     seconds_before = cp.meta.at("seconds").get<double>();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     depth_scale = cp.meta.at("depth_scale").get<float>();
-    recovery_state = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0), cp.meta.value("guard_repairs", 0u),
+    TrainerCore::recovery = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0), cp.meta.value("guard_repairs", 0u),
                       cp.meta.value("guard_reset", 0u)};
     auto find = [&](const std::string& array) -> const std::vector<float>& {
-      const auto it = std::find_if(cp.extra.begin(), cp.extra.end(), [&](const auto& e) { return e.first == array; });
-      if (it == cp.extra.end()) throw std::runtime_error(checkpoint_path().string() + ": array '" + array + "' is missing");
-      return it->second;
+      return train::checkpoint_array(cp, array, checkpoint_path().string());
     };
     for (size_t k = 0; k < 3; ++k) {
       if (floats[k] == 0) continue;
@@ -336,8 +326,15 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   splat::GaussianParams styled(const data::View& view, const splat::Camera& cam, bool with_mlp = true) {
     const splat::GaussianParams g = geometry->at(view.time, cam);
     engine::Recorder rec(ctx, "style deltas");
-    splat::GaussianParams p = scene::record_style_deltas(rec, g, param[0], param[1], sh, opacity);
+    const splat::GaussianParams p = record_styled(rec, view, g, with_mlp);
     ctx.run(std::move(rec));
+    return p;
+  }
+
+  // Records the style's deltas on the run's Gaussians `g` at the view's time into `rec`.
+  splat::GaussianParams record_styled(engine::Recorder& rec, const data::View& view, const splat::GaussianParams& g,
+                                      bool with_mlp) {
+    splat::GaussianParams p = scene::record_style_deltas(rec, g, param[0], param[1], sh, opacity);
     if (full && with_mlp) {
       mlp_desc = scene::style_mlp(view.time, config.depth_input, depth_scale, config.input_sigmoid);
       p.style = &mlp_desc;
@@ -349,16 +346,17 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   // One view's loss (L1 + TV) and its gradients into `out` (assigned); returns the loss.
   double view_gradients(const data::View& view, bool mlp, std::array<engine::Buffer, 3>& out) {
     const splat::Camera cam = target.load(view, frames);
-    const splat::GaussianParams p = styled(view, cam, mlp);
-    rast.forward(p, cam, run.dataset.background);
-    {
-      engine::Recorder rec(ctx, "style loss");
-      loss.record(rec, rast.rgb(), target.image(), cam.width, cam.height, 3, config.ssim_weight, target.image_gradient());
-      rec.barrier();
-      if (config.tv_weight > 0) tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, target.image_gradient());
+    const splat::GaussianParams g = geometry->at(view.time, cam);
+    splat::GaussianParams p;
+    const optim::LossValue l = forward_loss(cam, config.ssim_weight, [&](engine::Recorder& rec) {
+      return p = record_styled(rec, view, g, mlp);
+    });
+    if (config.tv_weight > 0) {
+      engine::Recorder rec(ctx, "style tv");
+      tv.record(rec, rast.rgb(), cam.width, cam.height, 3, config.tv_weight, target.image_gradient());
       ctx.run(std::move(rec));
     }
-    const double value = loss.value().loss + (config.tv_weight > 0 ? tv.value() : 0.0);
+    const double value = l.loss + (config.tv_weight > 0 ? tv.value() : 0.0);
     if (!std::isfinite(value)) return value;
     splat::GaussianGrads grads;
     grads[splat::Attr::means] = &v_means, grads[splat::Attr::log_scales] = &v_scales, grads[splat::Attr::quats] = &v_quats;
@@ -394,7 +392,7 @@ struct StyleTrainer::Impl final : train::RunnerStage {
     const bool colors = !full || config.train_colors;
     const double lrs[gCount] = {colors ? config.sh_dc_lr : 0.0, colors ? config.sh_rest_lr : 0.0,
                                 colors ? config.opacity_lr : 0.0, mlp ? mlp_lr() : 0.0};
-    for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k] * recovery_state.lr_scale}, done);
+    for (uint32_t k = 0; k < gCount; ++k) adam.set_group(k, {.lr = lrs[k] * TrainerCore::recovery.lr_scale}, done);
     adam.upload();
     engine::Recorder rec(ctx, "style update");
     if (colors) {
@@ -407,9 +405,8 @@ struct StyleTrainer::Impl final : train::RunnerStage {
   }
 
   train::Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {}) {
-    return evaluator.evaluate(
-        rast, [&](const data::View& view) { return styled(view, splat::to_splat_camera(view.camera)); }, views, frames,
-        run.dataset.background, save_dir);
+    return TrainerCore::evaluate([&](const data::View& view) { return styled(view, splat::to_splat_camera(view.camera)); },
+                                 views, save_dir);
   }
 
   run::StyleFile style_file() const {

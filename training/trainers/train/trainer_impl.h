@@ -14,23 +14,18 @@
 
 #include <nlohmann/json.hpp>
 
-#include "s4d/data/frame_cache.h"
 #include "s4d/deform/deformation_field.h"
 #include "s4d/deform/deformed_cloud.h"
 #include "s4d/engine/stage_timer.h"
 #include "s4d/densify/densifier.h"
 #include "s4d/model/checkpoint.h"
 #include "s4d/model/trainable_gaussians.h"
-#include "s4d/optim/adam.h"
 #include "s4d/optim/adam_tensor.h"
-#include "s4d/optim/image_loss.h"
-#include "s4d/splat/rasterizer.h"
 #include "s4d/train/divergence.h"
 #include "s4d/train/stage_runner.h"
 #include "s4d/train/time_budget.h"
 #include "s4d/train/trainer.h"
-#include "s4d/train/view_sampler.h"
-#include "s4d/train/view_target.h"
+#include "s4d/train/trainer_core.h"
 
 namespace s4d::train {
 
@@ -44,24 +39,16 @@ enum Group : uint32_t { gMeans, gScales, gQuats, gOpacity, gShDc, gShRest, gPlan
 
 }  // namespace detail
 
-struct Trainer::Impl {
-  engine::Context& ctx;
+// The shared state and steps (views, frames, rasterizer, loss, Adam, evaluator, guard) are the
+// TrainerCore's; the Gaussians, the field and the stages are the Impl's own.
+struct Trainer::Impl : TrainerCore {
   run::RunDir run;
   // The run's settings; under a time budget its plans change the stages' lengths and schedules.
   run::TrainConfig& config;
   const data::Dataset& dataset;
-  Recovery recovery;  // lr_scale starts at the settings'
-  std::vector<const data::View*> train_views, test_views;
   std::vector<const data::View*> static_views;  // the static stage's: train views with time <= static_max_time
-  data::FrameCache frames;
   std::unique_ptr<model::TrainableGaussians> gaussians;
-  splat::Rasterizer rast;
-  optim::ImageLoss loss;
-  optim::Adam adam;
   densify::Densifier densifier;
-  Evaluator evaluator;
-  ViewSampler sampler;
-  ViewTarget target;  // the view in hand's frame and its image gradient
 
   // Stage 2 state: the field, its Adam moments, the deformed Gaussians and a batch's scratch.
   std::unique_ptr<deform::DeformationField> field;
@@ -82,10 +69,8 @@ struct Trainer::Impl {
 
   run::Stage stage = run::Stage::coarse;
   uint32_t iteration = 0;  // within the stage
-  double seconds_before = 0;
   nlohmann::json static_scores;  // the static stage's final test, once done
   nlohmann::json facts;          // the data's layout, background, initialisation and recipe (dataset_facts)
-  model::Checkpoint last_good;          // the last state known finite: what a non-finite step rolls back to
   // Every densification's counts, and every seeding's (train.json "densify_log"; kept in checkpoints).
   nlohmann::json densify_log = nlohmann::json::array();
   // The fewest Gaussians pruning may leave (visible_content.h); 0 until measured at the first densification.
@@ -145,8 +130,6 @@ struct Trainer::Impl {
   // One submission: the Gaussians that `params` records (nothing to record for stage 1's, the
   // deformation for stage 2's), their forward and the loss against the target; the same again
   // after the rasterizer's instance buffers grew. Returns the loss (maybe non-finite).
-  optim::LossValue forward_loss(const splat::Camera& cam, float ssim_weight,
-                                const std::function<splat::GaussianParams(engine::Recorder&)>& params);
   void record_adam(engine::Recorder& rec);
   // Stage 1: one view, the canonical Gaussians as they are. Returns the loss (maybe non-finite).
   optim::LossValue static_step();

@@ -32,7 +32,7 @@ std::string camera_key(const io::CameraView& c) {
 
 }  // namespace
 
-Evaluator::Evaluator(engine::Context& ctx) : ctx_(&ctx), loss_(ctx, "evaluation ssim") {}
+Evaluator::Evaluator(engine::Context& ctx) : ctx_(&ctx), loss_(ctx, "evaluation ssim"), target_(ctx, "evaluation") {}
 
 Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_at,
                                const std::vector<const data::View*>& views, data::FrameCache& frames,
@@ -44,20 +44,15 @@ Evaluation Evaluator::evaluate(splat::Rasterizer& rast, const ParamsAt& params_a
   std::map<std::string, std::vector<std::pair<io::ImageF, io::ImageF>>> by_camera;
   for (const data::View* view : views) {
     const io::ImageF& target = frames.get(*view);
-    const splat::Camera cam = splat::to_splat_camera(view->camera);
+    const splat::Camera cam = target_.load(*view, frames);
     rast.forward(params_at(*view), cam, background);
     const size_t n = size_t{cam.width} * cam.height * 3;
     io::ImageF image{int(cam.width), int(cam.height), 3, ctx_->download<float>(rast.rgb(), n)};
     for (float& v : image.data) v = std::clamp(v, 0.0f, 1.0f);  // 3DGS scores the clamped render
-    if (image_.size() < n * 4) {
-      image_ = engine::Buffer(*ctx_, "evaluation image", n * 4);
-      target_ = engine::Buffer(*ctx_, "evaluation target", n * 4);
-      grad_ = engine::Buffer(*ctx_, "evaluation gradient", n * 4);
-    }
+    if (image_.size() < n * 4) image_ = engine::Buffer(*ctx_, "evaluation image", n * 4);
     ctx_->upload(image_, std::span<const float>(image.data));
-    ctx_->upload(target_, std::span<const float>(target.data));
     engine::Recorder rec(*ctx_, "evaluation ssim");
-    loss_.record(rec, image_, target_, cam.width, cam.height, 3, 1.0f, grad_);
+    loss_.record(rec, image_, target_.image(), cam.width, cam.height, 3, 1.0f, target_.image_gradient());
     ctx_->run(std::move(rec));
     ViewScore score{view->name, view->time, io::psnr(image, target), loss_.value().ssim};
     io::ImageF empty{image.width, image.height, 3, std::vector<float>(image.data.size())};

@@ -107,17 +107,22 @@ void require_room_for(const fs::path& run_dir, const run::TrainConfig& config, s
 }  // namespace
 
 Trainer::Impl::Impl(engine::Context& c, run::RunDir r, run::TrainConfig& cfg, const data::Dataset& d)
-    : ctx(c), run(std::move(r)), config(cfg), dataset(d), recovery{0, cfg.lr_scale}, train_views(select_views(d, cfg, false)),
-      test_views(select_views(d, cfg, true)), frames(d, kFrameCacheBytes), rast(c, "training rasterizer"),
-      loss(c, "training loss"), adam(c, detail::gCount, "training adam"), densifier(c), evaluator(c),
-      sampler(1, cfg.seed), target(c, "training") {
+    : TrainerCore(c, {.name = "training",
+                      .frames_of = &d,
+                      .train_views = select_views(d, cfg, false),
+                      .test_views = select_views(d, cfg, true),
+                      .frame_cache_bytes = kFrameCacheBytes,
+                      .adam_groups = detail::gCount,
+                      .seed = cfg.seed,
+                      .background = d.background,
+                      .recovery = {.lr_scale = cfg.lr_scale}}),
+      run(std::move(r)), config(cfg), dataset(d), densifier(c) {
   for (const data::View* v : train_views)
     if (v->time <= cfg.static_max_time + 1e-9) static_views.push_back(v);
   sampler = stage_sampler();
   if (static_views.empty())
     throw std::runtime_error(d.root.string() + ": no training views with time <= " +
                              std::to_string(std::min(cfg.max_time, cfg.static_max_time)) + " for the static stage");
-  if (test_views.empty()) test_views = spread_views(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
 Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::TrainConfig& config, const fs::path& run_dir,

@@ -1,6 +1,6 @@
-// A training view's frame on the device, and the buffer its loss gradient goes to: what every
-// trainer's step (the scene's stages 1 and 2, the style's stage 4) uploads before it renders. Both
-// buffers grow to the largest view so far and are reused.
+// A view's frame on the device, and the buffer its loss gradient goes to: what every trainer's step
+// (the scene's stages 1 and 2, the style's stage 4) and the evaluator upload before they render.
+// Both buffers grow to the largest view so far and are reused.
 #pragma once
 #include <string>
 

@@ -14,6 +14,7 @@
 #include "s4d/engine/buffer.h"
 #include "s4d/optim/image_loss.h"
 #include "s4d/splat/rasterizer.h"
+#include "s4d/train/view_target.h"
 
 namespace s4d::train {
 
@@ -50,7 +51,8 @@ class Evaluator {
  private:
   engine::Context* ctx_;
   optim::ImageLoss loss_;
-  engine::Buffer image_, target_, grad_;
+  engine::Buffer image_;
+  ViewTarget target_;  // the view's frame, and the SSIM's image gradient (unused)
 };
 
 }  // namespace s4d::train

@@ -81,9 +81,7 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   }
   if (!field) return;
   auto extra = [&](const std::string& name) -> const std::vector<float>& {
-    for (const auto& [n, v] : cp.extra)
-      if (n == name) return v;
-    throw std::runtime_error("checkpoint: the run trains a deformation field but the array '" + name + "' is missing");
+    return checkpoint_array(cp, name, "checkpoint (the run trains a deformation field)");
   };
   field->upload_planes(extra("field.planes"));
   field->upload_mlp(extra("field.mlp"));
@@ -120,11 +118,12 @@ void Trainer::Impl::save_run_json() const {
 
 void Trainer::Impl::checkpoint(double seconds) {
   model::Checkpoint cp = snapshot(seconds);
-  if (Divergence d = divergence(cp); d.found()) throw StateOutOfRange(std::move(d));
-  model::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), cp, !newest_damaged);
-  newest_damaged = false;
-  io::write_ply_gaussians(run.gaussians_ply(), cp.state.cloud);
-  last_good = std::move(cp);
+  Divergence d = divergence(cp);
+  save_checked(std::move(cp), std::move(d), [&](const model::Checkpoint& saved) {
+    model::write_checkpoint_rotating(run.checkpoint(), run.previous_checkpoint(), saved, !newest_damaged);
+    newest_damaged = false;
+    io::write_ply_gaussians(run.gaussians_ply(), saved.state.cloud);
+  });
 }
 
 }  // namespace s4d::train

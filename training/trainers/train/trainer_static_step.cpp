@@ -24,23 +24,6 @@ void Trainer::Impl::set_learning_rates(uint32_t step) {
   adam.upload();
 }
 
-optim::LossValue Trainer::Impl::forward_loss(const splat::Camera& cam, float ssim_weight,
-                                             const std::function<splat::GaussianParams(engine::Recorder&)>& params) {
-  for (;;) {  // twice at most: an overflow grows the instance buffers past the count it read
-    engine::Recorder rec(ctx, "training forward and loss");
-    const splat::GaussianParams g = params(rec);
-    rec.barrier();
-    rast.record_forward(rec, g, cam, dataset.background);
-    rec.barrier();
-    {
-      const engine::StageScope timed(ctx, "loss");
-      loss.record(rec, rast.rgb(), target.image(), cam.width, cam.height, 3, ssim_weight, target.image_gradient());
-    }
-    ctx.run(std::move(rec));
-    if (rast.finish_forward()) return loss.value();
-  }
-}
-
 void Trainer::Impl::record_adam(engine::Recorder& rec) {
   const engine::StageScope timed(ctx, "adam");
   model::TrainableGaussians& g = *gaussians;
