@@ -9,17 +9,17 @@
 namespace s4d::train {
 
 TrainerCore::TrainerCore(engine::Context& c, TrainerParts parts)
-    : ctx(c), name(parts.name), train_views(std::move(parts.train_views)), test_views(std::move(parts.test_views)),
-      frames(*parts.frames_of, parts.frame_cache_bytes), rast(c, name + " rasterizer"), loss(c, name + " loss"),
-      adam(c, parts.adam_groups, name + " adam"), evaluator(c),
-      sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), parts.seed), target(c, name),
+    : ctx(c), forward_label(parts.name + " forward and loss"), train_views(std::move(parts.train_views)), test_views(std::move(parts.test_views)),
+      frames(*parts.frames_of, parts.frame_cache_bytes), rast(c, parts.name + " rasterizer"), loss(c, parts.name + " loss"),
+      adam(c, parts.adam_groups, parts.name + " adam"), evaluator(c),
+      sampler(static_cast<uint32_t>(std::max<size_t>(train_views.size(), 1)), parts.seed), target(c, parts.name),
       background(parts.background), recovery(parts.recovery) {
   if (test_views.empty()) test_views = spread_views(train_views, kPeriodicTestViews);  // no held-out camera: report on training views
 }
 
 optim::LossValue TrainerCore::forward_loss(const splat::Camera& cam, float ssim_weight, const RecordParams& params) {
   for (;;) {  // twice at most: an overflow grows the instance buffers past the count it read
-    engine::Recorder rec(ctx, name + " forward and loss");
+    engine::Recorder rec(ctx, forward_label);
     const splat::GaussianParams g = params(rec);
     rec.barrier();
     rast.record_forward(rec, g, cam, background);

@@ -61,7 +61,7 @@ class TrainerCore {
   void save_checked(model::Checkpoint cp, Divergence divergence, const std::function<void(const model::Checkpoint&)>& write);
 
   engine::Context& ctx;
-  std::string name;
+  std::string forward_label;  // "NAME forward and loss": the submission's name in timings and errors
   std::vector<const data::View*> train_views, test_views;
   data::FrameCache frames;
   splat::Rasterizer rast;
