@@ -6,7 +6,9 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +33,22 @@ size_t ply_sh_coeffs(const fs::path& ply) {
 }
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(test::read_text(p)); }
+
+// The largest step of loss.csv's seconds column over the seconds before it, past the first second:
+// a restore within the run (a choice, a refit) must not count the seconds already spent twice,
+// which would make that step as long as everything before it (a share near 1).
+double largest_seconds_jump(const fs::path& csv) {
+  std::istringstream in(test::read_text(csv));
+  std::string row;
+  std::getline(in, row);  // header
+  double before = -1, worst = 0;
+  while (std::getline(in, row)) {
+    const double seconds = std::stod(row.substr(row.rfind(',') + 1));
+    if (before > 1) worst = std::max(worst, (seconds - before) / before);
+    before = seconds;
+  }
+  return worst;
+}
 
 }  // namespace
 
@@ -84,6 +102,21 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   CHECK(read_json(dir / "r_asked" / "run.json")["settings"]["sh_degree"] == chosen);
   CHECK(ply_sh_coeffs(dir / "r_asked" / "geometry" / "gaussians.ply") == size_t((chosen + 1) * (chosen + 1)));
   CHECK_MESSAGE(contains(test::read_text(dir / "asked.log"), "SH degree " + std::to_string(chosen) + " of 1: held-out PSNR"),
+                test::read_text(dir / "asked.log"));
+  // The choice restored the run's state mid-run, and so did the field's box (fitted at fine step
+  // 1 of 3): neither counts the seconds before it again. Measured 0.05 (fixed) against 0.9 (double count).
+  CHECK(largest_seconds_jump(dir / "r_asked" / "loss.csv") < 0.5);
+  const nlohmann::json& box = asked["dataset"]["recipe"]["field_box"];
+  REQUIRE_MESSAGE(box.is_object(), asked["dataset"].dump());
+  CHECK(box["at_step"] == 1);
+  CHECK(box["moving"].get<uint32_t>() <= box["gaussians"].get<uint32_t>());
+  CHECK(read_json(dir / "r_asked" / "run.json")["dataset"]["recipe"]["field_box"] == box);
+  for (int k = 0; k < 3; ++k) {
+    CHECK(box["min"][k].get<double>() >= box["old_min"][k].get<double>());
+    CHECK(box["max"][k].get<double>() <= box["old_max"][k].get<double>());
+    if (!box["fitted"].get<bool>()) CHECK(box["min"][k] == box["old_min"][k]);
+  }
+  CHECK_MESSAGE(contains(test::read_text(dir / "asked.log"), "deformation field box at fine iteration 1: "),
                 test::read_text(dir / "asked.log"));
 
   // The built-in scene moves: its sliding box alone changes a tenth of a camera's pixels.

@@ -17,6 +17,7 @@ TrainConfig preset_config(const std::string& name) {
   c.preset = name;
   c.seed_views = 4;
   c.sh_degree_auto = true;
+  c.field_fit = 0.2;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from
     // step 500 every 100 (its opacity reset at step 3,000 falls in the stage's last densification
@@ -123,7 +124,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
   X(checkpoint_every) X(fine_iterations) X(fine_batch) X(fine_ssim_weight) X(fine_densify_until)      \
   X(field_resolution) X(field_multires) X(field_channels) X(field_width) X(field_trunk_extra) X(field_heads)       \
   X(deform_lr) X(deform_lr_final) X(grid_lr) X(grid_lr_final) X(plane_tv_weight) X(time_smoothness_weight)       \
-  X(l1_time_planes_weight) X(static_motion) X(motion_samples) X(motion_every) X(time_budget)
+  X(l1_time_planes_weight) X(static_motion) X(motion_samples) X(motion_every) X(field_fit) X(time_budget)
 
 nlohmann::json to_json(const TrainConfig& c) {
   nlohmann::json j;

@@ -144,6 +144,7 @@ void validate(const TrainConfig& c, const std::string& source, const std::map<st
   check.non_negative("static_motion", c.static_motion);
   check.at_least("motion_samples", c.motion_samples, 2);  // motion is measured between two times at least
   check.interval("motion_every", c.motion_every);
+  check.require(c.field_fit >= 0 && c.field_fit < 1, "field_fit", c.field_fit, "must be in [0, 1) (a fraction of the fine stage; 0: off)");
   // Runs.
   check.interval("test_every", c.test_every);
   check.interval("checkpoint_every", c.checkpoint_every);

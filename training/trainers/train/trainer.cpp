@@ -175,6 +175,8 @@ Trainer::Trainer(engine::Context& ctx, const run::RunDir& run, const run::RunJso
   if (from) {
     try {
       impl_->restore(from->checkpoint);
+      // Only here: a restore within a run (a rollback, a choice, a refit) keeps the seconds spent.
+      impl_->seconds_before = from->checkpoint.meta.at("seconds").get<double>();
     } catch (const std::exception& e) {
       throw std::runtime_error(from->path.string() + ": " + e.what());
     }
@@ -252,6 +254,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageTimer::Window window(m.stage_timer);
     const engine::StageScope timed(m.ctx, "densify");
     m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
+    m.fit_field_box_if_due(seconds());
     if (m.mask_due()) m.update_mask();
     m.choose_sh_degree_if_due(seconds());
     m.plan_time_if_due(seconds());

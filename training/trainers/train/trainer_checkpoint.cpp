@@ -57,7 +57,6 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   stage = *known;
   iteration = cp.meta.at("iteration").get<uint32_t>();
   recovery.lr_scale = cp.meta.at("lr_scale").get<double>();
-  seconds_before = cp.meta.at("seconds").get<double>();
   recovery.rollbacks = cp.meta.at("rollbacks").get<uint32_t>();
   // Checkpoints written before the guard removed Gaussians have no counts: none removed.
   recovery.repairs = cp.meta.value("guard_repairs", 0u);
@@ -74,9 +73,11 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   prune_floor = cp.meta.value("prune_floor", 0u);
   prune_floor_why = cp.meta.value("prune_floor_why", nlohmann::json());
   still_count = 0;
-  if (!field) {
-    aabb_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
-    aabb_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
+  // The box may differ from the field's: the checkpoint was written before or after a refit (field_box.h).
+  const auto box_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
+  const auto box_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
+  if (!field || box_min != aabb_min || box_max != aabb_max) {
+    aabb_min = box_min, aabb_max = box_max;
     make_field(config.seed);
   }
   if (!field) return;

@@ -20,16 +20,24 @@ void Trainer::Impl::apply_mask(const std::vector<uint32_t>& mask) {
   still_count = split.still_count;
 }
 
-void Trainer::Impl::update_mask() {
+void Trainer::Impl::path_bounds(std::vector<float>& lo, std::vector<float>& hi) {
   const uint32_t n = gaussians->size();
+  const uint32_t still = still_count;
   still_count = 0;  // measure with every Gaussian deformed
-  std::vector<float> lo(size_t{n} * 3, INFINITY), hi(size_t{n} * 3, -INFINITY);
+  lo.assign(size_t{n} * 3, INFINITY), hi.assign(size_t{n} * 3, -INFINITY);
   const uint32_t samples = std::max<uint32_t>(2, config.motion_samples);
   for (uint32_t k = 0; k < samples; ++k) {
     const splat::GaussianParams p = deform_to(double(k) / (samples - 1));
     const std::vector<float> means = ctx.download<float>(*p[splat::Attr::means], size_t{n} * 3);
     for (size_t i = 0; i < means.size(); ++i) lo[i] = std::min(lo[i], means[i]), hi[i] = std::max(hi[i], means[i]);
   }
+  still_count = still;
+}
+
+void Trainer::Impl::update_mask() {
+  const uint32_t n = gaussians->size();
+  std::vector<float> lo, hi;
+  path_bounds(lo, hi);
   const double limit = config.static_motion * dataset.extent;
   std::vector<uint32_t> mask(n);
   for (uint32_t i = 0; i < n; ++i) {

@@ -157,6 +157,8 @@ struct Trainer::Impl : TrainerCore {
   // Moves the Gaussians `mask` marks still to the end of memory, every per-Gaussian array with
   // them, so that the field runs over the moving prefix only.
   void apply_mask(const std::vector<uint32_t>& mask);
+  // Each Gaussian's lowest and highest mean (3 floats each) over motion_samples times in [0, 1].
+  void path_bounds(std::vector<float>& lo, std::vector<float>& hi);
   // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
   // motion_samples times as still (ALGORITHMS.md has no such step: it is this project's "deform
   // only what moves").
@@ -179,6 +181,11 @@ struct Trainer::Impl : TrainerCore {
   // Once due: renders the held-out views at each degree, keeps the lowest that serves them as well,
   // cuts the SH to it, records the evidence in the recipe, rewrites run.json and checkpoints.
   void choose_sh_degree_if_due(double seconds);
+
+  // ---- The field's box fitted to what moves (trainer_field_box.cpp, field_box.h).
+  // Once due: measures the Gaussians' paths, fits the box, resamples the planes and their moments
+  // onto it, records the evidence in the recipe, rewrites run.json and checkpoints.
+  void fit_field_box_if_due(double seconds);
 
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first

@@ -260,7 +260,6 @@ struct StyleTrainer::Impl final : train::TrainerCore, train::RunnerStage {
     if (cp.meta.at("count").get<uint32_t>() != count)
       throw std::runtime_error(checkpoint_path().string() + ": trained for another Gaussian count; the run was retrained (use --restart)");
     done = cp.meta.at("iteration").get<uint32_t>();
-    seconds_before = cp.meta.at("seconds").get<double>();
     sampler.load(cp.meta.at("sampler").get<std::string>());
     depth_scale = cp.meta.at("depth_scale").get<float>();
     TrainerCore::recovery = {cp.meta.value("rollbacks", 0u), cp.meta.value("lr_scale", 1.0), cp.meta.value("guard_repairs", 0u),
@@ -428,7 +427,12 @@ StyleTrainer::StyleTrainer(engine::Context& ctx, const scene::TrainedRun& run, c
   if (config.method == run::StyleMethod::scratch) throw std::invalid_argument("method scratch retrains 4DGS (style4d train), not stage 4");
   impl_ = std::make_unique<Impl>(ctx, run, stylized, std::move(name), config, deadline);
   fs::create_directories(impl_->dir);
-  if (fs::exists(impl_->checkpoint_path())) impl_->restore(model::read_checkpoint(impl_->checkpoint_path()));
+  if (fs::exists(impl_->checkpoint_path())) {
+    const model::Checkpoint cp = model::read_checkpoint(impl_->checkpoint_path());
+    impl_->restore(cp);
+    // Only here: a rollback within a run keeps the seconds spent.
+    impl_->seconds_before = cp.meta.at("seconds").get<double>();
+  }
   impl_->last_good = impl_->snapshot(impl_->seconds_before);
   impl_->mark_iteration = impl_->done;  // the first steps after a start or resume are not timed
 }

@@ -1,0 +1,122 @@
+// The deformation field's box fitted to what moves (field_box.h): which Gaussians count as moving,
+// the box their paths give, and when the box stays.
+#include <array>
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "s4d/run/train_config.h"
+#include "s4d/train/field_box.h"
+
+using namespace s4d;
+
+namespace {
+
+// Paths (lowest and highest mean over time) of Gaussians in the box [-10, 10]^3.
+struct Paths {
+  std::vector<float> lo, hi;
+  void add(std::array<float, 3> from, std::array<float, 3> to) {
+    for (int k = 0; k < 3; ++k) lo.push_back(std::min(from[k], to[k])), hi.push_back(std::max(from[k], to[k]));
+  }
+};
+
+const std::array<float, 3> kMin{-10, -10, -10}, kMax{10, 10, 10};
+const std::array<double, 3> kMinSize{0.5, 0.5, 0.5};
+
+// 500 Gaussians standing still all over the box, and `moving` sliding along x from 1 to 3 at
+// y, z in [-1, 1].
+Paths scene(uint32_t moving, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> anywhere(-10, 10), near(-1, 1);
+  Paths p;
+  for (int i = 0; i < 500; ++i) {
+    const std::array<float, 3> x{anywhere(rng), anywhere(rng), anywhere(rng)};
+    p.add(x, x);
+  }
+  for (uint32_t i = 0; i < moving; ++i) {
+    const float y = near(rng), z = near(rng);
+    p.add({1, y, z}, {3, y, z});
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("the box shrinks to the moving Gaussians' paths, padded, and ignores what stands still") {
+  const Paths p = scene(400, 1);
+  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, 0.1, kMinSize);
+  REQUIRE(box.fitted);
+  CHECK(box.gaussians == 900);
+  CHECK(box.moving == 400);
+  // x: the paths span [1, 3], padded by a tenth on each side; y and z about [-1, 1] padded.
+  CHECK(box.min[0] == doctest::Approx(1 - 0.2));
+  CHECK(box.max[0] == doctest::Approx(3 + 0.2));
+  for (int k = 1; k < 3; ++k) {
+    CHECK(box.min[k] == doctest::Approx(-1.2).epsilon(0.03));
+    CHECK(box.max[k] == doctest::Approx(1.2).epsilon(0.03));
+  }
+  CHECK(box.volume_share == doctest::Approx(2.4 * 2.4 * 2.4 / 8000).epsilon(0.05));
+  CHECK(box.old_min == kMin);
+  CHECK(box.json()["fitted"] == true);
+}
+
+TEST_CASE("a few floaters thrown far do not stretch the box; an axis the motion does not span keeps the least size") {
+  Paths p = scene(400, 2);
+  for (int i = 0; i < 3; ++i) p.add({-9, -9, -9}, {9, 9, 9});  // under the 1 % quantile of 403
+  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, 0.1, {0.5, 0.5, 6});
+  REQUIRE(box.fitted);
+  CHECK(box.min[0] == doctest::Approx(0.8));
+  CHECK(box.max[0] == doctest::Approx(3.2));
+  // z spans 2.4 with its pad, under the least size 6: centred on the paths, 6 wide.
+  CHECK(box.max[2] - box.min[2] == doctest::Approx(6));
+  CHECK(0.5 * (box.max[2] + box.min[2]) == doctest::Approx(0).epsilon(0.05));
+
+  // The least size near the old box's edge stays inside it.
+  Paths edge;
+  for (int i = 0; i < 100; ++i) edge.add({9.9f, 0, 0}, {9.9f, 1, 1});
+  const train::FieldBox at_edge = train::fit_field_box(edge.lo, edge.hi, kMin, kMax, 0.1, {4, 4, 4});
+  REQUIRE(at_edge.fitted);
+  CHECK(at_edge.max[0] == doctest::Approx(10));
+  CHECK(at_edge.min[0] == doctest::Approx(6));
+}
+
+TEST_CASE("the box stays when too few Gaussians move or their paths fill it") {
+  const Paths few = scene(train::kFieldFitMinMoving - 1, 3);
+  const train::FieldBox a = train::fit_field_box(few.lo, few.hi, kMin, kMax, 0.1, kMinSize);
+  CHECK_FALSE(a.fitted);
+  CHECK(a.min == kMin);
+  CHECK(a.max == kMax);
+  CHECK(a.why.find("too few") != std::string::npos);
+
+  // Everything moves across most of the box.
+  Paths wide;
+  for (int i = 0; i < 100; ++i) wide.add({-9.5f, -9.5f, -9.5f}, {9.5f, 9.5f, 9.5f});
+  const train::FieldBox b = train::fit_field_box(wide.lo, wide.hi, kMin, kMax, 0.1, kMinSize);
+  CHECK_FALSE(b.fitted);
+  CHECK(b.volume_share > train::kFieldFitMaxVolumeShare);
+  CHECK(b.max == kMax);
+  CHECK(b.why.find("fill") != std::string::npos);
+
+  // A path shorter than the limit is not motion: the 400 sliding Gaussians move 2, under 2.5.
+  const Paths p = scene(400, 4);
+  CHECK(train::fit_field_box(p.lo, p.hi, kMin, kMax, 2.5, kMinSize).moving == 0);
+  CHECK_THROWS_AS(train::fit_field_box(std::vector<float>(6), std::vector<float>(3), kMin, kMax, 0.1, kMinSize),
+                  std::invalid_argument);
+}
+
+TEST_CASE("the fit's step: field_fit of the fine stage, never with field_fit 0 or no fine stage") {
+  run::TrainConfig c = run::preset_config("fast");
+  CHECK(c.field_fit == doctest::Approx(0.2));
+  CHECK(train::field_fit_step(c) == 300);  // 0.2 x 1500
+  c.fine_iterations = 3;
+  CHECK(train::field_fit_step(c) == 1);
+  c.field_fit = 0;
+  CHECK(train::field_fit_step(c) == 0);
+  c.field_fit = 0.5, c.fine_iterations = 0;
+  CHECK(train::field_fit_step(c) == 0);
+  // Runs from before the fit existed have no field_fit in run.json: off.
+  CHECK(run::TrainConfig{}.field_fit == 0);
+}

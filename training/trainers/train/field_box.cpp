@@ -1,0 +1,84 @@
+#include "s4d/train/field_box.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+namespace s4d::train {
+
+nlohmann::json FieldBox::json() const {
+  return {{"fitted", fitted},         {"old_min", old_min},         {"old_max", old_max},
+          {"min", min},               {"max", max},                 {"gaussians", gaussians},
+          {"moving", moving},         {"move_limit", move_limit},   {"volume_share", volume_share},
+          {"at_step", at_step},       {"why", why}};
+}
+
+namespace {
+
+// The q-quantile of v (nearest rank); v is reordered.
+float quantile(std::vector<float>& v, double q) {
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+}  // namespace
+
+FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
+                       const std::array<float, 3>& old_max, double move_limit, const std::array<double, 3>& min_size) {
+  if (lo.size() != hi.size() || lo.size() % 3 != 0)
+    throw std::invalid_argument("fit_field_box: " + std::to_string(lo.size()) + " lowest and " + std::to_string(hi.size()) +
+                                " highest coordinates, expected 3 per Gaussian each");
+  FieldBox box{.old_min = old_min, .old_max = old_max, .min = old_min, .max = old_max};
+  box.gaussians = static_cast<uint32_t>(lo.size() / 3);
+  box.move_limit = move_limit;
+  std::array<std::vector<float>, 3> low, high;
+  for (size_t i = 0; i < box.gaussians; ++i) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += double(hi[i * 3 + k] - lo[i * 3 + k]) * (hi[i * 3 + k] - lo[i * 3 + k]);
+    if (!(std::sqrt(d2) >= move_limit)) continue;
+    for (int k = 0; k < 3; ++k) low[k].push_back(lo[i * 3 + k]), high[k].push_back(hi[i * 3 + k]);
+  }
+  box.moving = static_cast<uint32_t>(low[0].size());
+  if (box.moving < kFieldFitMinMoving) {
+    box.why = std::to_string(box.moving) + " of " + std::to_string(box.gaussians) + " Gaussians move (fewer than " +
+              std::to_string(kFieldFitMinMoving) + "): too few to tell where the motion is; the box stays";
+    return box;
+  }
+  std::array<float, 3> mn{}, mx{};
+  double share = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double a = quantile(low[k], kFieldFitQuantile), b = quantile(high[k], 1 - kFieldFitQuantile);
+    const double pad = kFieldFitPad * std::max(0.0, b - a);
+    double m0 = std::max<double>(old_min[k], a - pad), m1 = std::min<double>(old_max[k], b + pad);
+    // An axis the motion barely spans keeps min_size, centred on it and inside the old box.
+    const double size = std::min<double>(std::max(min_size[k], m1 - m0), old_max[k] - old_min[k]);
+    const double centre = std::clamp(0.5 * (m0 + m1), old_min[k] + 0.5 * size, old_max[k] - 0.5 * size);
+    m0 = centre - 0.5 * size, m1 = centre + 0.5 * size;
+    mn[k] = static_cast<float>(m0), mx[k] = static_cast<float>(m1);
+    share *= (m1 - m0) / (double(old_max[k]) - old_min[k]);
+  }
+  box.volume_share = share;
+  char text[256];
+  if (share > kFieldFitMaxVolumeShare) {
+    std::snprintf(text, sizeof text, "the paths of the %u moving Gaussians fill %.0f %% of the box (more than %.0f %%): the box stays",
+                  box.moving, 100 * share, 100 * kFieldFitMaxVolumeShare);
+    box.why = text;
+    return box;
+  }
+  box.fitted = true;
+  box.min = mn, box.max = mx;
+  std::snprintf(text, sizeof text, "the paths of the %u moving Gaussians fill %.0f %% of the box: the planes now span them alone",
+                box.moving, 100 * share);
+  box.why = text;
+  return box;
+}
+
+uint32_t field_fit_step(const run::TrainConfig& config) {
+  if (config.field_fit <= 0 || config.fine_iterations == 0) return 0;
+  return std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(config.field_fit * config.fine_iterations)));
+}
+
+}  // namespace s4d::train

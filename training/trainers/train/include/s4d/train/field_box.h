@@ -1,0 +1,55 @@
+// The deformation field's box fitted to what moves (TrainConfig::field_fit). A field starts over
+// the initial cloud's bounds, which on most captures are far larger than what moves: a random
+// initial cloud fills a box around the object, a room's walls stand still around the few things
+// that move. Its planes then spend most of their texels where nothing moves. Once the field has
+// trained for a while, the Gaussians' paths over time tell what moves and where; the box shrinks to
+// those paths (padded), and the planes are resampled onto it (deform/field_resample.h), so the same
+// parameters resolve the motion more finely. Written to train.json dataset.recipe.field_box.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "s4d/run/train_config.h"
+
+namespace s4d::train {
+
+// The box is refitted only when it shrinks to at most this share of the old box's volume: a smaller
+// gain is not worth the resampling's blur of the trained planes.
+constexpr double kFieldFitMaxVolumeShare = 0.7;
+// The paths kept: the quantiles of the moving Gaussians' lowest and highest coordinates on each
+// axis, so that a few floaters thrown far do not stretch the box.
+constexpr double kFieldFitQuantile = 0.01;
+// Padding on each side, as a share of the paths' extent, so that what the paths just miss (a
+// Gaussian densified later, a limb at its extreme) still lies inside.
+constexpr double kFieldFitPad = 0.1;
+// Fewer moving Gaussians than this say too little about where the motion is: the box stays.
+constexpr uint32_t kFieldFitMinMoving = 16;
+
+struct FieldBox {
+  bool fitted = false;
+  std::array<float, 3> old_min{}, old_max{};  // the field's box before
+  std::array<float, 3> min{}, max{};          // after (the old box when not fitted)
+  uint32_t gaussians = 0, moving = 0;
+  double move_limit = 0;    // world units a Gaussian's mean must move over time to count as moving
+  double volume_share = 1;  // the new box's volume over the old one's
+  uint32_t at_step = 0;     // fine-stage iteration of the fit
+  std::string why;
+  nlohmann::json json() const;
+};
+
+// The box for Gaussians whose means range over [lo, hi] (3 floats each, over time samples) within
+// the field's box [old_min, old_max]; a Gaussian moves when its range's diagonal reaches
+// `move_limit`. The new box: the moving paths' quantiles, padded, inside the old box; at least
+// `min_size` on each axis. Throws std::invalid_argument for sizes that disagree.
+FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
+                       const std::array<float, 3>& old_max, double move_limit, const std::array<double, 3>& min_size);
+
+// The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage,
+// at least 1.
+uint32_t field_fit_step(const run::TrainConfig& config);
+
+}  // namespace s4d::train
