@@ -1,6 +1,6 @@
 // `style4d render --run` of a 4DGS run: the test path reproduces the trainer's own evaluation images
-// at every test frame, renders at two times differ where the scene moves, and the exact flow follows
-// the deformed Gaussians.
+// at every test frame, renders at two times differ where the scene moves, the exact flow follows
+// the deformed Gaussians, and a field's resolution comes from its checkpoint.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
@@ -8,10 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "run4d_fixture.h"
 #include "s4d/io/image_io.h"
+#include "s4d/run/checkpoint.h"
 
 namespace fs = std::filesystem;
 using s4d::test::max_abs_diff;
@@ -103,4 +105,32 @@ TEST_CASE("the exact flow of a 4DGS run seen from a fixed camera is the deformed
     // of a pixel at 48x36 after 120 fine iterations); required: a quarter of the smallest.
     CHECK(largest > 0.05);
   }
+}
+
+TEST_CASE("a field's resolution is read from its checkpoint where the checkpoint holds one") {
+  // As train/field_box.h leaves a run: the checkpoint holds the field's box and texels, which may
+  // differ from the preset's in run.json's settings. Here run.json says 2r - 1 texels and the
+  // checkpoint the r its planes have: a render that took the settings' resolution would find
+  // planes of the wrong size and stop.
+  const s4d::test::Run4d& r = s4d::test::run4d();
+  const fs::path copy = r.root / "fitted_run";
+  fs::remove_all(copy);
+  fs::copy(r.run, copy, fs::copy_options::recursive);
+  const fs::path file = copy / "checkpoint" / "state.s4dckpt";
+  s4d::run::Checkpoint cp = s4d::run::read_checkpoint(file);
+  nlohmann::json run_json = nlohmann::json::parse(read_text(copy / "run.json"));
+  const auto resolution = run_json["settings"]["field_resolution"].get<std::array<uint32_t, 4>>();
+  cp.meta["field_resolution"] = resolution;
+  std::vector<const std::vector<float>*> trainer;
+  for (const auto& a : cp.trainer) trainer.push_back(&a);
+  s4d::run::write_checkpoint(file, {cp.meta, cp.cloud, trainer, cp.extra});
+  for (int k = 0; k < 3; ++k) run_json["settings"]["field_resolution"][k] = 2 * resolution[k] - 1;
+  std::ofstream(copy / "run.json") << run_json.dump(2);
+
+  const fs::path out = r.root / "fitted_path";
+  REQUIRE_MESSAGE(run_style4d("render", "--run " + copy.string() + " --path test --out " + out.string(), r.root / "fitted.log") == 0,
+                  read_text(r.root / "fitted.log"));
+  for (int k = 0; k < 3; ++k)
+    CHECK_MESSAGE(max_abs_diff(s4d::io::read_png(out / "cam00" / frame(k)), s4d::io::read_png(test_render() / "cam00" / frame(k))) == 0.0f,
+                  "frame " << k);
 }

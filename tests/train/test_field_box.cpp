@@ -24,7 +24,8 @@ struct Paths {
 };
 
 const std::array<float, 3> kMin{-10, -10, -10}, kMax{10, 10, 10};
-const std::array<double, 3> kMinSize{0.5, 0.5, 0.5};
+// 161 texels over 20: cells of 0.125, so the least size (4 cells) is 0.5.
+const std::array<uint32_t, 3> kFine{161, 161, 161};
 
 // 500 Gaussians standing still all over the box, and `moving` sliding along x from 1 to 3 at
 // y, z in [-1, 1].
@@ -47,7 +48,7 @@ Paths scene(uint32_t moving, unsigned seed) {
 
 TEST_CASE("the box shrinks to the moving Gaussians' paths, padded, and ignores what stands still") {
   const Paths p = scene(400, 1);
-  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, 0.1, kMinSize);
+  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, kFine, 0.1);
   REQUIRE(box.fitted);
   CHECK(box.gaussians == 900);
   CHECK(box.moving == 400);
@@ -60,24 +61,30 @@ TEST_CASE("the box shrinks to the moving Gaussians' paths, padded, and ignores w
   }
   CHECK(box.volume_share == doctest::Approx(2.4 * 2.4 * 2.4 / 8000).epsilon(0.05));
   CHECK(box.old_min == kMin);
+  // x: 2.4 in cells of 0.125 is 19.2 cells, so 21 texels, with cells no larger than before.
+  CHECK(box.old_resolution == kFine);
+  CHECK(box.resolution[0] == 21);
+  for (int k = 0; k < 3; ++k) CHECK(double(box.max[k] - box.min[k]) / (box.resolution[k] - 1) <= 0.125 + 1e-6);
   CHECK(box.json()["fitted"] == true);
 }
 
 TEST_CASE("a few floaters thrown far do not stretch the box; an axis the motion does not span keeps the least size") {
   Paths p = scene(400, 2);
   for (int i = 0; i < 3; ++i) p.add({-9, -9, -9}, {9, 9, 9});  // under the 1 % quantile of 403
-  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, 0.1, {0.5, 0.5, 6});
+  // z with 11 texels over 20: cells of 2, so the least size is 8.
+  const train::FieldBox box = train::fit_field_box(p.lo, p.hi, kMin, kMax, {161, 161, 11}, 0.1);
   REQUIRE(box.fitted);
   CHECK(box.min[0] == doctest::Approx(0.8));
   CHECK(box.max[0] == doctest::Approx(3.2));
-  // z spans 2.4 with its pad, under the least size 6: centred on the paths, 6 wide.
-  CHECK(box.max[2] - box.min[2] == doctest::Approx(6));
+  // z spans 2.4 with its pad, under the least size 8: centred on the paths, 8 wide, 5 texels.
+  CHECK(box.max[2] - box.min[2] == doctest::Approx(8));
+  CHECK(box.resolution[2] == 5);
   CHECK(0.5 * (box.max[2] + box.min[2]) == doctest::Approx(0).epsilon(0.05));
 
   // The least size near the old box's edge stays inside it.
   Paths edge;
   for (int i = 0; i < 100; ++i) edge.add({9.9f, 0, 0}, {9.9f, 1, 1});
-  const train::FieldBox at_edge = train::fit_field_box(edge.lo, edge.hi, kMin, kMax, 0.1, {4, 4, 4});
+  const train::FieldBox at_edge = train::fit_field_box(edge.lo, edge.hi, kMin, kMax, {21, 21, 21}, 0.1);  // cells of 1
   REQUIRE(at_edge.fitted);
   CHECK(at_edge.max[0] == doctest::Approx(10));
   CHECK(at_edge.min[0] == doctest::Approx(6));
@@ -85,16 +92,17 @@ TEST_CASE("a few floaters thrown far do not stretch the box; an axis the motion 
 
 TEST_CASE("the box stays when too few Gaussians move or their paths fill it") {
   const Paths few = scene(train::kFieldFitMinMoving - 1, 3);
-  const train::FieldBox a = train::fit_field_box(few.lo, few.hi, kMin, kMax, 0.1, kMinSize);
+  const train::FieldBox a = train::fit_field_box(few.lo, few.hi, kMin, kMax, kFine, 0.1);
   CHECK_FALSE(a.fitted);
   CHECK(a.min == kMin);
   CHECK(a.max == kMax);
+  CHECK(a.resolution == kFine);
   CHECK(a.why.find("too few") != std::string::npos);
 
   // Everything moves across most of the box.
   Paths wide;
   for (int i = 0; i < 100; ++i) wide.add({-9.5f, -9.5f, -9.5f}, {9.5f, 9.5f, 9.5f});
-  const train::FieldBox b = train::fit_field_box(wide.lo, wide.hi, kMin, kMax, 0.1, kMinSize);
+  const train::FieldBox b = train::fit_field_box(wide.lo, wide.hi, kMin, kMax, kFine, 0.1);
   CHECK_FALSE(b.fitted);
   CHECK(b.volume_share > train::kFieldFitMaxVolumeShare);
   CHECK(b.max == kMax);
@@ -102,8 +110,8 @@ TEST_CASE("the box stays when too few Gaussians move or their paths fill it") {
 
   // A path shorter than the limit is not motion: the 400 sliding Gaussians move 2, under 2.5.
   const Paths p = scene(400, 4);
-  CHECK(train::fit_field_box(p.lo, p.hi, kMin, kMax, 2.5, kMinSize).moving == 0);
-  CHECK_THROWS_AS(train::fit_field_box(std::vector<float>(6), std::vector<float>(3), kMin, kMax, 0.1, kMinSize),
+  CHECK(train::fit_field_box(p.lo, p.hi, kMin, kMax, kFine, 2.5).moving == 0);
+  CHECK_THROWS_AS(train::fit_field_box(std::vector<float>(6), std::vector<float>(3), kMin, kMax, kFine, 0.1),
                   std::invalid_argument);
 }
 

@@ -56,6 +56,9 @@ TrainedField read_trained_field(const fs::path& file, const run::TrainConfig& co
   out.fine_iteration = iteration;
   out.field = run::field_config(config, meta_field<std::array<float, 3>>(cp.meta, "aabb_min", "three floats", file),
                                   meta_field<std::array<float, 3>>(cp.meta, "aabb_max", "three floats", file));
+  // A field fitted to what moves holds its resolution with its box (checkpoints before the fit: the settings').
+  if (cp.meta.contains("field_resolution"))
+    out.field.resolution = meta_field<std::array<uint32_t, 4>>(cp.meta, "field_resolution", "four whole numbers", file);
   gpu::DeformShape shape;
   try {
     shape = deform::deform_shape(out.field);

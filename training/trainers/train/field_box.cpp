@@ -6,11 +6,14 @@
 #include <stdexcept>
 #include <vector>
 
+#include "s4d_deform.h"
+
 namespace s4d::train {
 
 nlohmann::json FieldBox::json() const {
   return {{"fitted", fitted},         {"old_min", old_min},         {"old_max", old_max},
           {"min", min},               {"max", max},                 {"gaussians", gaussians},
+          {"old_resolution", old_resolution}, {"resolution", resolution},
           {"moving", moving},         {"move_limit", move_limit},   {"volume_share", volume_share},
           {"at_step", at_step},       {"why", why}};
 }
@@ -27,11 +30,12 @@ float quantile(std::vector<float>& v, double q) {
 }  // namespace
 
 FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
-                       const std::array<float, 3>& old_max, double move_limit, const std::array<double, 3>& min_size) {
+                       const std::array<float, 3>& old_max, const std::array<uint32_t, 3>& resolution, double move_limit) {
   if (lo.size() != hi.size() || lo.size() % 3 != 0)
     throw std::invalid_argument("fit_field_box: " + std::to_string(lo.size()) + " lowest and " + std::to_string(hi.size()) +
                                 " highest coordinates, expected 3 per Gaussian each");
-  FieldBox box{.old_min = old_min, .old_max = old_max, .min = old_min, .max = old_max};
+  FieldBox box{.old_min = old_min, .old_max = old_max, .min = old_min, .max = old_max, .old_resolution = resolution,
+               .resolution = resolution};
   box.gaussians = static_cast<uint32_t>(lo.size() / 3);
   box.move_limit = move_limit;
   std::array<std::vector<float>, 3> low, high;
@@ -48,17 +52,22 @@ FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, con
     return box;
   }
   std::array<float, 3> mn{}, mx{};
+  std::array<uint32_t, 3> res{};
   double share = 1;
   for (int k = 0; k < 3; ++k) {
     const double a = quantile(low[k], kFieldFitQuantile), b = quantile(high[k], 1 - kFieldFitQuantile);
     const double pad = kFieldFitPad * std::max(0.0, b - a);
     double m0 = std::max<double>(old_min[k], a - pad), m1 = std::min<double>(old_max[k], b + pad);
-    // An axis the motion barely spans keeps min_size, centred on it and inside the old box.
-    const double size = std::min<double>(std::max(min_size[k], m1 - m0), old_max[k] - old_min[k]);
+    // An axis the motion barely spans keeps 4 old cells, centred on it and inside the old box.
+    const double old_size = double(old_max[k]) - old_min[k], cell = old_size / std::max<uint32_t>(1, resolution[k] - 1);
+    const double size = std::min(std::max(4 * cell, m1 - m0), old_size);
     const double centre = std::clamp(0.5 * (m0 + m1), old_min[k] + 0.5 * size, old_max[k] - 0.5 * size);
     m0 = centre - 0.5 * size, m1 = centre + 0.5 * size;
     mn[k] = static_cast<float>(m0), mx[k] = static_cast<float>(m1);
-    share *= (m1 - m0) / (double(old_max[k]) - old_min[k]);
+    share *= (m1 - m0) / old_size;
+    // Cells no larger than before: (texels - 1) x cell covers the new size.
+    const auto texels = static_cast<uint32_t>(std::ceil((m1 - m0) / cell - 1e-9)) + 1;
+    res[k] = std::clamp<uint32_t>(texels, S4D_DEFORM_MIN_RESOLUTION, resolution[k]);
   }
   box.volume_share = share;
   char text[256];
@@ -69,9 +78,11 @@ FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, con
     return box;
   }
   box.fitted = true;
-  box.min = mn, box.max = mx;
-  std::snprintf(text, sizeof text, "the paths of the %u moving Gaussians fill %.0f %% of the box: the planes now span them alone",
-                box.moving, 100 * share);
+  box.min = mn, box.max = mx, box.resolution = res;
+  std::snprintf(text, sizeof text,
+                "the paths of the %u moving Gaussians fill %.0f %% of the box: the planes now span them alone, at %ux%ux%u "
+                "texels (were %ux%ux%u) of the same size",
+                box.moving, 100 * share, res[0], res[1], res[2], resolution[0], resolution[1], resolution[2]);
   box.why = text;
   return box;
 }

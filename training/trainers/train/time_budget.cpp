@@ -39,6 +39,7 @@ void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t 
   scaled.lr_scale = c.lr_scale, scaled.static_max_time = c.static_max_time, scaled.background = c.background;
   scaled.sh_degree = c.sh_degree, scaled.sh_degree_auto = c.sh_degree_auto;  // the SH choice (sh_choice.h)
   scaled.budget = c.budget, scaled.budget_given = c.budget_given;  // the first plan's (gaussian_budget_share)
+  scaled.field_resolution = c.field_resolution;  // the field's fit to what moves (field_box.h)
   run::set_iterations(scaled, std::max<uint32_t>(1, iterations));
   if (start.fine_iterations > 0) run::set_fine_iterations(scaled, std::max<uint32_t>(1, fine));
   // A shortened run keeps its number of densifications (and so its pruning of what the initial cloud

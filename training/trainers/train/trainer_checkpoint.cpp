@@ -29,7 +29,8 @@ nlohmann::json Trainer::Impl::meta(double seconds) const {
           {"static_test", static_scores}, {"deform_evaluations", deform_evaluations},
           {"deform_evaluations_unmasked", deform_evaluations_unmasked}, {"densify_log", densify_log},
           {"prune_floor", prune_floor}, {"prune_floor_why", prune_floor_why},
-          {"guard_repairs", recovery.repairs}, {"guard_removed", recovery.removed}};
+          {"guard_repairs", recovery.repairs}, {"guard_removed", recovery.removed}, {"field_fitted", field_fitted},
+          {"field_resolution", config.field_resolution}};
   if (config.time_budget > 0) j["time_budget"] = time_plan.to_json();
   return j;
 }
@@ -73,10 +74,17 @@ void Trainer::Impl::restore(const model::Checkpoint& cp) {
   prune_floor = cp.meta.value("prune_floor", 0u);
   prune_floor_why = cp.meta.value("prune_floor_why", nlohmann::json());
   still_count = 0;
-  // The box may differ from the field's: the checkpoint was written before or after a refit (field_box.h).
+  // The box and resolution may differ from the field's: the checkpoint was written before or after
+  // the fit to what moves (field_box.h; checkpoints from before it have neither key: not fitted).
+  field_fitted = cp.meta.value("field_fitted", false);
   const auto box_min = cp.meta.at("aabb_min").get<std::array<float, 3>>();
   const auto box_max = cp.meta.at("aabb_max").get<std::array<float, 3>>();
-  if (!field || box_min != aabb_min || box_max != aabb_max) {
+  const auto resolution = cp.meta.value("field_resolution", config.field_resolution);
+  if (resolution != config.field_resolution) {
+    config.field_resolution = resolution;
+    save_run_json();  // an older checkpoint than run.json's settings (the newest was damaged)
+  }
+  if (!field || box_min != aabb_min || box_max != aabb_max || field->config().resolution != config.field_resolution) {
     aabb_min = box_min, aabb_max = box_max;
     make_field(config.seed);
   }

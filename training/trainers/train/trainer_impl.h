@@ -61,6 +61,7 @@ struct Trainer::Impl : TrainerCore {
   // The last still_count Gaussians do not move and skip the field (config.static_motion); 0 until
   // measured and again after densification.
   uint32_t still_count = 0;
+  bool field_fitted = false;  // the field's box was fitted to what moves (field_box.h); once per run
   double deform_evaluations = 0, deform_evaluations_unmasked = 0;  // Gaussians the field evaluated / would have
   // Times the stages of this process's steps (train.json "stage_ms"); set while run() runs.
   engine::StageTimer* stage_timer = nullptr;

@@ -1,6 +1,7 @@
 // The 4DGS stage's result as a run's checkpoint holds it (s4d/run/checkpoint.h): the
 // canonical Gaussians, the deformation field's parameters (arrays field.planes and field.mlp) and
-// its bounds (meta aabb_min / aabb_max). Both come from the one file, so they always belong together.
+// its bounds (meta aabb_min / aabb_max) and resolution (meta field_resolution, where written). All
+// come from the one file, so they always belong together.
 #pragma once
 #include <cstdint>
 #include <filesystem>

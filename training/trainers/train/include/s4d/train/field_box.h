@@ -3,8 +3,9 @@
 // initial cloud fills a box around the object, a room's walls stand still around the few things
 // that move. Its planes then spend most of their texels where nothing moves. Once the field has
 // trained for a while, the Gaussians' paths over time tell what moves and where; the box shrinks to
-// those paths (padded), and the planes are resampled onto it (deform/field_resample.h), so the same
-// parameters resolve the motion more finely. Written to train.json dataset.recipe.field_box.
+// those paths (padded), each axis keeps its texel size (so it needs fewer texels), and the planes
+// are resampled onto it (deform/field_resample.h): the motion is resolved as finely as before with
+// fewer parameters. Written to train.json dataset.recipe.field_box.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -33,6 +34,7 @@ struct FieldBox {
   bool fitted = false;
   std::array<float, 3> old_min{}, old_max{};  // the field's box before
   std::array<float, 3> min{}, max{};          // after (the old box when not fitted)
+  std::array<uint32_t, 3> old_resolution{}, resolution{};  // level-0 texels per axis, before and after
   uint32_t gaussians = 0, moving = 0;
   double move_limit = 0;    // world units a Gaussian's mean must move over time to count as moving
   double volume_share = 1;  // the new box's volume over the old one's
@@ -42,11 +44,13 @@ struct FieldBox {
 };
 
 // The box for Gaussians whose means range over [lo, hi] (3 floats each, over time samples) within
-// the field's box [old_min, old_max]; a Gaussian moves when its range's diagonal reaches
-// `move_limit`. The new box: the moving paths' quantiles, padded, inside the old box; at least
-// `min_size` on each axis. Throws std::invalid_argument for sizes that disagree.
+// the field's box [old_min, old_max] of `resolution` level-0 texels per axis; a Gaussian moves when
+// its range's diagonal reaches `move_limit`. The new box: the moving paths' quantiles, padded,
+// inside the old box, at least 4 old texel cells on each axis. Each axis then gets the fewest
+// texels (at least S4D_DEFORM_MIN_RESOLUTION) whose cells are no larger than before. Throws
+// std::invalid_argument for sizes that disagree.
 FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
-                       const std::array<float, 3>& old_max, double move_limit, const std::array<double, 3>& min_size);
+                       const std::array<float, 3>& old_max, const std::array<uint32_t, 3>& resolution, double move_limit);
 
 // The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage,
 // at least 1.
