@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "expect_allclose.h"
 #include "s4d/engine/buffer.h"
@@ -26,6 +27,12 @@ struct DeviceScene {
 };
 
 splat::Camera gpu_camera(const Cam& cam);
+
+// Each value rounded to the nearest half and back: what a packed half (io::pack_halves) reads as.
+std::vector<float> rounded_to_half(const std::vector<float>& values);
+
+// Replaces s's SH buffer with g's SH packed as halves (splat::Storage::f16).
+void store_sh_as_halves(engine::Context& ctx, DeviceScene& s, const Scene& g);
 
 struct GpuForward {
   ref::Projected<float> proj;
