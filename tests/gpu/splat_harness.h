@@ -42,6 +42,12 @@ struct GpuForward {
 };
 GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& cam, const std::array<float, 3>& bg);
 
+// Renders `half` (some values stored as halves) and `full` (the same values rounded to halves, stored
+// as floats), each with a rasterizer of its own running forward variant `pixels`; checks that the
+// projected colours, the image and the alpha are bit for bit equal, and returns half's forward.
+GpuForward expect_half_renders_as_float(engine::Context& ctx, const DeviceScene& half, const DeviceScene& full,
+                                        const Cam& cam, const std::array<float, 3>& bg, uint32_t pixels);
+
 // Each parameter's gradient in `got` (the GPU's) against `want` (the twin's) within `tol`: means, log
 // scales, quaternions, opacity logits, and the colours or the SH, as the scene has.
 void expect_param_grads_allclose(const ref::GaussianGrads<float>& got, const ref::GaussianGrads<float>& want, bool colors,

@@ -136,15 +136,9 @@ TEST_CASE("GPU style forward reading MLP weights stored as halves renders the fl
     test::DeviceStyle style_half(test::context(), mlp), style_full(test::context(), rounded);
     style_half.store_as_halves(test::context(), mlp, half);
     style_full.attach(full);
-    splat::Rasterizer r_half(test::context(), "style half", {.forward_pixels = pixels});
-    splat::Rasterizer r_full(test::context(), "style float", {.forward_pixels = pixels});
-    const test::GpuForward fh = test::gpu_forward(r_half, half, cam, kBg);
-    const test::GpuForward ff = test::gpu_forward(r_full, full, cam, kBg);
-    test::expect_equal_arrays(fh.img.rgb, ff.img.rgb, "image, half against float weights");
-    test::expect_equal_arrays(fh.img.alpha, ff.img.alpha, "alpha, half against float weights");
+    const test::GpuForward fh = test::expect_half_renders_as_float(test::context(), half, full, cam, kBg, pixels);
 
-    const std::vector<float> quadric =
-        test::context().download<float>(r_half.quadric(), ref::kStyleQuadricStride * g.size());
+    const std::vector<float> quadric = ref::style_quadric(g, cam);
     const ref::Image<float> ti = ref::style_raster_fwd(fh.proj, quadric, rounded, cam, kBg);
     test::expect_allclose(fh.img.rgb, ti.rgb, {.atol = 1e-5}, "fh.img.rgb");
     test::expect_allclose(fh.img.alpha, ti.alpha, {.atol = 1e-5}, "fh.img.alpha");
