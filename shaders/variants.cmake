@@ -10,7 +10,10 @@ set(S4D_SHADER_VARIANTS
   "radix_scatter|sort/radix_scatter.comp|S4D_RADIX_LIVE=0"
   "radix_count_live|sort/radix_count.comp|S4D_RADIX_LIVE=1"
   "radix_scatter_live|sort/radix_scatter.comp|S4D_RADIX_LIVE=1"
-  "project_fwd|splat/project_fwd.comp"
+  "project_fwd|splat/project_fwd.comp|S4D_SH_HALF=0"
+  # The render side's half storage (docs/rasterizer.md): SH, and the style MLPs' weights, read as
+  # packed halves; forward only (training keeps float parameters).
+  "project_fwd_half|splat/project_fwd.comp|S4D_SH_HALF=1"
   "count_tiles|splat/count_tiles.comp"
   "emit_instances|splat/emit_instances.comp"
   "tile_ranges|splat/tile_ranges.comp"
@@ -29,6 +32,8 @@ set(S4D_SHADER_VARIANTS
   "style_quadric|splat/style_quadric.comp"
   "style_raster_fwd|splat/raster_fwd.comp|S4D_STYLE=1"
   "style_raster_fwd_px1|splat/raster_fwd.comp|S4D_STYLE=1|S4D_RFWD_PIXELS=1"
+  "style_raster_fwd_half|splat/raster_fwd.comp|S4D_STYLE=1|S4D_STYLE_MLP_HALF=1"
+  "style_raster_fwd_px1_half|splat/raster_fwd.comp|S4D_STYLE=1|S4D_RFWD_PIXELS=1|S4D_STYLE_MLP_HALF=1"
   "style_raster_bwd|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1"
   "style_raster_bwd_cas|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=0"
   "style_raster_bwd_px1|splat/raster_bwd.comp|S4D_STYLE=1|S4D_FLOAT_ATOMICS=1|S4D_RBWD_PIXELS=1"

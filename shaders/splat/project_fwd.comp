@@ -1,12 +1,18 @@
 // project_fwd: per Gaussian, activations, EWA projection, conic, 3-sigma radius, tile rectangle,
 // colour (SH or the colour buffer) and the depth sort key (ALGORITHMS.md 1.3). Culled Gaussians get
-// zero outputs, tiles_touched 0 and the culled depth key.
+// zero outputs, tiles_touched 0 and the culled depth key. S4D_SH_HALF=1 (project_fwd_half) reads the
+// SH as packed halves (half_storage.glsl), the render side's half storage; the colour buffer stays
+// float.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_splat.h"
 #include "flat_group.glsl"
 #include "splat_project.glsl"
 #include "splat_sh.glsl"
+#include "half_storage.glsl"
+#ifndef S4D_SH_HALF
+#define S4D_SH_HALF 0
+#endif
 
 layout(local_size_x = S4D_SPLAT_WG) in;
 layout(push_constant) uniform Push { ProjectParams p; };
@@ -14,7 +20,13 @@ layout(std430, binding = S4D_B_PROJ_MEANS) readonly buffer Means { float means[]
 layout(std430, binding = S4D_B_PROJ_LOG_SCALES) readonly buffer LogScales { float log_scales[]; };
 layout(std430, binding = S4D_B_PROJ_QUATS) readonly buffer Quats { float quats[]; };
 layout(std430, binding = S4D_B_PROJ_OPACITY_LOGITS) readonly buffer OpacityLogits { float opacity_logits[]; };
-layout(std430, binding = S4D_B_PROJ_SH) readonly buffer Sh { float sh[]; };
+#if S4D_SH_HALF
+layout(std430, binding = S4D_B_PROJ_SH) readonly buffer Sh { uint sh_words[]; };  // [ceil(N*K*3 / 2)] f16 pairs
+float sh_at(uint j) { return half_element(sh_words[j >> 1], j); }
+#else
+layout(std430, binding = S4D_B_PROJ_SH) readonly buffer Sh { float sh[]; };  // [N, K, 3]
+float sh_at(uint j) { return sh[j]; }
+#endif
 layout(std430, binding = S4D_B_PROJ_COLORS) readonly buffer Colors { float colors[]; };
 layout(std430, binding = S4D_B_PROJ_XY) writeonly buffer Xy { vec2 xy[]; };
 layout(std430, binding = S4D_B_PROJ_CONIC_OPACITY) writeonly buffer ConicOpacity { vec4 conic_opacity[]; };
@@ -71,7 +83,7 @@ void main() {
     uint num_active = (p.sh_degree + 1u) * (p.sh_degree + 1u);
     for (uint ch = 0u; ch < 3u; ++ch) {
       float acc = 0.5;
-      for (uint k = 0u; k < num_active; ++k) acc += Y[k] * sh[(i * p.sh_coeffs + k) * 3u + ch];
+      for (uint k = 0u; k < num_active; ++k) acc += Y[k] * sh_at((i * p.sh_coeffs + k) * 3u + ch);
       if (acc < 0.0) clamped |= 1u << ch;
       rgb[ch] = max(acc, 0.0);
     }

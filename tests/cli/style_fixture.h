@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "run4d_fixture.h"
 #include "s4d/io/image_io.h"
@@ -41,6 +42,17 @@ inline std::filesystem::path render_test_path(const std::string& style_args, con
                               log) == 0,
                   read_text(log));
   return out / "cam00";
+}
+
+// R, G, B of the test camera's three EXR frames, rendered with `style_args`.
+inline std::vector<float> rgb_exr(const std::string& style_args, const std::string& tag) {
+  const std::filesystem::path dir = render_test_path(style_args, tag, "exr");
+  std::vector<float> out;
+  for (int k = 0; k < 3; ++k) {
+    const io::ExrImage img = io::read_exr(dir / ("000" + std::to_string(k) + ".exr"));
+    for (const char* c : {"R", "G", "B"}) out.insert(out.end(), img.channels.at(c).begin(), img.channels.at(c).end());
+  }
+  return out;
 }
 
 // The test camera's middle frame (t = 0.5) in `style` ("" for the original scene).

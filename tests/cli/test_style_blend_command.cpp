@@ -25,6 +25,7 @@
 namespace {
 
 using namespace s4d;
+using test::rgb_exr;
 namespace fs = std::filesystem;
 
 const std::string kFullOptions = "--iters 60 --mlp-iters 20 --spiral-frames 4";
@@ -48,17 +49,6 @@ std::string rotated_style_image() {
 void train_styles() {
   test::styled("full", kFullOptions);
   test::styled("full_b", kFullOptions, rotated_style_image());
-}
-
-// R, G, B of the test camera's three EXR frames, rendered with `style_args`.
-std::vector<float> rgb_exr(const std::string& style_args, const std::string& tag) {
-  const fs::path dir = test::render_test_path(style_args, tag, "exr");
-  std::vector<float> out;
-  for (int k = 0; k < 3; ++k) {
-    const io::ExrImage img = io::read_exr(dir / ("000" + std::to_string(k) + ".exr"));
-    for (const char* c : {"R", "G", "B"}) out.insert(out.end(), img.channels.at(c).begin(), img.channels.at(c).end());
-  }
-  return out;
 }
 
 // The exit code and the log of a `style4d` call expected to fail.

@@ -1,4 +1,6 @@
 #include "s4d/engine/buffer_from.h"
+#include "expect_equal.h"
+#include "s4d/io/half_float.h"
 #include "splat_harness.h"
 
 #include <cmath>
@@ -33,6 +35,28 @@ DeviceScene::DeviceScene(engine::Context& ctx, const Scene& g)
             .sh_degree = static_cast<uint32_t>(g.sh_degree),
             .sh_coeffs = static_cast<uint32_t>(std::max<size_t>(1, g.sh_coeffs()))};
   grads = {{&v_means, &v_log_scales, &v_quats, &v_opacity_logits, &v_sh, use_colors ? &v_colors : nullptr}};
+}
+
+std::vector<float> rounded_to_half(const std::vector<float>& values) {
+  std::vector<float> out(values.size());
+  for (size_t k = 0; k < values.size(); ++k) out[k] = io::half_to_float(io::float_to_half(values[k]));
+  return out;
+}
+
+void store_sh_as_halves(engine::Context& ctx, DeviceScene& s, const Scene& g) {
+  s.sh = engine::buffer_from(ctx, "sh halves", io::pack_halves(g.sh));
+  s.params.sh_storage = splat::Storage::f16;
+}
+
+GpuForward expect_half_renders_as_float(engine::Context& ctx, const DeviceScene& half, const DeviceScene& full,
+                                        const Cam& cam, const std::array<float, 3>& bg, uint32_t pixels) {
+  splat::Rasterizer r_half(ctx, "half storage", {.forward_pixels = pixels});
+  splat::Rasterizer r_full(ctx, "float storage", {.forward_pixels = pixels});
+  const GpuForward fh = gpu_forward(r_half, half, cam, bg), ff = gpu_forward(r_full, full, cam, bg);
+  expect_equal_arrays(fh.proj.rgb, ff.proj.rgb, "projected colours, half against float storage");
+  expect_equal_arrays(fh.img.rgb, ff.img.rgb, "image, half against float storage");
+  expect_equal_arrays(fh.img.alpha, ff.img.alpha, "alpha, half against float storage");
+  return fh;
 }
 
 splat::Camera gpu_camera(const Cam& cam) {

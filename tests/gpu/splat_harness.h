@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
+#include <vector>
 
 #include "expect_allclose.h"
 #include "s4d/engine/buffer.h"
@@ -27,6 +28,12 @@ struct DeviceScene {
 
 splat::Camera gpu_camera(const Cam& cam);
 
+// Each value rounded to the nearest half and back: what a packed half (io::pack_halves) reads as.
+std::vector<float> rounded_to_half(const std::vector<float>& values);
+
+// Replaces s's SH buffer with g's SH packed as halves (splat::Storage::f16).
+void store_sh_as_halves(engine::Context& ctx, DeviceScene& s, const Scene& g);
+
 struct GpuForward {
   ref::Projected<float> proj;
   ref::Image<float> img;
@@ -34,6 +41,12 @@ struct GpuForward {
   uint32_t longest_tile_list = 0;
 };
 GpuForward gpu_forward(splat::Rasterizer& r, const DeviceScene& s, const Cam& cam, const std::array<float, 3>& bg);
+
+// Renders `half` (some values stored as halves) and `full` (the same values rounded to halves, stored
+// as floats), each with a rasterizer of its own running forward variant `pixels`; checks that the
+// projected colours, the image and the alpha are bit for bit equal, and returns half's forward.
+GpuForward expect_half_renders_as_float(engine::Context& ctx, const DeviceScene& half, const DeviceScene& full,
+                                        const Cam& cam, const std::array<float, 3>& bg, uint32_t pixels);
 
 // Each parameter's gradient in `got` (the GPU's) against `want` (the twin's) within `tol`: means, log
 // scales, quaternions, opacity logits, and the colours or the SH, as the scene has.

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "s4d/engine/buffer_from.h"
+#include "s4d/io/half_float.h"
 
 namespace s4d::test {
 
@@ -21,6 +22,12 @@ DeviceStyle::DeviceStyle(engine::Context& ctx, const ref::StyleMlp<float>& mlp)
 
 std::vector<float> DeviceStyle::download_v_mlp(engine::Context& ctx) const {
   return ctx.download<float>(v_mlp, v_mlp.size() / 4);
+}
+
+void DeviceStyle::store_as_halves(engine::Context& ctx, const ref::StyleMlp<float>& mlp, DeviceScene& scene) {
+  weights = engine::buffer_from(ctx, "style weights halves", io::pack_halves(mlp.weights));
+  attach(scene);
+  scene.params.style_mlp_storage = splat::Storage::f16;
 }
 
 ref::ImageGrads<float> random_cotangents(const Cam& cam, std::mt19937& rng, bool alpha_depth) {

@@ -23,6 +23,8 @@ struct DeviceStyle {
     scene.grads[splat::Attr::style_mlp] = &v_mlp;
   }
   std::vector<float> download_v_mlp(engine::Context& ctx) const;
+  // Replaces the weights with `mlp`'s packed as halves (splat::Storage::f16) in `scene`, attached.
+  void store_as_halves(engine::Context& ctx, const ref::StyleMlp<float>& mlp, DeviceScene& scene);
 };
 
 // Random cotangents on rgb, and on alpha and depth when `alpha_depth`.

@@ -10,6 +10,7 @@
 
 #include "expect_allclose.h"
 #include "expect_equal.h"
+#include "s4d/splat/scene_upload.h"
 #include "splat_harness.h"
 #include "test_context.h"
 
@@ -240,4 +241,16 @@ TEST_CASE("long tile lists that terminate partway through a later batch, forward
   test::expect_allclose(r.b.grad2d.v_opacity, tg.v_opacity, {.of_largest = 1e-4}, "v_opacity");
   test::expect_allclose(r.b.grad2d.v_rgb, tg.v_rgb, {.of_largest = 1e-4}, "v_rgb");
   test::expect_allclose(r.b.grad2d.v_depth, tg.v_depth, {.of_largest = 1e-4}, "v_depth");
+}
+
+TEST_CASE("half storage refuses a finite value beyond half's range, naming the buffer, the index and the value") {
+  CHECK_THROWS_WITH_AS(splat::upload_as(test::context(), "run sh", std::vector<float>{1.0f, -65520.0f}, splat::Storage::f16),
+                       "run sh: value -65520.000000 at index 1 is beyond half precision's range (65504); render it in "
+                       "float (without --half)",
+                       std::invalid_argument);
+  // The largest values that round to 65504 pack; three halves take two words.
+  const engine::Buffer ok =
+      splat::upload_as(test::context(), "run sh", std::vector<float>{65504.0f, -65519.0f, 1.0f}, splat::Storage::f16);
+  CHECK(ok.size() == 8);
+  CHECK(test::context().download<uint32_t>(ok, 2) == std::vector<uint32_t>{0xfbff7bffu, 0x00003c00u});
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "expect_allclose.h"
@@ -92,5 +93,45 @@ TEST_CASE("GPU projection, blending and backward match the twin stage by stage")
     test::expect_allclose(b.grad2d.v_depth, tg2.v_depth, {.of_largest = 1e-5}, "b.grad2d.v_depth");
     const ref::GaussianGrads<float> tg = ref::project_bwd(g, cam, f.proj, b.grad2d);
     test::expect_param_grads_allclose(b.grads, tg, c.colors, {.of_largest = 1e-5});
+  }
+}
+
+// Half storage (docs/rasterizer.md): project_fwd_half reads each SH coefficient with
+// unpackHalf2x16, which gives the half's exact value, so it renders what project_fwd renders from
+// the SH rounded to halves: the same bits in both forward variants, and the twin on the rounded SH
+// within the float path's tolerances above (measured worst, lavapipe, Mesa 22.3.6: projected colour
+// 0, image and alpha 1.8e-7). K = 1 stores 3 halves a Gaussian, so Gaussians share words; K = 16
+// (degree 3) 48.
+TEST_CASE("GPU projection reading SH stored as halves renders the float path's bits on half-rounded SH") {
+  for (const auto& [sh_degree, coeffs, pixels] : {std::tuple{0, 1, 0u}, std::tuple{3, 16, 0u}, std::tuple{3, 16, 1u}}) {
+    CAPTURE(sh_degree);
+    CAPTURE(pixels);
+    std::mt19937 rng(static_cast<unsigned>(300 + sh_degree + pixels));
+    const Cam cam = test::random_camera(83, 61, rng);
+    Scene g = test::random_scene(1501, sh_degree, false, rng);
+    if (coeffs == 1) {  // random_scene stores 16 coefficients; keep each Gaussian's first
+      std::vector<float> dc(3 * g.size());
+      for (size_t j = 0; j < dc.size(); ++j) dc[j] = g.sh[16 * 3 * (j / 3) + j % 3];
+      g.sh = dc;
+    }
+    Scene rounded = g;
+    rounded.sh = test::rounded_to_half(g.sh);
+    test::DeviceScene half(test::context(), g), full(test::context(), rounded);
+    test::store_sh_as_halves(test::context(), half, g);
+    const test::GpuForward fh = test::expect_half_renders_as_float(test::context(), half, full, cam, kBg, pixels);
+
+    const ref::Projected<float> tp = ref::project_fwd(rounded, cam);
+    test::expect_equal_arrays(fh.proj.clamped, tp.clamped, "SH clamp bits");
+    test::expect_allclose(fh.proj.rgb, tp.rgb, {.atol = 1e-5}, "fh.proj.rgb");
+    const ref::Image<float> ti = ref::raster_fwd(fh.proj, cam, kBg);
+    test::expect_allclose(fh.img.rgb, ti.rgb, {.atol = 1e-5}, "fh.img.rgb");
+    test::expect_allclose(fh.img.alpha, ti.alpha, {.atol = 1e-5}, "fh.img.alpha");
+
+    splat::Rasterizer r(test::context());
+    r.forward(half.params, test::gpu_camera(cam), kBg);
+    const auto v = random_cotangents(cam, rng, false);
+    CHECK_THROWS_WITH_AS(test::gpu_backward(r, half, v, ti.alpha.size()),
+                         "rasterizer: backward() needs float sh and style_mlp; half storage renders only",
+                         std::invalid_argument);
   }
 }

@@ -21,6 +21,7 @@
 #include "s4d/protocols/protocol_render.h"
 #include "s4d/run/style_file.h"
 #include "s4d/scene/trained_run.h"
+#include "style_args.h"
 
 namespace s4d::cli {
 
@@ -94,9 +95,10 @@ std::vector<Method> methods_of(const Args& args, const scene::TrainedRun& run) {
 
 // Renders one source's two protocols into DIR/renders/<source>/{test,spiral}, redone on every call.
 void render_source(engine::Context& ctx, const scene::TrainedRun& run, const std::string& source, const fs::path& dir,
-                   const std::vector<protocols::Sequence>& test, const std::vector<protocols::Sequence>& spiral, bool flow) {
+                   const std::vector<protocols::Sequence>& test, const std::vector<protocols::Sequence>& spiral, bool flow,
+                   splat::Storage storage) {
   fs::remove_all(dir);
-  const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source);
+  const std::unique_ptr<scene::SceneSource> scene = scene::open_scene(ctx, run, source, storage);
   protocols::RenderOptions options;
   options.background = run.dataset.background;
   options.flow = flow;
@@ -142,9 +144,11 @@ int bench_run(const Args& args, bench::FramesOptions options) {
   }
   const std::optional<bench::BridgeOptions> bridge = bridge_options(args, out, options.learned);
   // The original is always rendered: it is every method's content reference and carries the flow.
-  render_source(ctx, run, "original", renders / "original", test, spiral, options.flow == bench::FlowSource::exact);
+  const splat::Storage storage = parse_storage(args);
+  render_source(ctx, run, "original", renders / "original", test, spiral, options.flow == bench::FlowSource::exact,
+                storage);
   for (const Method& m : methods)
-    if (m.name != "original") render_source(ctx, run, m.name, renders / m.name, test, spiral, false);
+    if (m.name != "original") render_source(ctx, run, m.name, renders / m.name, test, spiral, false, storage);
   fs::remove_all(renders / "ground_truth");
   const std::optional<std::string> no_truth = write_ground_truth(run.dataset, test, renders / "ground_truth" / "test");
 

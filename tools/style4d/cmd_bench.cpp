@@ -16,6 +16,7 @@
 #include "s4d/bench/merge_report.h"
 #include "s4d/bench/native_learned.h"
 #include "s4d/engine/context.h"
+#include "style_args.h"
 
 namespace s4d::cli {
 
@@ -58,6 +59,7 @@ const std::vector<OptionSpec> kSpecs = {
     {"run", "a trained run, rendered along the test and spiral protocols", true, "RUN"},
     {"style", "a style of --run (style4d stylize --style), or original; repeat for several methods", true, "NAME"},
     {"spiral-frames", "run mode: frames of the spiral video (default 120)", true, "N"},
+    half_spec(),
     group("merge mode"),
     {"merge", "report folders (or their report.json) of earlier benches, one per job", true, "DIR..."},
 };
@@ -187,6 +189,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   if (args.get("run")) return bench_run(args, options_from(args, bench::FlowSource::exact));
   for (const char* o : {"style", "spiral-frames"})
     if (args.get(o)) throw UsageError(std::string("--") + o + " belongs to the --run mode");
+  if (args.flag("half")) throw UsageError("--half belongs to the --run mode (it renders the run)");
   const std::vector<std::string> frames = args.get_all("stylized"), names = args.get_all("name");
   if (frames.empty()) throw UsageError("missing required option --stylized (see --help)");
   if (!names.empty() && names.size() != frames.size())

@@ -48,6 +48,12 @@ std::array<float, 3> parse_background(const std::string& text) {
   return bg;
 }
 
+nlohmann::json storage_json(splat::Storage storage, size_t sh_style_bytes, const engine::Context& ctx) {
+  return {{"precision", storage == splat::Storage::f16 ? "f16" : "f32"},
+          {"sh_style_bytes", sh_style_bytes},
+          {"device_memory_peak_bytes", ctx.memory_peak()}};
+}
+
 int cmd_render(const std::vector<std::string>& argv) {
   const std::vector<OptionSpec> specs = {
       group("a trained run (--run)"),
@@ -69,13 +75,14 @@ int cmd_render(const std::vector<std::string>& argv) {
       group("both"),
       {"out", "output directory (created)", true, "DIR"},
       {"background", "background colour R,G,B in [0,1] (default: --run the run's, --ply 0,0,0)", true, "R,G,B"},
+      half_spec(),
   };
   Args args(argv, specs);
   if (args.help()) {
     std::cout << usage(
         "render", "--run RUN --path test|spiral|train:CAM|FILE.json --out DIR [--style NAME [--mix NAME2 --alpha A]]\n"
-                  "       [--format png|exr|mp4] [--spiral-frames N] [--flow]\n"
-                  "       style4d render --ply FILE --cameras transforms.json --out DIR",
+                  "       [--format png|exr|mp4] [--spiral-frames N] [--flow] [--half]\n"
+                  "       style4d render --ply FILE --cameras transforms.json --out DIR [--half]",
         "--run: renders a trained run along a protocol. test: one sequence per test camera, fixed, at\n"
         "every test-view time, in DIR/<camera>/; spiral: around the scene (a spiral in front of a\n"
         "forward-facing rig, a helix around a surrounding one, both looking at the point nearest to all\n"
@@ -89,7 +96,10 @@ int cmd_render(const std::vector<std::string>& argv) {
         "--ply: renders a standard 3D Gaussian Splatting PLY from NeRF-style cameras: per frame\n"
         "DIR/<name>.png (RGB over the background) and DIR/<name>.exr (R, G, B, A = accumulated\n"
         "alpha, Z = expected depth, the alpha-normalised camera-space z), where <name> is the last\n"
-        "component of the frame's file_path. Writes DIR/render.json with per-frame statistics.",
+        "component of the frame's file_path. Writes DIR/render.json with per-frame statistics.\n\n"
+        "--half (both modes) holds the SH and style MLP weights on the device as half-precision floats:\n"
+        "half their memory, at the accuracy docs/rasterizer.md measures; render.json records the storage\n"
+        "and its bytes.",
         specs);
     return 0;
   }
@@ -117,7 +127,8 @@ int render_ply(const Args& args) {
             << ", " << views.size() << " cameras from " << cameras_path << "\n";
 
   engine::Context ctx;
-  splat::DeviceGaussians gaussians(ctx, cloud, "ply");
+  const splat::Storage storage = parse_storage(args);
+  splat::DeviceGaussians gaussians(ctx, cloud, "ply", storage);
   splat::Rasterizer rasterizer(ctx);
   std::filesystem::create_directories(out);
 
@@ -152,6 +163,7 @@ int render_ply(const Args& args) {
                                   {"num_gaussians", cloud.size()},
                                   {"sh_degree", sh_degree < 0 ? cloud.sh_degree : std::min(sh_degree, cloud.sh_degree)},
                                   {"background", background},
+                                  {"storage", storage_json(storage, gaussians.sh_bytes(), ctx)},
                                   {"device", device_json(ctx.info())},
                                   {"frames", frames}};
   util::write_file_atomic(out / "render.json", summary.dump(2) + "\n");

@@ -51,6 +51,7 @@ int cmd_view(const std::vector<std::string>& argv) {
       {"style", "style to show (default: original)", true, "NAME"},
       mix_spec(),
       alpha_spec(),
+      half_spec(),
       {"screenshot", "render one frame without a window into this PNG and exit", true, "F.png"},
       {"time", "time t in [0, 1] to start at or capture (default 0)", true, "T"},
       {"camera", "dataset camera to start from or capture: its index or its name, as render's train:CAM\n"
@@ -100,7 +101,7 @@ int cmd_view(const std::vector<std::string>& argv) {
   if (args.get("screenshot")) {
     engine::Context ctx;
     const std::filesystem::path png = *args.get("screenshot");
-    viewer::capture(ctx, run, {.png = png, .time = time, .camera = camera, .style = style});
+    viewer::capture(ctx, run, {.png = png, .time = time, .camera = camera, .style = style, .storage = parse_storage(args)});
     std::cout << "captured camera " << camera << " (" << viewer::dataset_cameras(run.dataset).at(camera).name
               << ") at t = " << time
               << " into " << png.string() << "\n";
@@ -108,6 +109,7 @@ int cmd_view(const std::vector<std::string>& argv) {
   }
 #ifdef S4D_HAVE_VIEWER_WINDOW
   viewer::ViewerOptions options{.style = style,
+                                .storage = parse_storage(args),
                                 .camera = camera,
                                 .time = time,
                                 .play = args.flag("play"),

@@ -43,7 +43,8 @@ int render_run(const Args& args) {
   engine::Context ctx;
   const scene::TrainedRun trained = scene::read_trained_run(run);
   const scene::StyleChoice choice = parse_style_choice(args);
-  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, trained, choice);
+  const splat::Storage storage = parse_storage(args);
+  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, trained, choice, storage);
   options.background = args.get("background") ? parse_background(*args.get("background")) : trained.dataset.background;
   const std::vector<protocols::Sequence> sequences = protocols::build_protocol(trained.dataset, path, frames);
   std::cerr << "[render] " << source->describe() << "; path " << path.text() << ": " << sequences.size()
@@ -81,6 +82,7 @@ int render_run(const Args& args) {
                                   {"background", options.background},
                                   {"frames", total},
                                   {"seconds", seconds},
+                                  {"storage", storage_json(storage, source->sh_style_bytes(), ctx)},
                                   {"device", device_json(ctx.info())},
                                   {"sequences", seqs}};
   util::write_file_atomic(out / "render.json", summary.dump(2) + "\n");

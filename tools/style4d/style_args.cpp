@@ -13,6 +13,13 @@ OptionSpec alpha_spec() {
   return {"alpha", "with --mix: the weight of the --mix style, in [0, 1] (0: --style alone, 1: --mix alone)", true, "A"};
 }
 
+OptionSpec half_spec() {
+  return {"half", "hold SH and style MLP weights on the device as half-precision floats (half their memory;\n"
+                  "                        docs/rasterizer.md has the accuracy cost)", false, ""};
+}
+
+splat::Storage parse_storage(const Args& args) { return args.flag("half") ? splat::Storage::f16 : splat::Storage::f32; }
+
 scene::StyleChoice parse_style_choice(const Args& args) {
   scene::StyleChoice choice{.style = args.get_or("style", "original"), .mix = args.get_or("mix", "")};
   if (args.get("mix") && choice.mix.empty()) throw UsageError("--mix: expected a style name");

@@ -13,12 +13,14 @@ size_t index_of(const scene::TrainedRun& run, const std::string& style) {
 
 }  // namespace
 
-StyleSwitch::StyleSwitch(engine::Context& ctx, const scene::TrainedRun& run, const scene::StyleChoice& start)
-    : ctx_(&ctx), run_(&run) {
+StyleSwitch::StyleSwitch(engine::Context& ctx, const scene::TrainedRun& run, const scene::StyleChoice& start,
+                         splat::Storage storage)
+    : ctx_(&ctx), run_(&run), storage_(storage) {
   if (start.mix.empty()) {
-    source_ = scene::open_scene(ctx, run, start.style);
+    source_ = scene::open_scene(ctx, run, start.style, storage_);
   } else {
-    std::unique_ptr<scene::BlendedScene> blend = scene::open_blend(ctx, run, start.style, start.mix, start.alpha);
+    std::unique_ptr<scene::BlendedScene> blend =
+        scene::open_blend(ctx, run, start.style, start.mix, start.alpha, storage_);
     blended_ = blend.get();
     source_ = std::move(blend);
     shown_.mix = static_cast<int>(index_of(run, start.mix));
@@ -39,14 +41,14 @@ std::string StyleSwitch::update(StyleSelection& want) {
   ctx_->wait_idle();  // the last frame may still read the old source's buffers
   const std::string& style = run_->styles[want.style];
   if (want.mix < 0) {
-    source_ = scene::open_scene(*ctx_, *run_, style);
+    source_ = scene::open_scene(*ctx_, *run_, style, storage_);
     blended_ = nullptr;
     shown_ = want;
     return "";
   }
   try {
     std::unique_ptr<scene::BlendedScene> blend =
-        scene::open_blend(*ctx_, *run_, style, run_->styles[static_cast<size_t>(want.mix)], want.alpha);
+        scene::open_blend(*ctx_, *run_, style, run_->styles[static_cast<size_t>(want.mix)], want.alpha, storage_);
     blended_ = blend.get();
     source_ = std::move(blend);
     shown_ = want;

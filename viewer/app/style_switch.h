@@ -19,8 +19,10 @@ struct StyleSelection {
 
 class StyleSwitch {
  public:
-  // Opens `start`; its errors (an unknown style, styles that cannot be blended) propagate.
-  StyleSwitch(engine::Context& ctx, const scene::TrainedRun& run, const scene::StyleChoice& start);
+  // Opens `start`, and every later style, with `storage` (scene::open_scene); its errors (an unknown
+  // style, styles that cannot be blended) propagate.
+  StyleSwitch(engine::Context& ctx, const scene::TrainedRun& run, const scene::StyleChoice& start,
+              splat::Storage storage = splat::Storage::f32);
 
   // What `start` was, as panel indices.
   const StyleSelection& shown() const { return shown_; }
@@ -34,6 +36,7 @@ class StyleSwitch {
  private:
   engine::Context* ctx_;
   const scene::TrainedRun* run_;
+  splat::Storage storage_;
   std::unique_ptr<scene::SceneSource> source_;
   scene::BlendedScene* blended_ = nullptr;  // source_ when it is a blend
   StyleSelection shown_;

@@ -104,7 +104,7 @@ class Session {
         swapchain_(ctx_, window_.create_surface(ctx_.instance())),
         input_((resize_swapchain(), window_.handle())),  // the swapchain sized before the input and panel, as they expect
         imgui_(ctx_, window_.handle(), swapchain_),
-        styles_(ctx_, run, options.style),
+        styles_(ctx_, run, options.style, options.storage),
         selection_(styles_.shown()),
         last_styled_(selection_.style > 0 ? selection_.style : 1),
         renderer_(ctx_, run.dataset.background),

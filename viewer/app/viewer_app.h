@@ -17,6 +17,7 @@ namespace s4d::viewer {
 
 struct ViewerOptions {
   scene::StyleChoice style;  // a style of the run, or the blend of two
+  splat::Storage storage = splat::Storage::f32;  // f16: SH and style MLPs as halves (scene::open_scene)
   size_t camera = 0;  // dataset camera to start from
   double time = 0;    // in [0, 1]
   bool play = false;  // start playing

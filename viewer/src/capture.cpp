@@ -16,7 +16,7 @@ void capture(engine::Context& ctx, const scene::TrainedRun& run, const CaptureRe
                                 std::to_string(cameras.size() - 1));
   if (!(request.time >= 0 && request.time <= 1))
     throw std::invalid_argument("--time " + std::to_string(request.time) + ": expected a time in [0, 1]");
-  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, request.style);
+  const std::unique_ptr<scene::SceneSource> source = scene::open_scene(ctx, run, request.style, request.storage);
   FrameRenderer renderer(ctx, run.dataset.background);
   renderer.render_now(*source, splat::to_splat_camera(cameras[request.camera]), request.time, PixelOrder::rgba);
   io::write_png(request.png, renderer.read_rgb());

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "file_read.h"
-#include "half_float.h"
+#include "s4d/io/half_float.h"
 #include "s4d/util/atomic_file.h"
 
 namespace s4d::io {
@@ -149,9 +149,9 @@ std::vector<float> SafetensorsFile::read(const std::string& name, const std::vec
     if (e.dtype == "F32")
       std::memcpy(&out[i], src + 4 * i, 4);
     else if (e.dtype == "F16")
-      out[i] = detail::half_to_float(load_u16(src + 2 * i));
+      out[i] = half_to_float(load_u16(src + 2 * i));
     else
-      out[i] = detail::bf16_to_float(load_u16(src + 2 * i));
+      out[i] = bf16_to_float(load_u16(src + 2 * i));
     if (!std::isfinite(out[i]))
       fail(path_, "tensor '" + name + "' holds a non-finite value (" + std::to_string(out[i]) + ") at element " +
                       std::to_string(i));
@@ -176,7 +176,7 @@ void write_safetensors(const std::filesystem::path& path, const std::vector<Name
       if (dtype == TensorDtype::f32) {
         data.append(reinterpret_cast<const char*>(&v), 4);
       } else {
-        const uint16_t h = dtype == TensorDtype::f16 ? detail::float_to_half(v) : detail::float_to_bf16(v);
+        const uint16_t h = dtype == TensorDtype::f16 ? float_to_half(v) : float_to_bf16(v);
         data.append(reinterpret_cast<const char*>(&h), 2);
       }
     }

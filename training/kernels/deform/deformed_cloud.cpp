@@ -43,6 +43,8 @@ splat::GaussianParams DeformedCloud::record(engine::Recorder& rec, const Deforma
     throw std::invalid_argument("deformed cloud: sized for " + std::to_string(count_) + " Gaussians with " +
                                 std::to_string(sh_coeffs_) + " SH coefficients, given " + std::to_string(canonical.count) +
                                 " with " + std::to_string(canonical.sh_coeffs));
+  if ((heads_ & S4D_DEFORM_HEAD_SH) != 0 && canonical.sh_storage != splat::Storage::f32)
+    throw std::invalid_argument("deformed cloud: the field deforms SH, so the canonical SH must be float, not halves");
   field.record_forward(rec, canonical_of(canonical, still_count), time, outputs());
   splat::GaussianParams p = canonical;
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)

@@ -46,14 +46,13 @@ std::vector<Attr> read_attrs(bool colors, bool style) {
 }
 
 void check_params(const GaussianParams& g) {
-  const size_t n = g.count;
   if (g.sh_degree > S4D_MAX_SH_DEGREE)
     throw std::invalid_argument("rasterizer: sh_degree " + std::to_string(g.sh_degree) + " is above 3");
   if (g.sh_coeffs < (g.sh_degree + 1) * (g.sh_degree + 1) || g.sh_coeffs > S4D_MAX_SH_COEFFS)
     throw std::invalid_argument("rasterizer: sh_coeffs " + std::to_string(g.sh_coeffs) + " does not hold degree " +
                                 std::to_string(g.sh_degree));
   for (Attr a : read_attrs(g[Attr::colors] != nullptr, g.style != nullptr))
-    require(g[a], attr_name(a), n * attr_floats(a, g.sh_coeffs) * 4);
+    require(g[a], attr_name(a), g.bytes(a));
 }
 
 void check_camera(const Camera& cam) {
@@ -231,8 +230,9 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
 
   // Project, sort by depth, count tiles in depth order, scan to offsets.
   std::optional<engine::StageScope> stage(std::in_place, *ctx_, "project");
+  const bool sh_half = g[Attr::colors] == nullptr && g.sh_storage == Storage::f16;
   rec.dispatch(
-      shader_pipeline(*ctx_, shaders::Id::project_fwd),
+      shader_pipeline(*ctx_, sh_half ? shaders::Id::project_fwd_half : shaders::Id::project_fwd),
       {S4D_BIND(PROJ_MEANS, *g[Attr::means]), S4D_BIND(PROJ_LOG_SCALES, *g[Attr::log_scales]), S4D_BIND(PROJ_QUATS, *g[Attr::quats]),
        S4D_BIND(PROJ_OPACITY_LOGITS, *g[Attr::opacity_logits]), S4D_BIND(PROJ_SH, g[Attr::sh] ? *g[Attr::sh] : colors),
        S4D_BIND(PROJ_COLORS, colors), S4D_BIND(PROJ_XY, xy_), S4D_BIND(PROJ_CONIC_OPACITY, conic_opacity_),
@@ -309,8 +309,10 @@ void Rasterizer::record_forward(engine::Recorder& rec, const GaussianParams& g, 
     bind.insert(bind.end(), {S4D_BIND(RASTER_QUADRIC, quadric_), S4D_BIND(RASTER_STYLE_MLP, *g[Attr::style_mlp])});
   const gpu::RasterParams raster = raster_params(g.style, pp.cam, background, 0u);
   using shaders::Id;
-  const Id id = forward_pixels() == 1 ? (g.style != nullptr ? Id::style_raster_fwd_px1 : Id::raster_fwd_px1)
-                                      : (g.style != nullptr ? Id::style_raster_fwd : Id::raster_fwd);
+  const bool mlp_half = g.style_mlp_storage == Storage::f16;
+  const Id style_id = forward_pixels() == 1 ? (mlp_half ? Id::style_raster_fwd_px1_half : Id::style_raster_fwd_px1)
+                                            : (mlp_half ? Id::style_raster_fwd_half : Id::style_raster_fwd);
+  const Id id = g.style != nullptr ? style_id : forward_pixels() == 1 ? Id::raster_fwd_px1 : Id::raster_fwd;
   rec.dispatch_raw(shader_pipeline(*ctx_, id), bind, &raster, sizeof raster, num_tiles);
 
   cam_ = cam;
@@ -369,6 +371,8 @@ void Rasterizer::backward(const GaussianParams& g, const ImageCotangents& v, con
 void Rasterizer::record_backward(engine::Recorder& rec, const GaussianParams& g, const ImageCotangents& v,
                                  const GaussianGrads& out) {
   if (!have_forward_) throw std::logic_error("rasterizer: backward() called before forward()");
+  if (g.sh_storage != Storage::f32 || g.style_mlp_storage != Storage::f32)
+    throw std::invalid_argument("rasterizer: backward() needs float sh and style_mlp; half storage renders only");
   check_params(g);
   if (g.count != count_last_ || (g[Attr::colors] != nullptr) != colors_last_ || g.sh_degree != sh_degree_last_ ||
       g.sh_coeffs != sh_coeffs_last_ || (g.style != nullptr) != style_last_ ||

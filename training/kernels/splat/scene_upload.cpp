@@ -1,22 +1,37 @@
 #include "s4d/splat/scene_upload.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "s4d/engine/buffer_from.h"
+#include "s4d/io/half_float.h"
 
 namespace s4d::splat {
 
-DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name)
-    : count_(static_cast<uint32_t>(cloud.size())), sh_degree_(cloud.sh_degree) {
+engine::Buffer upload_as(engine::Context& ctx, const std::string& name, std::span<const float> values, Storage storage) {
+  if (storage == Storage::f32) return engine::buffer_from(ctx, name, values);
+  for (size_t j = 0; j < values.size(); ++j)
+    if (std::isfinite(values[j]) && std::isinf(io::half_to_float(io::float_to_half(values[j]))))
+      throw std::invalid_argument(name + ": value " + std::to_string(values[j]) + " at index " + std::to_string(j) +
+                                  " is beyond half precision's range (65504); render it in float (without --half)");
+  return engine::buffer_from(ctx, name, io::pack_halves(values));
+}
+
+DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name,
+                                 Storage sh_storage)
+    : count_(static_cast<uint32_t>(cloud.size())), sh_degree_(cloud.sh_degree), sh_storage_(sh_storage) {
   const auto arrays = cloud_arrays(cloud);
-  for (Attr a : kCloudAttrs) buffers_[a] = engine::buffer_from(ctx, name + " " + attr_name(a), *arrays[a]);
+  for (Attr a : kCloudAttrs)
+    buffers_[a] = upload_as(ctx, name + " " + attr_name(a), *arrays[a], a == Attr::sh ? sh_storage : Storage::f32);
 }
 
 GaussianParams DeviceGaussians::params(int sh_degree) const {
   const int degree = sh_degree < 0 ? sh_degree_ : std::min(sh_degree, sh_degree_);
   GaussianParams p{.count = count_,
                    .sh_degree = static_cast<uint32_t>(degree),
-                   .sh_coeffs = static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1))};
+                   .sh_coeffs = static_cast<uint32_t>((sh_degree_ + 1) * (sh_degree_ + 1)),
+                   .sh_storage = sh_storage_};
   for (Attr a : kCloudAttrs) p[a] = &buffers_[a];
   return p;
 }

@@ -7,9 +7,11 @@
 namespace s4d::scene {
 
 BlendedScene::BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, run::StyleFile a,
-                           const std::string& name_a, run::StyleFile b, const std::string& name_b, float alpha)
+                           const std::string& name_a, run::StyleFile b, const std::string& name_b, float alpha,
+                           splat::Storage storage)
     : a_(std::move(a)), b_(std::move(b)), alpha_(alpha) {
-  styled_ = std::make_unique<StyledScene>(ctx, std::move(base), blend_styles(a_, b_, alpha), name_a + " + " + name_b);
+  styled_ = std::make_unique<StyledScene>(ctx, std::move(base), blend_styles(a_, b_, alpha), name_a + " + " + name_b,
+                                          storage);
 }
 
 void BlendedScene::set_alpha(float alpha) {

@@ -14,9 +14,8 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     if (cache_.count(t)) continue;
     engine::Recorder rec(ctx, "cache scene");  // the base's work and the copies: one submission
     const splat::GaussianParams g = base_->record(rec, t, unused);
-    const size_t n = g.count;
     size_t bytes = 0;
-    for (splat::Attr a : splat::kCloudAttrs) bytes += n * splat::attr_floats(a, g.sh_coeffs) * 4;
+    for (splat::Attr a : splat::kCloudAttrs) bytes += g.bytes(a);
     if (used + bytes > max_bytes) {
       ctx.run(std::move(rec));  // a source may already count the recorded work as done
       break;
@@ -26,9 +25,8 @@ CachedScene::CachedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base
     Copy& c = cache_[t];  // map nodes stay put, so params may point into c
     c.params = g;
     for (splat::Attr a : splat::kCloudAttrs) {
-      const size_t floats = n * splat::attr_floats(a, g.sh_coeffs);
-      c.buffers[a] = engine::Buffer(ctx, std::string("cached ") + splat::attr_name(a), floats * 4);
-      rec.copy(*g[a], c.buffers[a], floats * 4);
+      c.buffers[a] = engine::Buffer(ctx, std::string("cached ") + splat::attr_name(a), g.bytes(a));
+      rec.copy(*g[a], c.buffers[a], g.bytes(a));
       c.params[a] = &c.buffers[a];
     }
     ctx.run(std::move(rec));
@@ -43,6 +41,12 @@ splat::GaussianParams CachedScene::record(engine::Recorder& rec, double time, co
 splat::GaussianParams CachedScene::at(double time, const splat::Camera& camera) {
   const auto it = cache_.find(time);
   return it == cache_.end() ? base_->at(time, camera) : it->second.params;
+}
+
+size_t CachedScene::sh_style_bytes() const {
+  size_t bytes = base_->sh_style_bytes();
+  for (const auto& [time, copy] : cache_) bytes += copy.buffers[splat::Attr::sh].size();
+  return bytes;
 }
 
 std::string CachedScene::describe() const {

@@ -14,8 +14,11 @@ constexpr uint32_t kNoSeed = 0;  // the field's initial values are replaced by t
 
 DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
                              std::span<const float> planes, std::span<const float> mlp,
-                             std::span<const uint32_t> still_mask, int sh_degree)
-    : ctx_(&ctx), canonical_(ctx, canonical, "canonical gaussians"), field_(ctx, field, kNoSeed, "deformation field"),
+                             std::span<const uint32_t> still_mask, int sh_degree, splat::Storage sh_storage)
+    : ctx_(&ctx),
+      canonical_(ctx, canonical, "canonical gaussians",
+                 (field.heads & S4D_DEFORM_HEAD_SH) != 0 ? splat::Storage::f32 : sh_storage),
+      field_(ctx, field, kNoSeed, "deformation field"),
       sh_degree_(sh_degree), deformed_(ctx, field.heads, canonical_.size(), canonical_.params().sh_coeffs) {
   field_.upload_planes(planes);
   field_.upload_mlp(mlp);
@@ -57,6 +60,10 @@ splat::GaussianParams DeformedScene::record(engine::Recorder& rec, double time, 
   }
   last_.emplace(time, p);
   return p;
+}
+
+size_t DeformedScene::sh_style_bytes() const {
+  return canonical_.sh_bytes() + deformed_.bytes(splat::Attr::sh);
 }
 
 std::string DeformedScene::describe() const {

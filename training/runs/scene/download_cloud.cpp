@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "s4d/io/half_float.h"
+
 namespace s4d::scene {
 
 io::GaussianCloud download_cloud(engine::Context& ctx, const splat::GaussianParams& g) {
@@ -14,7 +16,9 @@ io::GaussianCloud download_cloud(engine::Context& ctx, const splat::GaussianPara
     *arrays[a] = ctx.download<float>(*g[a], n * splat::attr_floats(a, 0));
   cloud.sh_degree = static_cast<int>(g.sh_degree);
   const size_t stored = g.sh_coeffs, kept = cloud.sh_coeffs();
-  const std::vector<float> sh = ctx.download<float>(*g[Attr::sh], n * stored * 3);
+  const std::vector<float> sh = g.sh_storage == splat::Storage::f16
+                                    ? io::unpack_halves(ctx.download<uint32_t>(*g[Attr::sh], g.bytes(Attr::sh) / 4), n * stored * 3)
+                                    : ctx.download<float>(*g[Attr::sh], n * stored * 3);
   cloud.sh.reserve(n * kept * 3);
   for (size_t i = 0; i < n; ++i)
     cloud.sh.insert(cloud.sh.end(), sh.begin() + static_cast<std::ptrdiff_t>(i * stored * 3),

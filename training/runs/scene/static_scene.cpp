@@ -2,8 +2,9 @@
 
 namespace s4d::scene {
 
-StaticScene::StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, int sh_degree, const std::string& name)
-    : gaussians_(ctx, cloud, name), sh_degree_(sh_degree) {}
+StaticScene::StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, int sh_degree, const std::string& name,
+                         splat::Storage sh_storage)
+    : gaussians_(ctx, cloud, name, sh_storage), sh_degree_(sh_degree) {}
 
 splat::GaussianParams StaticScene::at(double, const splat::Camera&) { return gaussians_.params(sh_degree_); }
 

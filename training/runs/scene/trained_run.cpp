@@ -88,28 +88,29 @@ TrainedRun read_trained_run(const fs::path& root) {
   return out;
 }
 
-std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style) {
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const std::string& style,
+                                        splat::Storage storage) {
   if (style != "original") {
     const run::StyleFile file = read_run_style(run, style);
     if (file.method == run::StyleMethod::scratch)  // the ablation's own 4DGS run, trained on the stylized frames
-      return open_scene(ctx, read_trained_run(run::style_dir(run.root, style) / "run"), "original");
-    return std::make_unique<StyledScene>(ctx, open_scene(ctx, run, "original"), file, style);
+      return open_scene(ctx, read_trained_run(run::style_dir(run.root, style) / "run"), "original", storage);
+    return std::make_unique<StyledScene>(ctx, open_scene(ctx, run, "original", storage), file, style, storage);
   }
   const run::RunDir dir{run.root};
   const run::TrainConfig& c = run.config;
   if (run.stage == run::Stage::fine) {
     const TrainedField f = read_trained_field(dir.checkpoint(), c, run.root);
     return std::make_unique<DeformedScene>(ctx, f.canonical, f.field, f.planes, f.mlp, f.still_mask,
-                                           run::active_sh_degree(c, c.iterations + f.fine_iteration));
+                                           run::active_sh_degree(c, c.iterations + f.fine_iteration), storage);
   }
   const io::GaussianCloud cloud = io::read_ply_gaussians(dir.gaussians_ply());
   if (cloud.size() == 0) throw std::runtime_error(dir.gaussians_ply().string() + ": no Gaussians");
-  return std::make_unique<StaticScene>(ctx, cloud, run::active_sh_degree(c, c.iterations), "run gaussians");
+  return std::make_unique<StaticScene>(ctx, cloud, run::active_sh_degree(c, c.iterations), "run gaussians", storage);
 }
 
 std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
-                                         const std::string& b, float alpha) {
-  std::unique_ptr<SceneSource> base = open_scene(ctx, run, "original");
+                                         const std::string& b, float alpha, splat::Storage storage) {
+  std::unique_ptr<SceneSource> base = open_scene(ctx, run, "original", storage);
   auto style_of = [&](const std::string& name) {
     if (name == "original") return no_style(base->size(), base->at(0.0, {}).sh_coeffs);
     run::StyleFile file = read_run_style(run, name);
@@ -121,15 +122,17 @@ std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun&
   };
   run::StyleFile file_a = style_of(a), file_b = style_of(b);
   try {
-    return std::make_unique<BlendedScene>(ctx, std::move(base), std::move(file_a), a, std::move(file_b), b, alpha);
+    return std::make_unique<BlendedScene>(ctx, std::move(base), std::move(file_a), a, std::move(file_b), b, alpha,
+                                          storage);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("styles " + a + " and " + b + ": " + e.what());
   }
 }
 
-std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice) {
-  if (choice.mix.empty()) return open_scene(ctx, run, choice.style);
-  return open_blend(ctx, run, choice.style, choice.mix, choice.alpha);
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice,
+                                        splat::Storage storage) {
+  if (choice.mix.empty()) return open_scene(ctx, run, choice.style, storage);
+  return open_blend(ctx, run, choice.style, choice.mix, choice.alpha, storage);
 }
 
 }  // namespace s4d::scene

@@ -13,6 +13,7 @@ struct CaptureRequest {
   double time = 0;      // in [0, 1]
   size_t camera = 0;    // index into dataset_cameras(run.dataset)
   scene::StyleChoice style;  // a style of the run, or the blend of two
+  splat::Storage storage = splat::Storage::f32;  // f16: SH and style MLPs as halves (scene::open_scene)
 };
 
 // Throws std::invalid_argument for a camera index or time out of range; scene::open_scene's errors

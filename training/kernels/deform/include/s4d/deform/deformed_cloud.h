@@ -27,6 +27,8 @@ class DeformedCloud {
 
   // The deformed buffers, null for the heads that are off.
   splat::GaussianBuffers<engine::Buffer> outputs();
+  // Bytes of device memory of the deformed attribute a (0 when its head is off).
+  size_t bytes(splat::Attr a) const { return buffers_[a].size(); }
 
   // Records `field`'s forward pass from `canonical` (count and sh_coeffs as this cloud's; the last
   // `still_count` Gaussians are copied, not deformed) at raw time `time` into this cloud's buffers,

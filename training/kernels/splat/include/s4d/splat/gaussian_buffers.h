@@ -7,6 +7,7 @@
 #pragma once
 #include <array>
 #include <cassert>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -47,6 +48,17 @@ constexpr uint32_t attr_floats(Attr a, uint32_t sh_coeffs) {
   constexpr uint32_t kFloats[kAttrCount] = {S4D_MEANS_FLOATS, S4D_LOG_SCALES_FLOATS, S4D_QUATS_FLOATS,
                                             S4D_OPACITY_LOGITS_FLOATS, 0, S4D_COLORS_FLOATS, S4D_STYLE_MLP_STRIDE};
   return a == Attr::sh ? S4D_SH_FLOATS_PER_COEFF * sh_coeffs : kFloats[index(a)];
+}
+
+// How a buffer holds an attribute's floats: f32, or f16 (IEEE halves packed two to a 32-bit word,
+// io::pack_halves's layout). f16 is the render side's storage of sh and style_mlp only: the
+// rasterizer's forward reads it (the _half kernel variants); everything that trains reads f32.
+enum class Storage : uint32_t { f32, f16 };
+
+// Bytes of `n` Gaussians' attribute `a` stored as `s` (f16 rounds up to whole 32-bit words).
+constexpr size_t attr_bytes(Attr a, uint32_t sh_coeffs, size_t n, Storage s = Storage::f32) {
+  const size_t floats = n * attr_floats(a, sh_coeffs);
+  return s == Storage::f32 ? floats * 4 : (floats + 1) / 2 * 4;
 }
 
 // One T per attribute, indexed by Attr. N = kCloudAttrCount holds the cloud's attributes only.

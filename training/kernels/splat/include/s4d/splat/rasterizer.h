@@ -57,13 +57,23 @@ struct StyleMlp {
 
 // Device-resident Gaussian parameters, one buffer per attribute (gaussian_buffers.h): means,
 // log_scales, quats (w, x, y, z; normalised in the kernel) and opacity_logits always; sh unless
-// colors is set (colors replaces the SH colour); style_mlp [N*52] when `style` is set.
+// colors is set (colors replaces the SH colour); style_mlp [N*52] when `style` is set. sh and
+// style_mlp may be stored as packed halves (Storage::f16, a trained model's render-side storage):
+// the forward then runs the _half kernel variants, and backward() refuses them.
 struct GaussianParams {
   GaussianBuffers<const engine::Buffer> buffers;
   uint32_t count = 0;
   uint32_t sh_degree = 0;  // active degree 0..3
   uint32_t sh_coeffs = 1;  // K stored per Gaussian and channel, >= (sh_degree + 1)^2
   const StyleMlp* style = nullptr;  // nullptr: the plain rasterizer
+  Storage sh_storage = Storage::f32;
+  Storage style_mlp_storage = Storage::f32;
+
+  // How attribute a is stored (only sh and style_mlp may be halves), and its buffer's bytes in use.
+  Storage storage(Attr a) const {
+    return a == Attr::sh ? sh_storage : a == Attr::style_mlp ? style_mlp_storage : Storage::f32;
+  }
+  size_t bytes(Attr a) const { return attr_bytes(a, sh_coeffs, count, storage(a)); }
 
   const engine::Buffer*& operator[](Attr a) { return buffers[a]; }
   const engine::Buffer* operator[](Attr a) const { return buffers[a]; }

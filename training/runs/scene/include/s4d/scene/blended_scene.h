@@ -13,9 +13,10 @@ namespace s4d::scene {
 class BlendedScene final : public SceneSource {
  public:
   // `a` and `b` are the styles' contents (no_style for the original scene), named for logs; alpha is
-  // the weight on b. blend_styles' errors propagate, and StyledScene's for another Gaussian count.
+  // the weight on b; `storage` as StyledScene's. blend_styles' errors propagate, and StyledScene's
+  // for another Gaussian count.
   BlendedScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, run::StyleFile a, const std::string& name_a,
-               run::StyleFile b, const std::string& name_b, float alpha);
+               run::StyleFile b, const std::string& name_b, float alpha, splat::Storage storage = splat::Storage::f32);
 
   // Re-blends with weight `alpha` on b. The device must have finished the work that reads the last
   // at()'s buffers.
@@ -29,6 +30,7 @@ class BlendedScene final : public SceneSource {
   uint32_t size() const override { return styled_->size(); }
   bool dynamic() const override { return styled_->dynamic(); }
   std::string describe() const override;
+  size_t sh_style_bytes() const override { return styled_->sh_style_bytes(); }
 
  private:
   run::StyleFile a_, b_;

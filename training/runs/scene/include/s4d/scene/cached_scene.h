@@ -25,6 +25,7 @@ class CachedScene final : public SceneSource {
   uint32_t size() const override { return base_->size(); }
   bool dynamic() const override { return base_->dynamic(); }
   std::string describe() const override;
+  size_t sh_style_bytes() const override;
   size_t cached_times() const { return cache_.size(); }
 
  private:

@@ -21,11 +21,13 @@ class DeformedScene final : public SceneSource {
  public:
   // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
   // field.planes and field.mlp) and the still mask (field.static_mask) when training made one (empty: none);
-  // renders at SH degree `sh_degree` (clamped to what the cloud stores). Throws
-  // std::invalid_argument naming the field setting or array that does not fit.
+  // renders at SH degree `sh_degree` (clamped to what the cloud stores). `sh_storage` f16 holds the
+  // canonical SH as packed halves when the field leaves SH alone (heads without SH); a field that
+  // deforms SH reads float canonical SH, so they stay float then. Throws std::invalid_argument
+  // naming the field setting or array that does not fit.
   DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
                 std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> still_mask,
-                int sh_degree);
+                int sh_degree, splat::Storage sh_storage = splat::Storage::f32);
 
   // Runs the field's forward pass at `time` (the camera is not read) and waits for it; the same time
   // as the last call returns the last result without running it again (a viewer orbiting a paused
@@ -35,6 +37,7 @@ class DeformedScene final : public SceneSource {
   uint32_t size() const override { return canonical_.size(); }
   bool dynamic() const override { return true; }
   std::string describe() const override;
+  size_t sh_style_bytes() const override;
 
  private:
   engine::Context* ctx_;

@@ -5,6 +5,7 @@
 // Gaussians moved by the deformation field to time t); the style MLPs (per-Gaussian colour and
 // opacity from t and the Gaussian's depth in the camera) plug in behind the same call.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -34,6 +35,9 @@ class SceneSource {
   virtual bool dynamic() const = 0;
   // One line for logs and render.json, e.g. "static: 1234 Gaussians (SH degree 3)".
   virtual std::string describe() const = 0;
+  // Bytes of device memory this source holds in SH (canonical, deformed, a style's deltas and
+  // styled SH) and style MLP weights: what half storage (splat::Storage::f16) shrinks.
+  virtual size_t sh_style_bytes() const = 0;
 
  protected:
   // at() for a source that computes: record() in one submission, waited for.

@@ -11,10 +11,10 @@ namespace s4d::scene {
 
 class StaticScene final : public SceneSource {
  public:
-  // Uploads `cloud`; renders at SH degree `sh_degree` (clamped to what the cloud stores; negative:
-  // every degree it stores).
+  // Uploads `cloud`, its SH as `sh_storage` (f16: packed halves, for rendering); renders at SH
+  // degree `sh_degree` (clamped to what the cloud stores; negative: every degree it stores).
   StaticScene(engine::Context& ctx, const io::GaussianCloud& cloud, int sh_degree = -1,
-              const std::string& name = "static scene");
+              const std::string& name = "static scene", splat::Storage sh_storage = splat::Storage::f32);
 
   splat::GaussianParams record(engine::Recorder&, double time, const splat::Camera& camera) override {
     return at(time, camera);  // nothing to compute
@@ -23,6 +23,7 @@ class StaticScene final : public SceneSource {
   uint32_t size() const override { return gaussians_.size(); }
   bool dynamic() const override { return false; }
   std::string describe() const override;
+  size_t sh_style_bytes() const override { return gaussians_.sh_bytes(); }
 
  private:
   splat::DeviceGaussians gaussians_;

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "s4d/engine/buffer.h"
 #include "s4d/engine/context.h"
@@ -28,7 +29,11 @@ splat::StyleMlp style_mlp(double time, run::DepthInput depth, float depth_scale,
 class StyledScene final : public SceneSource {
  public:
   // Throws std::invalid_argument when the style was trained for another Gaussian count or SH layout.
-  StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const run::StyleFile& style, std::string name);
+  // `storage` f16 (rendering only) holds the MLPs' weights as packed halves and, where the base's SH
+  // are packed halves (they do not move with time), the styled SH too: the base's SH plus the
+  // delta, added once here in float and packed. Over SH the field deforms, the SH stay float.
+  StyledScene(engine::Context& ctx, std::unique_ptr<SceneSource> base, const run::StyleFile& style, std::string name,
+              splat::Storage storage = splat::Storage::f32);
 
   // Replaces the style's arrays with `style`'s (a blend of other weights, style_blend.h): the same
   // Gaussian count, SH layout and method, or std::invalid_argument. The device must have finished
@@ -40,6 +45,7 @@ class StyledScene final : public SceneSource {
   uint32_t size() const override { return base_->size(); }
   bool dynamic() const override { return true; }  // the MLPs read the time even where nothing moves
   std::string describe() const override;
+  size_t sh_style_bytes() const override;
 
  private:
   engine::Context* ctx_;
@@ -50,8 +56,16 @@ class StyledScene final : public SceneSource {
   run::DepthInput depth_;
   float depth_scale_;
   bool input_sigmoid_;
+  splat::Storage storage_;
+  // The base's SH as floats when they are packed halves: sh_ is then these plus the delta, packed,
+  // and sh_delta_ is not used.
+  std::vector<float> base_sh_;
   engine::Buffer sh_delta_, opacity_delta_, mlp_, sh_, opacity_;
   splat::StyleMlp mlp_desc_{};
+
+  void upload_sh(const run::StyleFile& style);  // sh_delta_, or sh_ when the base's SH are halves
+  // Throws std::invalid_argument when g has no SH and opacities, or not the style's SH layout.
+  void check_sh_layout(const splat::GaussianParams& g) const;
 };
 
 }  // namespace s4d::scene

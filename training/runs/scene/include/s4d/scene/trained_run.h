@@ -37,16 +37,20 @@ TrainedRun read_trained_run(const std::filesystem::path& run);
 
 // The scene source of `style` (one of run.styles). Throws std::runtime_error naming the file and what
 // is wrong with it (trained_field.h for 4DGS runs; an empty or unreadable PLY), and "no style NAME in
-// RUN; it has: ..." for a style the run does not have.
+// RUN; it has: ..." for a style the run does not have. `storage` f16 holds the SH and the style MLPs
+// on the device as packed halves (render only: StaticScene, DeformedScene and StyledScene say which),
+// and refuses a value beyond half's range (splat::upload_as).
 std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run,
-                                        const std::string& style = "original");
+                                        const std::string& style = "original",
+                                        splat::Storage storage = splat::Storage::f32);
 
 // The blend of styles `a` and `b` of the run (either may be "original") with weight `alpha` in [0, 1]
 // on b (style_blend.h). Throws open_scene's errors for a style the run does not have, and
 // std::invalid_argument naming both styles for a "scratch" style (its own geometry) and what
 // blend_styles refuses.
 std::unique_ptr<BlendedScene> open_blend(engine::Context& ctx, const TrainedRun& run, const std::string& a,
-                                         const std::string& b, float alpha);
+                                         const std::string& b, float alpha,
+                                         splat::Storage storage = splat::Storage::f32);
 
 // What a render or the viewer shows: `style` alone when `mix` is empty, else open_blend(style, mix, alpha).
 struct StyleChoice {
@@ -54,6 +58,7 @@ struct StyleChoice {
   std::string mix;
   float alpha = 0;
 };
-std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice);
+std::unique_ptr<SceneSource> open_scene(engine::Context& ctx, const TrainedRun& run, const StyleChoice& choice,
+                                        splat::Storage storage = splat::Storage::f32);
 
 }  // namespace s4d::scene

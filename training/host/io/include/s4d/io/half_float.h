@@ -1,9 +1,14 @@
-// IEEE binary16 and bfloat16 to and from float, bit-exact, for the safetensors reader and writer.
+// IEEE binary16 and bfloat16 to and from float, bit-exact: the safetensors reader and writer, and
+// the render side's half storage of SH and style MLPs (packed two to a 32-bit word, as the kernels
+// read them with unpackHalf2x16: shaders/include/half_storage.glsl).
 #pragma once
 #include <bit>
+#include <cstddef>
 #include <cstdint>
+#include <span>
+#include <vector>
 
-namespace s4d::io::detail {
+namespace s4d::io {
 
 inline float half_to_float(uint16_t h) {
   const uint32_t sign = uint32_t{h & 0x8000u} << 16;
@@ -21,7 +26,8 @@ inline float half_to_float(uint16_t h) {
   return std::bit_cast<float>(sign | (static_cast<uint32_t>(e) << 23) | ((mantissa & 0x3ffu) << 13));
 }
 
-// Round to nearest even; overflow gives infinity, tiny values subnormals or zero.
+// Round to nearest even; overflow (|f| >= 65520, which rounds past the largest half, 65504) gives
+// infinity, tiny values subnormals or zero; NaN stays a (quiet) NaN with its sign.
 inline uint16_t float_to_half(float f) {
   const uint32_t x = std::bit_cast<uint32_t>(f);
   const uint16_t sign = static_cast<uint16_t>((x >> 16) & 0x8000u);
@@ -52,4 +58,19 @@ inline uint16_t float_to_bf16(float f) {
   return static_cast<uint16_t>((x + 0x7fffu + ((x >> 16) & 1u)) >> 16);
 }
 
-}  // namespace s4d::io::detail
+// `values` rounded to halves (float_to_half) and packed two to a 32-bit word: element j in word
+// j / 2, the low 16 bits for even j and the high 16 for odd j; an odd count's last high half is 0.
+inline std::vector<uint32_t> pack_halves(std::span<const float> values) {
+  std::vector<uint32_t> words((values.size() + 1) / 2, 0u);
+  for (size_t j = 0; j < values.size(); ++j) words[j / 2] |= uint32_t{float_to_half(values[j])} << (16 * (j % 2));
+  return words;
+}
+
+// The first `count` elements of pack_halves' layout as floats.
+inline std::vector<float> unpack_halves(std::span<const uint32_t> words, size_t count) {
+  std::vector<float> out(count);
+  for (size_t j = 0; j < count; ++j) out[j] = half_to_float(static_cast<uint16_t>(words[j / 2] >> (16 * (j % 2))));
+  return out;
+}
+
+}  // namespace s4d::io
