@@ -93,8 +93,8 @@ struct TrainConfig {
   uint32_t motion_samples = 8, motion_every = 500;
   // The field's box fitted to what moves (train/field_box.h): after this fraction of the fine stage,
   // the planes are resampled from the initial cloud's bounds onto the bounds of the Gaussians that
-  // move, so the same texels resolve the motion more finely. 0: off (runs from before it existed);
-  // the presets set 0.2.
+  // move, at the same texel size, so fewer texels cover the motion. 0: off (runs from before it
+  // existed); the presets set 0.2.
   double field_fit = 0;
   // Runs.
   uint32_t test_every = 1000;
