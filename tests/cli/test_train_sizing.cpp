@@ -104,8 +104,9 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   CHECK_MESSAGE(contains(test::read_text(dir / "asked.log"), "SH degree " + std::to_string(chosen) + " of 1: held-out PSNR"),
                 test::read_text(dir / "asked.log"));
   // The choice restored the run's state mid-run, and so did the field's box (fitted at fine step
-  // 1 of 3): neither counts the seconds before it again. Measured 0.05 (fixed) against 0.9 (double count).
-  CHECK(largest_seconds_jump(dir / "r_asked" / "loss.csv") < 0.5);
+  // 1 of 3): neither counts the seconds before it again. Measured 0.35, and 1.26 on the code that
+  // counted them twice; allowed: 0.7.
+  CHECK(largest_seconds_jump(dir / "r_asked" / "loss.csv") < 0.7);
   const nlohmann::json& box = asked["dataset"]["recipe"]["field_box"];
   REQUIRE_MESSAGE(box.is_object(), asked["dataset"].dump());
   CHECK(box["at_step"] == 1);
