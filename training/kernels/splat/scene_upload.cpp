@@ -9,13 +9,28 @@
 
 namespace s4d::splat {
 
-engine::Buffer upload_as(engine::Context& ctx, const std::string& name, std::span<const float> values, Storage storage) {
-  if (storage == Storage::f32) return engine::buffer_from(ctx, name, values);
+namespace {
+
+// `values` as packed halves; std::invalid_argument naming `name` for a finite value beyond half's range.
+std::vector<uint32_t> checked_halves(const std::string& name, std::span<const float> values) {
   for (size_t j = 0; j < values.size(); ++j)
     if (std::isfinite(values[j]) && std::isinf(io::half_to_float(io::float_to_half(values[j]))))
       throw std::invalid_argument(name + ": value " + std::to_string(values[j]) + " at index " + std::to_string(j) +
                                   " is beyond half precision's range (65504); render it in float (without --half)");
-  return engine::buffer_from(ctx, name, io::pack_halves(values));
+  return io::pack_halves(values);
+}
+
+}  // namespace
+
+engine::Buffer upload_as(engine::Context& ctx, const std::string& name, std::span<const float> values, Storage storage) {
+  if (storage == Storage::f32) return engine::buffer_from(ctx, name, values);
+  return engine::buffer_from(ctx, name, checked_halves(name, values));
+}
+
+void upload_into(engine::Context& ctx, engine::Buffer& buffer, std::span<const float> values, Storage storage) {
+  if (storage == Storage::f32) return ctx.upload(buffer, values);
+  const std::vector<uint32_t> words = checked_halves(buffer.name(), values);
+  ctx.upload(buffer, std::span<const uint32_t>(words));
 }
 
 DeviceGaussians::DeviceGaussians(engine::Context& ctx, const io::GaussianCloud& cloud, const std::string& name,

@@ -85,7 +85,8 @@ void StyledScene::upload_sh(const run::StyleFile& style) {
   if (!base_sh_.empty()) {  // the styled SH, added in float and packed once
     std::vector<float> sh = base_sh_;
     for (size_t j = 0; j < sh.size(); ++j) sh[j] += style.sh_delta[j];
-    sh_ = splat::upload_as(*ctx_, name_ + " sh", sh, splat::Storage::f16);
+    if (sh_.valid()) splat::upload_into(*ctx_, sh_, sh, splat::Storage::f16);
+    else sh_ = splat::upload_as(*ctx_, name_ + " sh", sh, splat::Storage::f16);
   } else if (sh_delta_.valid()) {
     ctx_->upload(sh_delta_, std::span<const float>(style.sh_delta));
   } else {
@@ -99,7 +100,7 @@ void StyledScene::restyle(const run::StyleFile& style) {
     throw std::invalid_argument("style " + name_ + ": a restyle must keep the method, Gaussian count and SH layout");
   upload_sh(style);
   ctx_->upload(opacity_delta_, std::span<const float>(style.opacity_delta));
-  if (!style.mlp.empty()) mlp_ = splat::upload_as(*ctx_, name_ + " mlp", style.mlp, storage_);
+  if (!style.mlp.empty()) splat::upload_into(*ctx_, mlp_, style.mlp, storage_);
   depth_ = style.depth_input;
   depth_scale_ = style.depth_scale;
   input_sigmoid_ = style.input_sigmoid;

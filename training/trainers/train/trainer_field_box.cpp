@@ -22,17 +22,17 @@ void Trainer::Impl::fit_field_box_if_due(double seconds) {
   FieldBox box = fit_field_box(lo, hi, aabb_min, aabb_max, {r[0], r[1], r[2]}, limit);
   box.at_step = iteration;
 
-  model::Checkpoint cp = snapshot(seconds);
   if (box.fitted) {
+    model::Checkpoint cp = snapshot(seconds);
     const deform::FieldConfig from = run::field_config(config, aabb_min, aabb_max);
     for (int k = 0; k < 3; ++k) config.field_resolution[k] = box.resolution[k];
     const deform::FieldConfig to = run::field_config(config, box.min, box.max);
     for (auto& [name, values] : cp.extra)
       if (name.rfind("field.planes", 0) == 0) values = deform::resample_planes(from, to, values);  // with its moments
     cp.meta["aabb_min"] = box.min, cp.meta["aabb_max"] = box.max, cp.meta["field_resolution"] = config.field_resolution;
+    restore(cp);  // rebuilds the field on the new box
   }
-  cp.meta["field_fitted"] = true;
-  restore(cp);
+  field_fitted = true;
   facts["recipe"]["field_box"] = box.json();
   save_run_json();     // the field's resolution, for a resumed run and for rendering
   checkpoint(seconds);  // the box and that the fit is done

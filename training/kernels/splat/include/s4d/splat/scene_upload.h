@@ -17,6 +17,8 @@ namespace s4d::splat {
 // finite value lies beyond half's range (|v| >= 65520 rounds past 65504): the render would read
 // infinity there, so it is refused rather than clamped.
 engine::Buffer upload_as(engine::Context& ctx, const std::string& name, std::span<const float> values, Storage storage);
+// The same into an existing buffer of that size (a restyle reuses its buffers).
+void upload_into(engine::Context& ctx, engine::Buffer& buffer, std::span<const float> values, Storage storage);
 
 // A Gaussian cloud resident on the device, in the rasterizer's layouts; the SH as floats or, for
 // rendering only, packed halves (`sh_storage`).
