@@ -135,3 +135,76 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   CHECK_FALSE(moving["dataset"]["recipe"].contains("sh_degree"));
   CHECK(ply_sh_coeffs(dir / "r_moving" / "geometry" / "gaussians.ply") == 4);
 }
+
+// The Gaussian budget (train/budget_growth.h): a preset's run starts at a quarter of it and probes
+// when the budget holds a densification back; the record in train.json agrees with itself, with
+// the densification log and with loss.csv (the kept branch's rows past the densification go when
+// the run goes back for the grown branch). --budget fixes the budget.
+TEST_CASE("the Gaussian budget grows by paired probes, and --budget fixes it") {
+  const fs::path dir = test::fresh_dir("train_budget_growth");
+  REQUIRE(test::run_style4d("synth", "--out " + (dir / "data").string() + " --cams 4 --frame-count 3 --size 48x36",
+                            dir / "synth.log") == 0);
+  std::ofstream(dir / "settings.json") << R"({"settings": {"preset": "fast", "iterations": 60, "fine_iterations": 0,
+      "sh_degree": 0, "budget": 400, "budget_start": 0.25, "densify_from": 10, "densify_until": 50, "densify_every": 10,
+      "test_every": 20, "checkpoint_every": 20}})";
+  REQUIRE(test::run_style4d("train", "--data " + (dir / "data").string() + " --run " + (dir / "grow").string() +
+                                         " --config " + (dir / "settings.json").string(),
+                            dir / "grow.log") == 0);
+  const std::string log = test::read_text(dir / "grow.log");
+  const nlohmann::json t = read_json(dir / "grow" / "train.json");
+  const nlohmann::json& g = t["dataset"]["recipe"]["gaussian_budget"];
+  REQUIRE_MESSAGE(g.is_object(), t["dataset"].dump());
+  CHECK(g["grows"] == true);
+  CHECK(g["ceiling"] == 400);
+  CHECK(g["start"] == 100);
+  REQUIRE_MESSAGE(!g["probes"].empty(), log);  // 200 initial points over a budget of 100: the first densification probes
+  uint32_t budget = 100;
+  for (const nlohmann::json& p : g["probes"]) {
+    CHECK(p["from"] == budget);
+    CHECK(p["to"] == std::min<uint32_t>(400, 2 * budget));
+    CHECK(p["steps"] == 10);
+    CHECK(p["demoted"].get<uint32_t>() * 10 >= budget);  // at least a tenth of the budget held back
+    CHECK(p["held_out"] == true);
+    const bool grown = p["gain_db"].get<double>() >= g["keep_db"].get<double>();
+    CHECK(p["grown"] == grown);
+    CHECK(p["gaussians_grown"].get<uint32_t>() <= p["to"].get<uint32_t>());
+    CHECK_MESSAGE(contains(log, std::string("Gaussian budget ") + (grown ? "grown to " : "kept at ")), log);
+    // The run went on from the branch the probe chose: the densification at the probe's step is
+    // logged once, within the budget of that branch (growth fills it; a cloud already over it
+    // only prunes).
+    uint32_t at_step = 0;
+    for (const nlohmann::json& d : t["densify_log"]) {
+      if (d["event"] != "densify" || d["iteration"] != p["at_step"]) continue;
+      ++at_step;
+      const uint32_t limit = (grown ? p["to"] : p["from"]).get<uint32_t>();
+      const uint32_t kept = d["before"].get<uint32_t>() - d["pruned"].get<uint32_t>();
+      CHECK(d["after"].get<uint32_t>() <= std::max(limit, kept));
+      if (grown) CHECK(d["after"].get<uint32_t>() > std::min(p["from"].get<uint32_t>(), kept));  // it grew past the kept budget
+    }
+    CHECK(at_step == 1);
+    if (grown) budget = p["to"].get<uint32_t>();
+  }
+  CHECK(g["budget"] == budget);
+  CHECK(read_json(dir / "grow" / "run.json")["dataset"]["recipe"]["gaussian_budget"] == g);
+  // loss.csv: each row once, in order.
+  std::istringstream rows(test::read_text(dir / "grow" / "loss.csv"));
+  std::string row;
+  std::getline(rows, row);
+  long last = 0;
+  while (std::getline(rows, row)) {
+    const long it = std::stol(row.substr(row.find(',') + 1));
+    CHECK_MESSAGE(it > last, row);
+    last = it;
+  }
+  CHECK(last == 60);
+
+  REQUIRE(test::run_style4d("train", "--data " + (dir / "data").string() + " --run " + (dir / "fixed").string() +
+                                         " --config " + (dir / "settings.json").string() + " --budget 400",
+                            dir / "fixed.log") == 0);
+  const nlohmann::json fixed = read_json(dir / "fixed" / "train.json");
+  const nlohmann::json& f = fixed["dataset"]["recipe"]["gaussian_budget"];
+  CHECK(f["grows"] == false);
+  CHECK(f["budget"] == 400);
+  CHECK(f["probes"].empty());
+  CHECK(f["why"] == "off: --budget fixed it");
+}

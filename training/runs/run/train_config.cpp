@@ -18,6 +18,7 @@ TrainConfig preset_config(const std::string& name) {
   c.seed_views = 4;
   c.sh_degree_auto = true;
   c.field_fit = 0.2;
+  c.budget_start = 0.25;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from
     // step 500 every 100 (its opacity reset at step 3,000 falls in the stage's last densification
@@ -120,7 +121,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
   X(preset) X(iterations) X(seed) X(downscale) X(frames) X(max_time) X(static_max_time) X(fine_time_ramp) X(fine_time_front) X(background) X(sh_degree) X(sh_up_every) X(sh_degree_auto)              \
   X(random_init_points) X(ssim_weight) X(means_lr) X(means_lr_final) X(sh_dc_lr) X(sh_rest_lr) X(opacity_lr)     \
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
-  X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(seed_views) X(test_every)               \
+  X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(budget_start) X(seed_views) X(test_every)               \
   X(checkpoint_every) X(fine_iterations) X(fine_batch) X(fine_ssim_weight) X(fine_densify_until)      \
   X(field_resolution) X(field_multires) X(field_channels) X(field_width) X(field_trunk_extra) X(field_heads)       \
   X(deform_lr) X(deform_lr_final) X(grid_lr) X(grid_lr_final) X(plane_tv_weight) X(time_smoothness_weight)       \

@@ -112,6 +112,8 @@ void validate(const TrainConfig& c, const std::string& source, const std::map<st
   check.fraction("min_opacity", c.min_opacity);
   check.positive("max_screen_radius", c.max_screen_radius);
   check.at_least("budget", c.budget, 1);
+  check.require(c.budget_start >= 0 && c.budget_start <= 1, "budget_start", c.budget_start,
+                "must be in [0, 1] (a share of budget to start densifying to; 0: off)");
   check.require(c.seed_views <= 64, "seed_views", c.seed_views, "must be at most 64 (views rendered at each densification)");
   // The 4DGS stage and its field (the kernels' limits, s4d_deform.h).
   check.at_least("fine_batch", c.fine_batch, 1);

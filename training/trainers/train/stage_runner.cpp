@@ -61,6 +61,11 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
     }
     if (it % plan.test_every == 0 && it < plan.iterations) test_psnr = stage.periodic_test();
     stage.after_step();
+    if (stage.iteration() < it) {  // the stage went back (a probe's second branch): its rows past it go
+      keep_log_rows(stage);
+      progress.restart_rate(stage.iteration());
+      continue;
+    }
     if (it % plan.checkpoint_every == 0 && it < plan.iterations && !checkpoint(stage))
       progress.restart_rate(stage.iteration());
     ProgressValues shown = {{"loss", loss}};

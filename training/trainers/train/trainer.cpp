@@ -19,6 +19,7 @@
 #include "s4d/run/run_lock.h"
 #include "s4d/run/run_size.h"
 #include "s4d/run/stage_times.h"
+#include "s4d/train/budget_growth.h"
 #include "s4d/train/data_recipe.h"
 #include "s4d/train/init_cloud.h"
 #include "s4d/train/time_estimate.h"
@@ -145,6 +146,8 @@ Trainer::Trainer(engine::Context& ctx, const fs::path& data_dir, const run::Trai
   // Before the field is made; the frames the check decodes stay cached for training.
   if (config_.fine_iterations > 0) recipe["deformation_field"] = skip_field_if_still(config_, dataset_, impl_->frames);
   if (nlohmann::json kept = keep_sh_for_field(config_); !kept.is_null()) recipe["sh_degree"] = kept;
+  impl_->growth = plan_budget_growth(config_);
+  recipe["gaussian_budget"] = impl_->growth.json();
   impl_->facts = dataset_facts(dataset_, init, recipe);
   std::tie(impl_->aabb_min, impl_->aabb_max) = bounds(initial.means);
   impl_->make_field(config_.seed);  // before anything is written: a field the device cannot run fails here
@@ -172,6 +175,9 @@ Trainer::Trainer(engine::Context& ctx, const run::RunDir& run, const run::RunJso
   const nlohmann::json recipe = adapt_to_data(config_, dataset_);
   impl_ = std::make_unique<Impl>(ctx, run, config_, dataset_);
   impl_->facts = run_json.dataset.is_null() ? dataset_facts(dataset_, {}, recipe) : run_json.dataset;
+  // Runs from before the growth have no record: their budget is the setting's.
+  if (const nlohmann::json& f = impl_->facts; f.contains("recipe") && f["recipe"].contains("gaussian_budget"))
+    impl_->growth = BudgetGrowth::from_json(f["recipe"]["gaussian_budget"]);
   if (from) {
     try {
       impl_->restore(from->checkpoint);
@@ -253,7 +259,8 @@ struct Trainer::Impl::Steps final : RunnerStage {
   void after_step() override {
     const engine::StageTimer::Window window(m.stage_timer);
     const engine::StageScope timed(m.ctx, "densify");
-    m.densify_if_due();  // after the test, as graphdeco reports before it densifies or resets opacities
+    if (m.budget_probe_step(seconds())) return;  // back at the probe's densification (budget_growth.h)
+    m.densify_if_due(seconds());  // after the test, as graphdeco reports before it densifies or resets opacities
     m.fit_field_box_if_due(seconds());
     if (m.mask_due()) m.update_mask();
     m.choose_sh_degree_if_due(seconds());
@@ -275,9 +282,13 @@ struct Trainer::Impl::Steps final : RunnerStage {
     }
   }
   void save(double seconds) override { m.checkpoint(seconds); }
-  void restore_last_good() override { m.restore(m.last_good); }
+  void restore_last_good() override {
+    m.cancel_budget_probe();
+    m.restore(m.last_good);
+  }
   Divergence divergence() override { return m.divergence(m.snapshot(seconds())); }
   std::string repair_gaussians(const std::vector<uint32_t>& rows) override {
+    m.cancel_budget_probe();
     m.remove_gaussians(rows, seconds());
     return "removed";
   }

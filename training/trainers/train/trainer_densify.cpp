@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -109,7 +110,31 @@ void Trainer::Impl::log_densify(const std::string& when, const densify::DensifyR
               << thousands(r.after) << " left\n";
 }
 
-void Trainer::Impl::densify_if_due() {
+densify::DensifyResult Trainer::Impl::densify_now(const std::string& when, uint32_t budget) {
+  const uint32_t it = iteration;
+  densify::DensifyRules rules;
+  // A batch's statistic is the norm of a sum over its views where 4DGaussians sums gradients of
+  // the batch mean: the same test is `batch` times the threshold.
+  rules.grad_threshold = config.grad_threshold * (fine() ? static_cast<float>(std::max<uint32_t>(1, config.fine_batch)) : 1.0f);
+  rules.dense_scale = static_cast<float>(config.percent_dense * dataset.extent);
+  rules.min_opacity = config.min_opacity;
+  if (!fine() && it > config.opacity_reset_every) {  // graphdeco: size pruning only after the first reset
+    rules.max_screen_radius = config.max_screen_radius;
+    rules.max_world_scale = static_cast<float>(0.1 * dataset.extent);
+  }
+  rules.budget = budget;
+  rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
+  rules = prune_rules_with_floor(rules, when);
+  const std::vector<float> o = opacities(ctx, *gaussians);
+  const auto below = static_cast<uint32_t>(std::count_if(o.begin(), o.end(), [&](float v) { return v < rules.min_opacity; }));
+  const densify::DensifyResult r = densifier.densify(*gaussians, rules);
+  log_densify(when, r, below, rules.min_opacity);
+  still_count = 0;  // the Gaussians moved in memory: the split is measured again when due
+  seed_missing_content(when);
+  return r;
+}
+
+void Trainer::Impl::densify_if_due(double seconds) {
   const uint32_t it = iteration;
   const uint32_t until = fine() ? config.fine_densify_until : config.densify_until;
   // Frames the fine stage's time window opens after densification ends still get seeds for what
@@ -120,25 +145,12 @@ void Trainer::Impl::densify_if_due() {
     return;
   }
   if (it > config.densify_from && it % config.densify_every == 0) {
-    const std::string when = std::string(run::stage_name(stage)) + " stage, iteration " + std::to_string(it);
-    densify::DensifyRules rules;
-    // A batch's statistic is the norm of a sum over its views where 4DGaussians sums gradients of
-    // the batch mean: the same test is `batch` times the threshold.
-    rules.grad_threshold = config.grad_threshold * (fine() ? static_cast<float>(std::max<uint32_t>(1, config.fine_batch)) : 1.0f);
-    rules.dense_scale = static_cast<float>(config.percent_dense * dataset.extent);
-    rules.min_opacity = config.min_opacity;
-    if (!fine() && it > config.opacity_reset_every) {  // graphdeco: size pruning only after the first reset
-      rules.max_screen_radius = config.max_screen_radius;
-      rules.max_world_scale = static_cast<float>(0.1 * dataset.extent);
-    }
-    rules.budget = config.budget;
-    rules.seed = config.seed * 1000003u + it + (fine() ? 0x9E3779B9u : 0u);
-    rules = prune_rules_with_floor(rules, when);
-    const std::vector<float> o = opacities(ctx, *gaussians);
-    const auto below = static_cast<uint32_t>(std::count_if(o.begin(), o.end(), [&](float v) { return v < rules.min_opacity; }));
-    log_densify(when, densifier.densify(*gaussians, rules), below, rules.min_opacity);
-    still_count = 0;  // the Gaussians moved in memory: the split is measured again when due
-    seed_missing_content(when);
+    // The state before, in case the budget holds this densification back (budget_growth.h).
+    std::optional<model::Checkpoint> before;
+    if (budget_probe_possible()) before = snapshot(seconds);
+    const densify::DensifyResult r = densify_now(std::string(run::stage_name(stage)) + " stage, iteration " + std::to_string(it),
+                                                 densify_budget());
+    if (before) start_budget_probe(std::move(*before), r);
   }
   // 4DGaussians' DyNeRF setting never resets opacities in the fine stage (interval 60000). A reset
   // within the stage's last densification interval would leave no steps to recover: the static

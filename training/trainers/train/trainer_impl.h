@@ -21,6 +21,7 @@
 #include "s4d/model/checkpoint.h"
 #include "s4d/model/trainable_gaussians.h"
 #include "s4d/optim/adam_tensor.h"
+#include "s4d/train/budget_growth.h"
 #include "s4d/train/divergence.h"
 #include "s4d/train/stage_runner.h"
 #include "s4d/train/time_budget.h"
@@ -82,6 +83,14 @@ struct Trainer::Impl : TrainerCore {
   bool newest_damaged = false;
   // The time budget's plans (config.time_budget > 0; time_budget.h).
   BudgetState time_plan;
+  // The Gaussian budget's growth (budget_growth.h; the recipe's "gaussian_budget") and the paired
+  // probe under way: the state before its densification, then the kept branch's end.
+  BudgetGrowth growth;
+  struct GrowthProbe {
+    enum Phase { none, kept, grown } phase = none;
+    model::Checkpoint before, kept_end;
+    BudgetProbe record;
+  } probe;
 
   // The runner's view of the current stage (trainer.cpp).
   struct Steps;
@@ -165,7 +174,9 @@ struct Trainer::Impl : TrainerCore {
   // only what moves").
   void update_mask();
   bool mask_due() const;
-  void densify_if_due();
+  void densify_if_due(double seconds);
+  // One densification now, at most `budget` Gaussians after it, then seeding; logged.
+  densify::DensifyResult densify_now(const std::string& when, uint32_t budget);
   // The prune rules of one densification, with min_opacity lowered so that at least prune_floor
   // Gaussians survive it; says so in one line when it does.
   densify::DensifyRules prune_rules_with_floor(densify::DensifyRules rules, const std::string& when);
@@ -188,6 +199,20 @@ struct Trainer::Impl : TrainerCore {
   // onto it, records the evidence in the recipe, rewrites run.json and checkpoints.
   void fit_field_box_if_due(double seconds);
 
+  // ---- The Gaussian budget grown while held-out error falls (trainer_budget_growth.cpp, budget_growth.h).
+  // The budget densification keeps to now: the probe's grown branch's, the growth's, or the setting.
+  uint32_t densify_budget() const;
+  // Whether a densification now could start a probe (growth open, none under way, a clear window).
+  bool budget_probe_possible() const;
+  // After a densification that the budget held back, from the state before it: the kept branch starts.
+  void start_budget_probe(model::Checkpoint before, const densify::DensifyResult& r);
+  // At a probe's branch end (first in the step's after-work): the kept branch's end goes back to the
+  // densification and starts the grown branch (true: the step's other after-work is skipped); the
+  // grown branch's end decides, goes on from the better branch and records the probe.
+  bool budget_probe_step(double seconds);
+  // A rollback or a repair changed the state under a probe: it ends without a decision.
+  void cancel_budget_probe() { probe = {}; }
+
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first
   // kTimeMarkAt steps (shaders and buffers warm), and at the fine stage's start.
@@ -199,6 +224,9 @@ struct Trainer::Impl : TrainerCore {
 
   // ---- Tests, the stage change and train.json (trainer_report.cpp).
   Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {});
+  // The held-out views of what the stage models (the static stage's time window, or every time),
+  // spread over kPeriodicTestViews; the choices made from the data measure on them.
+  std::vector<const data::View*> stage_held_out_views() const;
   // The static stage is complete: keep its scores and move on to the fine stage (4DGaussians calls
   // training_setup again: fresh Adam moments, statistics and schedules).
   void begin_fine_stage(const Evaluation& static_test);

@@ -36,6 +36,14 @@ bool run_finished(const fs::path& run_dir) {
   return j.is_object() && j.value("complete", false) == true;
 }
 
+std::vector<const data::View*> Trainer::Impl::stage_held_out_views() const {
+  std::vector<const data::View*> views;
+  for (const data::View* v : test_views)
+    if (fine() || v->time <= static_window() + 1e-9) views.push_back(v);
+  if (views.empty()) views = test_views;
+  return spread_views(views, kPeriodicTestViews);
+}
+
 Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir) {
   if (!fine())
     return TrainerCore::evaluate([&](const data::View&) { return gaussians->params(active_degree()); }, views, save_dir);

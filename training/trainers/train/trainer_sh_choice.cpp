@@ -13,12 +13,7 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
   if (!config.sh_degree_auto || config.sh_degree == 0) return;
   const uint32_t done = fine() ? config.iterations + iteration : iteration;
   if (done < sh_choice_step(config)) return;
-  // The held-out views this stage models: the static stage's time window, or every time.
-  std::vector<const data::View*> views;
-  for (const data::View* v : test_views)
-    if (fine() || v->time <= static_window() + 1e-9) views.push_back(v);
-  if (views.empty()) views = test_views;
-  views = spread_views(views, kPeriodicTestViews);
+  const std::vector<const data::View*> views = stage_held_out_views();
 
   // Each degree's render: the degree the schedule has reached so far is the top (a run cut short may
   // end before it reaches the stored one, whose higher coefficients never trained).

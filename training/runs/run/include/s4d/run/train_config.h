@@ -61,6 +61,10 @@ struct TrainConfig {
   // Whether the budget was asked for (--budget, --set budget=...); otherwise a time budget may cut
   // it (train/time_budget.h, gaussian_budget_share). Not stored.
   bool budget_given = false;
+  // The Gaussian budget grown while held-out error still falls (train/budget_growth.h): a new run
+  // densifies to this share of `budget` first and doubles it while a paired probe shows the held-out
+  // views gain. 0: `budget` from the start (runs from before it existed); the presets set 0.25.
+  double budget_start = 0;
   // Growth into missed content (train/missing_content.h): at every densification, this many
   // training views are rendered and Gaussians are seeded where the render misses the ground truth.
   // 0: off (runs from before it existed); the presets set 4.
