@@ -185,6 +185,8 @@ TEST_CASE("the Gaussian budget grows by paired probes, and --budget fixes it") {
     if (grown) budget = p["to"].get<uint32_t>();
   }
   CHECK(g["budget"] == budget);
+  // Each probe trained its steps twice: the process's steps are the stage's and the kept branches'.
+  CHECK(t["stage_ms"]["iterations"] == 60 + 10 * g["probes"].size());
   CHECK(read_json(dir / "grow" / "run.json")["dataset"]["recipe"]["gaussian_budget"] == g);
   // loss.csv: each row once, in order.
   std::istringstream rows(test::read_text(dir / "grow" / "loss.csv"));

@@ -77,14 +77,14 @@ TEST_CASE("a probe doubles the budget up to the ceiling, and only where the budg
   CHECK(train::probe_wanted(1, 1));
 }
 
-TEST_CASE("a probe's window ends by the end of densification and holds no one-off step inside") {
+TEST_CASE("a probe's window ends by the end of densification and holds no one-off step but at its last") {
   const std::vector<uint32_t> none, sh{600};
   CHECK(train::probe_window_clear(400, 100, 700, none));
   CHECK(train::probe_window_clear(600, 100, 700, none));   // ends at the last densification step
   CHECK_FALSE(train::probe_window_clear(650, 100, 700, none));
   CHECK_FALSE(train::probe_window_clear(400, 0, 700, none));
   CHECK(train::probe_window_clear(500, 100, 700, sh));      // the SH choice at its last step: after the probe
-  CHECK(train::probe_window_clear(600, 100, 700, sh));      // at its first step: before it
+  CHECK_FALSE(train::probe_window_clear(600, 100, 700, sh));  // at its first step: the kept branch only would have it
   CHECK_FALSE(train::probe_window_clear(550, 100, 700, sh));  // inside: one branch would have it and not the other
 }
 

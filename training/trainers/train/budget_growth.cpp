@@ -87,7 +87,7 @@ bool probe_wanted(uint32_t budget, uint32_t demoted) { return demoted > 0 && dem
 
 bool probe_window_clear(uint32_t at, uint32_t length, uint32_t until, std::span<const uint32_t> events) {
   if (length == 0 || uint64_t{at} + length > until) return false;
-  return std::none_of(events.begin(), events.end(), [&](uint32_t e) { return e > at && e < at + length; });
+  return std::none_of(events.begin(), events.end(), [&](uint32_t e) { return e >= at && e < at + length; });
 }
 
 }  // namespace s4d::train

@@ -42,6 +42,7 @@ bool StageRunner::run(RunnerStage& stage, const std::atomic<bool>& stop) {
   for (StagePlan plan = first; stage.iteration() < plan.iterations; plan = stage.plan()) {
     if (plan.iterations != progress.total()) progress.set_total(plan.iterations);  // re-planned (time_budget.h)
     if (stop.load()) {
+      stage.before_stop();
       checkpoint(stage);
       std::cerr << plan.name << ": interrupted at iteration " << stage.iteration() << "; checkpoint written, "
                 << plan.resume_hint << "\n";

@@ -259,7 +259,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
   void after_step() override {
     const engine::StageTimer::Window window(m.stage_timer);
     const engine::StageScope timed(m.ctx, "densify");
-    if (m.budget_probe_step(seconds())) return;  // back at the probe's densification (budget_growth.h)
+    m.budget_probe_step(seconds());  // may go back to the probe's densification (budget_growth.h)
     m.densify_if_due(seconds());  // after the test, as graphdeco reports before it densifies or resets opacities
     m.fit_field_box_if_due(seconds());
     if (m.mask_due()) m.update_mask();
@@ -282,6 +282,7 @@ struct Trainer::Impl::Steps final : RunnerStage {
     }
   }
   void save(double seconds) override { m.checkpoint(seconds); }
+  void before_stop() override { m.abandon_budget_probe(seconds()); }
   void restore_last_good() override {
     m.cancel_budget_probe();
     m.restore(m.last_good);

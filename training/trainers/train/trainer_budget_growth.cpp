@@ -16,8 +16,10 @@ uint32_t Trainer::Impl::densify_budget() const {
 }
 
 bool Trainer::Impl::budget_probe_possible() const {
-  if (!growth.open() || probe.phase != GrowthProbe::none) return false;
-  // One-off steps that change the model's layout: a branch must not hold one the other lacks.
+  if (!growth.open() || probe.phase != GrowthProbe::none || probe_held) return false;
+  // A densification turns each Gaussian into at most two: below half the budget none is held back.
+  if (uint64_t{gaussians->size()} * 2 <= growth.budget) return false;
+  // One-off steps the branches must not differ by (probe_window_clear).
   std::vector<uint32_t> events;
   if (config.sh_degree_auto && config.sh_degree > 0) {
     const uint32_t s = sh_choice_step(config);  // counted over both stages
@@ -25,6 +27,8 @@ bool Trainer::Impl::budget_probe_possible() const {
     if (fine() && s > config.iterations) events.push_back(s - config.iterations);
   }
   if (fine() && !field_fitted && field_fit_step(config) > 0) events.push_back(field_fit_step(config));
+  const uint32_t every = std::max<uint32_t>(1, config.checkpoint_every);
+  events.push_back((iteration / every + 1) * every);  // the next checkpoint
   const uint32_t until = fine() ? config.fine_densify_until : config.densify_until;
   return probe_window_clear(iteration, config.densify_every, std::min(until, stage_iterations()), events);
 }
@@ -41,8 +45,8 @@ void Trainer::Impl::start_budget_probe(model::Checkpoint before, const densify::
                   .demoted = r.demoted};
 }
 
-bool Trainer::Impl::budget_probe_step(double seconds) {
-  if (probe.phase == GrowthProbe::none || iteration != probe.record.at_step + probe.record.steps) return false;
+void Trainer::Impl::budget_probe_step(double seconds) {
+  if (probe.phase == GrowthProbe::none || iteration != probe.record.at_step + probe.record.steps) return;
   const std::vector<const data::View*> views = stage_held_out_views();
   const double psnr = evaluate(views).psnr;
   BudgetProbe& rec = probe.record;
@@ -52,11 +56,8 @@ bool Trainer::Impl::budget_probe_step(double seconds) {
     rec.held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end();
     probe.kept_end = snapshot(seconds);
     restore(probe.before);  // the densification's iteration, sampler and statistics
-    probe.before = {};
-    probe.phase = GrowthProbe::grown;
-    densify_now(std::string(run::stage_name(stage)) + " stage, iteration " + std::to_string(iteration) + " (budget probe)",
-                rec.to);
-    return true;
+    probe.phase = GrowthProbe::grown;  // densify_budget() is now rec.to
+    return;
   }
   rec.psnr_grown = psnr, rec.gaussians_grown = gaussians->size();
   if (!rec.grown()) restore(probe.kept_end);
@@ -73,7 +74,19 @@ bool Trainer::Impl::budget_probe_step(double seconds) {
                 done.grown() ? "grown to" : "kept at", growth.budget, done.gaussians_grown, done.psnr_grown, done.views,
                 done.held_out ? "held-out" : "training", done.steps, done.gaussians_kept, done.psnr_kept, done.from, kGrowKeepDb);
   std::cerr << "densify (" << done.stage << " stage, iteration " << iteration << "): " << line << "\n";
-  return false;
+}
+
+void Trainer::Impl::abandon_budget_probe(double seconds) {
+  if (probe.phase == GrowthProbe::none) return;
+  const model::Checkpoint before = std::move(probe.before);
+  probe = {};
+  restore(before);
+  probe_held = true;  // the densification again, at the budget decided, without a new probe
+  densify_if_due(seconds);
+  probe_held = false;
+  std::cerr << "Gaussian budget probe at " << run::stage_name(stage) << " iteration " << iteration
+            << " left undecided (the run stopped); the run continues from that densification at the budget "
+            << growth.budget << "\n";
 }
 
 }  // namespace s4d::train

@@ -91,6 +91,7 @@ struct Trainer::Impl : TrainerCore {
     model::Checkpoint before, kept_end;
     BudgetProbe record;
   } probe;
+  bool probe_held = false;  // set while an abandoned probe's densification is done again
 
   // The runner's view of the current stage (trainer.cpp).
   struct Steps;
@@ -202,16 +203,21 @@ struct Trainer::Impl : TrainerCore {
   // ---- The Gaussian budget grown while held-out error falls (trainer_budget_growth.cpp, budget_growth.h).
   // The budget densification keeps to now: the probe's grown branch's, the growth's, or the setting.
   uint32_t densify_budget() const;
-  // Whether a densification now could start a probe (growth open, none under way, a clear window).
+  // Whether a densification now could start a probe (growth open, none under way, a clear window,
+  // enough Gaussians that the budget can hold it back).
   bool budget_probe_possible() const;
   // After a densification that the budget held back, from the state before it: the kept branch starts.
   void start_budget_probe(model::Checkpoint before, const densify::DensifyResult& r);
   // At a probe's branch end (first in the step's after-work): the kept branch's end goes back to the
-  // densification and starts the grown branch (true: the step's other after-work is skipped); the
-  // grown branch's end decides, goes on from the better branch and records the probe.
-  bool budget_probe_step(double seconds);
+  // state before the densification and opens the grown branch, whose densification the rest of the
+  // after-work then does; the grown branch's end decides, goes on from the better branch and
+  // records the probe.
+  void budget_probe_step(double seconds);
   // A rollback or a repair changed the state under a probe: it ends without a decision.
   void cancel_budget_probe() { probe = {}; }
+  // The run stops during a probe: back to the kept branch's start (the densification done at the
+  // budget decided), so that its checkpoint holds what run.json's budget says.
+  void abandon_budget_probe(double seconds);
 
   // ---- The time budget (trainer_time_budget.cpp).
   // Marks where a stage's step times are measured from: after the static stage's first

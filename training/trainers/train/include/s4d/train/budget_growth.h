@@ -73,8 +73,10 @@ uint32_t grown_budget(uint32_t budget, uint32_t ceiling);
 bool probe_wanted(uint32_t budget, uint32_t demoted);
 
 // Whether a probe's branches, steps (at, at + length] of a stage, fit before `until` (the end of
-// the stage's densification) and hold none of `events` (one-off steps that change the model: the SH
-// choice, the field's fit) strictly inside; an event at the last step runs after the probe ends.
+// the stage's densification) and hold none of `events` in [at, at + length): one-off steps that
+// change the model or settings the restore does not bring back (the SH choice, the field's fit), or
+// write a checkpoint mid-probe. One at `at` would run in the kept branch after the state before was
+// taken; one at the last step runs after the probe has decided.
 bool probe_window_clear(uint32_t at, uint32_t length, uint32_t until, std::span<const uint32_t> events);
 
 }  // namespace s4d::train

@@ -66,8 +66,11 @@ class RunnerStage {
   virtual bool keeps_loss_row(const std::string& row) const = 0;
   // A test on a few views: its PSNR.
   virtual double periodic_test() = 0;
-  // What follows a finite step's test (densification, for one).
+  // What follows a finite step's test (densification, for one). It may take the stage back to an
+  // earlier iteration (a probe's second branch): the runner then drops the loss rows past it.
   virtual void after_step() {}
+  // The run is interrupted: leave the state a checkpoint can hold (an experiment under way ends).
+  virtual void before_stop() {}
   // Values the progress line shows after the loss.
   virtual void add_progress(ProgressValues&) {}
   // Writes a checkpoint and makes it the last good state; StateOutOfRange (or another
