@@ -4,8 +4,12 @@
 // and the built-in scene itself. The SH degree: a preset's run chooses it from held-out views
 // (train/sh_choice.h), says so and keeps the choice everywhere; --sh-degree D keeps D.
 #include <doctest/doctest.h>
+#include <signal.h>
+#include <sys/wait.h>
 
+#include <chrono>
 #include <filesystem>
+#include <thread>
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -209,4 +213,58 @@ TEST_CASE("the Gaussian budget grows by paired probes, and --budget fixes it") {
   CHECK(f["budget"] == 400);
   CHECK(f["probes"].empty());
   CHECK(f["why"] == "off: --budget fixed it");
+}
+
+// A run stopped during a probe goes back to the probe's densification, does it at the budget
+// decided and writes that state; the resumed run trains on from there and probes again when the
+// budget holds the next densification back. The stop lands in the probe: the probe's two branches
+// take 200 steps from iteration 100 on, and the signal is sent once loss.csv reaches 130.
+TEST_CASE("a run stopped during a budget probe checkpoints the kept densification and resumes from it") {
+  const fs::path dir = test::fresh_dir("train_budget_probe_stop");
+  REQUIRE(test::run_style4d("synth", "--out " + (dir / "data").string() + " --cams 4 --frame-count 3 --size 48x36",
+                            dir / "synth.log") == 0);
+  std::ofstream(dir / "settings.json") << R"({"settings": {"preset": "fast", "iterations": 400, "fine_iterations": 0,
+      "sh_degree": 0, "budget": 400, "budget_start": 0.25, "densify_from": 50, "densify_until": 300, "densify_every": 100,
+      "test_every": 50, "checkpoint_every": 100}})";
+  const fs::path run = dir / "run";
+  const pid_t pid = test::spawn_style4d({"train", "--data", (dir / "data").string(), "--run", run.string(), "--config",
+                                         (dir / "settings.json").string()},
+                                        dir / "stopped.log");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
+  auto reached_130 = [&] { return contains(fs::exists(run / "loss.csv") ? test::read_text(run / "loss.csv") : "", "static,130,"); };
+  while (!reached_130() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  REQUIRE(reached_130());
+  kill(pid, SIGINT);
+  int status = 0;
+  REQUIRE(waitpid(pid, &status, 0) == pid);
+  const std::string stopped = test::read_text(dir / "stopped.log");
+  INFO(stopped);
+  REQUIRE(test::exit_code(status) == 130);
+  CHECK(contains(stopped, "Gaussian budget probe at static iteration 100 left undecided (the run stopped)"));
+  const nlohmann::json partial = read_json(run / "train.json");
+  CHECK(partial["iteration"] == 100);  // the densification's state, not a branch's
+  CHECK(partial["dataset"]["recipe"]["gaussian_budget"]["probes"].empty());
+  CHECK(partial["dataset"]["recipe"]["gaussian_budget"]["budget"] == 100);
+
+  REQUIRE(test::run_style4d("train", "--resume " + run.string(), dir / "resumed.log") == 0);
+  const nlohmann::json t = read_json(run / "train.json");
+  CHECK(t["complete"] == true);
+  uint32_t at_100 = 0;
+  for (const nlohmann::json& d : t["densify_log"])
+    if (d["event"] == "densify" && d["iteration"] == 100) {
+      ++at_100;
+      CHECK(d["after"].get<uint32_t>() <= std::max<uint32_t>(100, d["before"].get<uint32_t>() - d["pruned"].get<uint32_t>()));
+    }
+  CHECK(at_100 == 1);
+  for (const nlohmann::json& p : t["dataset"]["recipe"]["gaussian_budget"]["probes"]) CHECK(p["at_step"] != 100);
+  std::istringstream rows(test::read_text(run / "loss.csv"));
+  std::string row;
+  std::getline(rows, row);
+  long last = 0;
+  while (std::getline(rows, row)) {
+    const long it = std::stol(row.substr(row.find(',') + 1));
+    CHECK_MESSAGE(it == last + 10, row);  // every row once, in order
+    last = it;
+  }
+  CHECK(last == 400);
 }
