@@ -222,7 +222,9 @@ int cmd_train(const std::vector<std::string>& argv) {
       {"background", "render and compositing background r,g,b in [0, 1] (default: found from the frames: alpha, a\n"
                      "                        uniform border colour, else the layout's)", true, "R,G,B"},
       group("model"),
-      {"budget", "most Gaussians densification may create", true, "N"},
+      {"budget", "most Gaussians densification may create, fixed; without it the preset's budget is a ceiling:\n"
+                 "                        the run starts at a quarter and doubles it while a paired probe's held-out\n"
+                 "                        views gain (train.json dataset.recipe.gaussian_budget)", true, "N"},
       {"sh-degree", "spherical-harmonic degree 0..3, kept as given; default auto: the lowest degree up to\n"
                     "                        the preset's (fast 1, default 3) that serves held-out views as well\n"
                     "                        (train.json dataset.recipe.sh_degree)", true, "D"},
