@@ -11,7 +11,7 @@ nlohmann::json BudgetProbe::json() const {
           {"from", from},             {"to", to},                 {"demoted", demoted},
           {"gaussians_kept", gaussians_kept}, {"gaussians_grown", gaussians_grown},
           {"psnr_kept", psnr_kept},   {"psnr_grown", psnr_grown}, {"gain_db", psnr_grown - psnr_kept},
-          {"views", views},           {"held_out", held_out},     {"grown", grown()}};
+          {"views", views},           {"seconds", seconds},       {"held_out", held_out},     {"grown", grown()}};
 }
 
 nlohmann::json BudgetGrowth::json() const {
@@ -39,6 +39,7 @@ BudgetGrowth BudgetGrowth::from_json(const nlohmann::json& j) {
       b.gaussians_kept = p.at("gaussians_kept").get<uint32_t>(), b.gaussians_grown = p.at("gaussians_grown").get<uint32_t>();
       b.psnr_kept = p.at("psnr_kept").get<double>(), b.psnr_grown = p.at("psnr_grown").get<double>();
       b.views = p.at("views").get<uint32_t>(), b.held_out = p.at("held_out").get<bool>();
+      b.seconds = p.at("seconds").get<double>();
       g.probes.push_back(b);
     }
   } catch (const nlohmann::json::exception& e) {

@@ -54,6 +54,7 @@ void Trainer::Impl::budget_probe_step(double seconds) {
     rec.psnr_kept = psnr, rec.gaussians_kept = gaussians->size();
     rec.views = static_cast<uint32_t>(views.size());
     rec.held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end();
+    rec.seconds = seconds - probe.before.meta.at("seconds").get<double>();
     probe.kept_end = snapshot(seconds);
     restore(probe.before);  // the densification's iteration, sampler and statistics
     probe.phase = GrowthProbe::grown;  // densify_budget() is now rec.to

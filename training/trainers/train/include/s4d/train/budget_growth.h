@@ -42,6 +42,7 @@ struct BudgetProbe {
   uint32_t gaussians_kept = 0, gaussians_grown = 0;  // at the end of each branch
   double psnr_kept = 0, psnr_grown = 0;              // held-out PSNR (dB) at the end of each branch
   uint32_t views = 0;
+  double seconds = 0;    // the kept branch's steps and test: what the probe cost the run
   bool held_out = true;  // false: the dataset holds no test view out, so training views were used
   bool grown() const { return psnr_grown - psnr_kept >= kGrowKeepDb; }
   nlohmann::json json() const;
