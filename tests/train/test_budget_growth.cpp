@@ -100,8 +100,8 @@ TEST_CASE("a probe that gains keep_db grows the budget; one that does not stops 
   CHECK_FALSE(g.open());
   CHECK(g.why.starts_with("kept at 7500"));
   REQUIRE(g.probes.size() == 2);
-  CHECK(g.probes[0].grown());
-  CHECK_FALSE(g.probes[1].grown());
+  CHECK(g.probes[0]["grown"] == true);
+  CHECK(g.probes[1]["grown"] == false);
 
   // To the ceiling: nothing is left to probe.
   BudgetGrowth up = train::plan_budget_growth(run::preset_config("fast"));
@@ -124,4 +124,7 @@ TEST_CASE("the record goes through run.json unchanged, and a damaged one is refu
   nlohmann::json broken = j;
   broken.erase("ceiling");
   CHECK_THROWS_WITH_AS(BudgetGrowth::from_json(broken), doctest::Contains("recipe.gaussian_budget"), std::runtime_error);
+  broken = j;
+  broken["probes"] = 3;
+  CHECK_THROWS_WITH_AS(BudgetGrowth::from_json(broken), doctest::Contains("'probes'"), std::runtime_error);
 }

@@ -15,11 +15,9 @@ nlohmann::json BudgetProbe::json() const {
 }
 
 nlohmann::json BudgetGrowth::json() const {
-  nlohmann::json probe_list = nlohmann::json::array();
-  for (const BudgetProbe& p : probes) probe_list.push_back(p.json());
   return {{"grows", on},         {"stopped", stopped},  {"ceiling", ceiling},    {"start", start},
           {"budget", budget},    {"keep_db", kGrowKeepDb}, {"min_demand", kGrowMinDemand},
-          {"probes", probe_list}, {"why", why}};
+          {"probes", probes},    {"why", why}};
 }
 
 BudgetGrowth BudgetGrowth::from_json(const nlohmann::json& j) {
@@ -31,17 +29,8 @@ BudgetGrowth BudgetGrowth::from_json(const nlohmann::json& j) {
     g.start = j.at("start").get<uint32_t>();
     g.budget = j.at("budget").get<uint32_t>();
     g.why = j.at("why").get<std::string>();
-    for (const nlohmann::json& p : j.at("probes")) {
-      BudgetProbe b;
-      b.stage = p.at("stage").get<std::string>();
-      b.at_step = p.at("at_step").get<uint32_t>(), b.steps = p.at("steps").get<uint32_t>();
-      b.from = p.at("from").get<uint32_t>(), b.to = p.at("to").get<uint32_t>(), b.demoted = p.at("demoted").get<uint32_t>();
-      b.gaussians_kept = p.at("gaussians_kept").get<uint32_t>(), b.gaussians_grown = p.at("gaussians_grown").get<uint32_t>();
-      b.psnr_kept = p.at("psnr_kept").get<double>(), b.psnr_grown = p.at("psnr_grown").get<double>();
-      b.views = p.at("views").get<uint32_t>(), b.held_out = p.at("held_out").get<bool>();
-      b.seconds = p.at("seconds").get<double>();
-      g.probes.push_back(b);
-    }
+    g.probes = j.at("probes");
+    if (!g.probes.is_array()) throw std::runtime_error("recipe.gaussian_budget: 'probes' is not an array");
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(std::string("recipe.gaussian_budget: ") + e.what());
   }
@@ -49,7 +38,7 @@ BudgetGrowth BudgetGrowth::from_json(const nlohmann::json& j) {
 }
 
 void BudgetGrowth::record(const BudgetProbe& probe) {
-  probes.push_back(probe);
+  probes.push_back(probe.json());
   if (probe.grown()) {
     budget = probe.to;
     why = "grown to " + std::to_string(budget) + ": the held-out PSNR rose " + std::to_string(probe.psnr_grown - probe.psnr_kept) +

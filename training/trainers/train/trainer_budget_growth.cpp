@@ -47,13 +47,13 @@ void Trainer::Impl::start_budget_probe(model::Checkpoint before, const densify::
 
 void Trainer::Impl::budget_probe_step(double seconds) {
   if (probe.phase == GrowthProbe::none || iteration != probe.record.at_step + probe.record.steps) return;
-  const std::vector<const data::View*> views = stage_held_out_views();
+  const auto [views, held_out] = stage_held_out_views();
   const double psnr = evaluate(views).psnr;
   BudgetProbe& rec = probe.record;
   if (probe.phase == GrowthProbe::kept) {
     rec.psnr_kept = psnr, rec.gaussians_kept = gaussians->size();
     rec.views = static_cast<uint32_t>(views.size());
-    rec.held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end();
+    rec.held_out = held_out;
     rec.seconds = seconds - probe.before.meta.at("seconds").get<double>();
     probe.kept_end = snapshot(seconds);
     restore(probe.before);  // the densification's iteration, sampler and statistics

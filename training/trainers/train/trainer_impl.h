@@ -231,8 +231,13 @@ struct Trainer::Impl : TrainerCore {
   // ---- Tests, the stage change and train.json (trainer_report.cpp).
   Evaluation evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir = {});
   // The held-out views of what the stage models (the static stage's time window, or every time),
-  // spread over kPeriodicTestViews; the choices made from the data measure on them.
-  std::vector<const data::View*> stage_held_out_views() const;
+  // spread over kPeriodicTestViews; the choices made from the data measure on them. `held_out` is
+  // false where the dataset holds no view out and the test views are training ones.
+  struct ChoiceViews {
+    std::vector<const data::View*> views;
+    bool held_out = true;
+  };
+  ChoiceViews stage_held_out_views() const;
   // The static stage is complete: keep its scores and move on to the fine stage (4DGaussians calls
   // training_setup again: fresh Adam moments, statistics and schedules).
   void begin_fine_stage(const Evaluation& static_test);

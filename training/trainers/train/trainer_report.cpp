@@ -1,4 +1,5 @@
 // Trainer::Impl's tests, the change from the static to the fine stage, and train.json.
+#include <algorithm>
 #include <fstream>
 
 #include "s4d/run/stage_times.h"
@@ -36,12 +37,14 @@ bool run_finished(const fs::path& run_dir) {
   return j.is_object() && j.value("complete", false) == true;
 }
 
-std::vector<const data::View*> Trainer::Impl::stage_held_out_views() const {
+Trainer::Impl::ChoiceViews Trainer::Impl::stage_held_out_views() const {
   std::vector<const data::View*> views;
   for (const data::View* v : test_views)
     if (fine() || v->time <= static_window() + 1e-9) views.push_back(v);
   if (views.empty()) views = test_views;
-  return spread_views(views, kPeriodicTestViews);
+  views = spread_views(views, kPeriodicTestViews);
+  const bool held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end();
+  return {std::move(views), held_out};
 }
 
 Evaluation Trainer::Impl::evaluate(const std::vector<const data::View*>& views, const fs::path& save_dir) {

@@ -1,5 +1,4 @@
 // Trainer::Impl's choice of the SH degree from the data (sh_choice.h).
-#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -13,12 +12,12 @@ void Trainer::Impl::choose_sh_degree_if_due(double seconds) {
   if (!config.sh_degree_auto || config.sh_degree == 0) return;
   const uint32_t done = fine() ? config.iterations + iteration : iteration;
   if (done < sh_choice_step(config)) return;
-  const std::vector<const data::View*> views = stage_held_out_views();
+  const auto [views, held_out] = stage_held_out_views();
 
   // Each degree's render: the degree the schedule has reached so far is the top (a run cut short may
   // end before it reaches the stored one, whose higher coefficients never trained).
   ShChoice choice{.views = static_cast<uint32_t>(views.size()),
-                  .held_out = std::find(train_views.begin(), train_views.end(), views.front()) == train_views.end(),
+                  .held_out = held_out,
                   .at_step = done};
   const int stored = config.sh_degree, top = active_degree();
   for (int d = 0; d <= top; ++d) {

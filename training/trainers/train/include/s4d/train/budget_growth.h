@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <span>
 #include <string>
-#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -53,7 +52,7 @@ struct BudgetGrowth {
   bool on = false;
   bool stopped = false;  // a probe found no gain: the budget stays
   uint32_t ceiling = 0, start = 0, budget = 0;
-  std::vector<BudgetProbe> probes;
+  nlohmann::json probes = nlohmann::json::array();  // each probe's json(), in order
   std::string why;
   nlohmann::json json() const;
   static BudgetGrowth from_json(const nlohmann::json& j);  // std::runtime_error naming the key
