@@ -1,6 +1,7 @@
 // The deformation field's box fitted to what moves (field_box.h): which Gaussians count as moving,
-// the box their paths give, and when the box stays.
+// the box their paths give, and when the box stays; the time axis their paths need.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <stdexcept>
@@ -115,10 +116,13 @@ TEST_CASE("the box stays when too few Gaussians move or their paths fill it") {
                   std::invalid_argument);
 }
 
-TEST_CASE("the fit's step: field_fit of the fine stage, never with field_fit 0 or no fine stage") {
+TEST_CASE("the fit's step: field_fit of the fine stage once its time window is open, never with field_fit 0 or no fine stage") {
   run::TrainConfig c = run::preset_config("fast");
   CHECK(c.field_fit == doctest::Approx(0.2));
-  CHECK(train::field_fit_step(c) == 300);  // 0.2 x 1500
+  CHECK(c.fine_time_ramp == doctest::Approx(0.6));
+  CHECK(train::field_fit_step(c) == 1020);  // the window opens at 900 of 1500, then 0.2 x the 600 left
+  c.fine_time_ramp = 0;  // every time from the start: a fifth of the stage
+  CHECK(train::field_fit_step(c) == 300);
   c.fine_iterations = 3;
   CHECK(train::field_fit_step(c) == 1);
   c.field_fit = 0;
@@ -127,4 +131,79 @@ TEST_CASE("the fit's step: field_fit of the fine stage, never with field_fit 0 o
   CHECK(train::field_fit_step(c) == 0);
   // Runs from before the fit existed have no field_fit in run.json: off.
   CHECK(run::TrainConfig{}.field_fit == 0);
+}
+
+namespace {
+
+// Paths over `samples` evenly spaced times in [0, 1] of `count` Gaussians, each at `x(t)` (the
+// same motion along x, offset by the Gaussian's index along y), laid out as fit_field_time reads.
+template <class F>
+std::vector<float> time_paths(uint32_t samples, uint32_t count, F x) {
+  std::vector<float> p;
+  for (uint32_t s = 0; s < samples; ++s)
+    for (uint32_t i = 0; i < count; ++i) {
+      const double t = double(s) / (samples - 1);
+      p.insert(p.end(), {static_cast<float>(x(t, i)), float(i), 0.0f});
+    }
+  return p;
+}
+
+// A path from 0 up to 1 at time `knee`, then back to 0 at time 1: piecewise linear, exactly what
+// texels at every multiple of `knee` follow.
+double kinked(double t, double knee) { return t <= knee ? t / knee : (1 - t) / (1 - knee); }
+
+}  // namespace
+
+TEST_CASE("the time axis: the fewest texels whose piecewise-linear paths follow the sampled ones") {
+  const uint32_t texels = 16, samples = 61;  // four samples per texel interval, as the trainer takes
+  const std::vector<uint8_t> all(200, 1);
+  // Linear motion: the fewest texels the kernels allow.
+  train::FieldTime linear = train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return 2 * t; }), samples,
+                                                  all, texels, 0.01);
+  CHECK(linear.fitted);
+  CHECK(linear.resolution == S4D_DEFORM_MIN_RESOLUTION);
+  CHECK(linear.moving == 200);
+  CHECK(linear.error_by_resolution["3"].get<double>() < 1e-6);
+  // A turn at t = 1/3 needs a texel there: 4 texels (0, 1/3, 2/3, 1); 3 (0, 1/2, 1) miss it by a sixth.
+  train::FieldTime third = train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 3); }),
+                                                 samples, all, texels, 0.01);
+  CHECK(third.resolution == 4);
+  CHECK(third.error_by_resolution["3"].get<double>() == doctest::Approx(0.5));  // at t = 1/3: 1, against the line's 0.5
+  CHECK(third.error_by_resolution["4"].get<double>() < 1e-6);
+  // A turn at t = 1/4: 5 texels.
+  CHECK(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 0.25); }), samples, all,
+                              texels, 0.01)
+            .resolution == 5);
+  // A tolerance as large as the miss takes the coarser axis.
+  CHECK(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 3); }), samples, all,
+                              texels, 0.6)
+            .resolution == 3);
+}
+
+TEST_CASE("the time axis stays where the paths need most of its texels, or too few Gaussians move") {
+  const uint32_t texels = 16, samples = 61;
+  const std::vector<uint8_t> all(200, 1);
+  // A zigzag turning at every texel: every candidate misses it, and the axis stays.
+  auto zigzag = [&](double t, uint32_t) { return std::abs(std::fmod(t * (texels - 1), 2.0) - 1.0); };
+  train::FieldTime fast = train::fit_field_time(time_paths(samples, 200, zigzag), samples, all, texels, 0.01);
+  CHECK_FALSE(fast.fitted);
+  CHECK(fast.resolution == texels);
+  CHECK(fast.error_by_resolution.size() == texels - S4D_DEFORM_MIN_RESOLUTION);
+  // A turn at t = 1/12 needs 13 texels: more than 70 % of 16, so the axis stays.
+  CHECK_FALSE(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 12); }), samples,
+                                    all, texels, 0.01)
+                  .fitted);
+  // One zigzag in two hundred does not hold the rest back (the 99th percentile).
+  auto mixed = [&](double t, uint32_t i) { return i < 1 ? zigzag(t, i) : 2 * t; };
+  CHECK(train::fit_field_time(time_paths(samples, 200, mixed), samples, all, texels, 0.01).resolution ==
+        S4D_DEFORM_MIN_RESOLUTION);
+  // Only the Gaussians flagged moving count: 10 are too few to say how fast.
+  std::vector<uint8_t> few(200, 0);
+  for (int i = 0; i < 10; ++i) few[i] = 1;
+  train::FieldTime still = train::fit_field_time(time_paths(samples, 200, zigzag), samples, few, texels, 0.01);
+  CHECK_FALSE(still.fitted);
+  CHECK(still.moving == 10);
+  CHECK(still.resolution == texels);
+  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(10), samples, all, texels, 0.01), std::invalid_argument);
+  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(6), 1, std::vector<uint8_t>(2, 1), texels, 0.01), std::invalid_argument);
 }

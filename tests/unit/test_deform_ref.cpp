@@ -192,6 +192,20 @@ TEST_CASE("hexplane lookup follows 4DGaussians: mirrored AABB, unnormalised time
   CHECK(ref::hexplane_features(f, at_max, 7.0)[0] == doctest::Approx(rt - 1.0));        // border clamp
 }
 
+TEST_CASE("the time axis's range: grid_time maps it onto [-1, 1], and 4DGaussians' {-1, 1} is the time itself") {
+  deform::FieldConfig c = small_config();
+  for (double t : {0.0, 1e-30, 0.123456789, 1.0, -3.5, 1e30}) CHECK(deform::grid_time(c, t) == static_cast<float>(t));
+  c.time_range = {0, 1};
+  CHECK(deform::grid_time(c, 0.0) == -1.0f);
+  CHECK(deform::grid_time(c, 0.5) == 0.0f);
+  CHECK(deform::grid_time(c, 1.0) == 1.0f);
+  CHECK(deform::grid_time(c, 0.25) == -0.5f);
+  c.time_range = {0.5, 0.5};
+  CHECK_THROWS_WITH_AS(deform::deform_shape(c), doctest::Contains("time_range"), std::invalid_argument);
+  c.time_range = {0, NAN};
+  CHECK_THROWS_WITH_AS(deform::deform_shape(c), doctest::Contains("time_range"), std::invalid_argument);
+}
+
 TEST_CASE("deform twin backward matches central finite differences in double") {
   const deform::FieldConfig c = small_config();
   ref::DeformField<double> f = random_field(c, 2);
@@ -288,10 +302,11 @@ std::vector<double> features_of(const deform::FieldConfig& c, const std::vector<
   f.shape = deform::deform_shape(c);
   for (int k = 0; k < 3; ++k) f.aabb_max[k] = c.aabb_max[k], f.aabb_scale[k] = 2.0 / (double(c.aabb_min[k]) - c.aabb_max[k]);
   f.planes.assign(planes.begin(), planes.end());
-  return ref::hexplane_features(f, xyz, t);
+  return ref::hexplane_features(f, xyz, double(deform::grid_time(c, t)));
 }
 
-// Largest relative difference of the two fields' features over random points of `inside`'s box.
+// Largest relative difference of the two fields' features over random points of `b`'s box and
+// times in `b`'s time range.
 double worst_feature_gap(const deform::FieldConfig& a, const std::vector<float>& pa, const deform::FieldConfig& b,
                          const std::vector<float>& pb, unsigned seed) {
   std::mt19937 rng(seed);
@@ -300,7 +315,7 @@ double worst_feature_gap(const deform::FieldConfig& a, const std::vector<float>&
   for (int n = 0; n < 200; ++n) {
     double x[3];
     for (int k = 0; k < 3; ++k) x[k] = b.aabb_min[k] + u(rng) * (double(b.aabb_max[k]) - b.aabb_min[k]);
-    const double t = 2 * u(rng) - 1;
+    const double t = b.time_range[0] + u(rng) * (double(b.time_range[1]) - b.time_range[0]);
     const std::vector<double> fa = features_of(a, pa, x, t), fb = features_of(b, pb, x, t);
     for (size_t k = 0; k < fa.size(); ++k) worst = std::max(worst, std::abs(fa[k] - fb[k]) / std::max(1e-3, std::abs(fa[k])));
   }
@@ -328,6 +343,13 @@ TEST_CASE("resampled planes: the same field inside the new box, where its texels
   for (int k = 0; k < 3; ++k) half.aabb_max[k] = 0.5f * (a.aabb_min[k] + a.aabb_max[k]);
   half.resolution[3] = 2 * a.resolution[3] - 1;
   CHECK(worst_feature_gap(a, planes, half, deform::resample_planes(a, half, planes), 1) < 1e-6);
+
+  // The time axis onto the times [0, 1] alone: 3 texels there are the old 5's last three (over
+  // [-1, 1]), so the field is the same at every time in [0, 1]. Measured worst: 0.
+  deform::FieldConfig later = a;
+  later.time_range = {0, 1};
+  later.resolution[3] = 3;
+  CHECK(worst_feature_gap(a, planes, later, deform::resample_planes(a, later, planes), 3) < 1e-6);
 
   // Planes affine in their two coordinates are kept by bilinear resampling onto any box and
   // resolution: every point of the new box gets the old features. Measured worst: 1.9e-7.

@@ -72,7 +72,7 @@ gpu::DeformParams DeformationField::params(const CanonicalGaussians& g, float ti
   p.aabb_scale = {scale[0], scale[1], scale[2], 0.0f};
   p.n = g.count - g.still_count;
   p.sh_coeffs = g.sh_coeffs;
-  p.time = time;
+  p.time = grid_time(config_, time);
   return p;
 }
 

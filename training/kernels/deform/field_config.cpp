@@ -1,5 +1,6 @@
 #include "s4d/deform/field_config.h"
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -35,6 +36,8 @@ gpu::DeformShape deform_shape(const FieldConfig& c) {
   require(c.heads != 0 && c.heads < (1u << S4D_DEFORM_HEADS), "heads must be a non-empty set of S4D_DEFORM_HEAD_* bits");
   for (int k = 0; k < 3; ++k)
     require(c.aabb_max[k] > c.aabb_min[k], std::string("aabb_max.") + axes[k] + " must exceed aabb_min." + axes[k]);
+  require(std::isfinite(c.time_range[0]) && std::isfinite(c.time_range[1]) && c.time_range[1] > c.time_range[0],
+          "time_range must be two finite times, the second larger");
 
   gpu::DeformShape s{};
   s.resolution = {c.resolution[0], c.resolution[1], c.resolution[2], c.resolution[3]};
@@ -63,6 +66,10 @@ std::array<float, 3> aabb_scale(const FieldConfig& c) {
   std::array<float, 3> s{};
   for (int k = 0; k < 3; ++k) s[k] = 2.0f / (c.aabb_min[k] - c.aabb_max[k]);
   return s;
+}
+
+float grid_time(const FieldConfig& c, double t) {
+  return static_cast<float>((2.0 * t - (double(c.time_range[0]) + c.time_range[1])) / (double(c.time_range[1]) - c.time_range[0]));
 }
 
 }  // namespace s4d::deform

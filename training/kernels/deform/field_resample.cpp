@@ -13,11 +13,14 @@ namespace {
 double texel_of(double g, uint32_t r) { return std::clamp((g + 1.0) * 0.5 * (r - 1), 0.0, double(r - 1)); }
 
 // Where texel i of axis `axis` (of `to`, r texels) lies on the same axis of `from`, as a texel
-// coordinate of `from` (rf texels). Space goes through both boxes (grid = (x - max) * scale - 1);
-// time is the grid coordinate itself in both.
+// coordinate of `from` (rf texels). Space goes through both boxes (grid = (x - max) * scale - 1),
+// time through both time ranges (grid_time).
 double old_texel(const FieldConfig& from, const FieldConfig& to, uint32_t axis, uint32_t i, uint32_t r, uint32_t rf) {
   const double g = 2.0 * i / (r - 1) - 1.0;
-  if (axis == S4D_DEFORM_TIME_AXIS) return texel_of(g, rf);
+  if (axis == S4D_DEFORM_TIME_AXIS) {
+    const double t = to.time_range[0] + (g + 1.0) * 0.5 * (double(to.time_range[1]) - to.time_range[0]);
+    return texel_of((2.0 * t - (double(from.time_range[0]) + from.time_range[1])) / (double(from.time_range[1]) - from.time_range[0]), rf);
+  }
   const double x = to.aabb_max[axis] + (g + 1.0) * 0.5 * (double(to.aabb_min[axis]) - to.aabb_max[axis]);
   const double g_from = (x - from.aabb_max[axis]) * 2.0 / (double(from.aabb_min[axis]) - from.aabb_max[axis]) - 1.0;
   return texel_of(g_from, rf);

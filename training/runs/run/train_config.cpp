@@ -18,6 +18,7 @@ TrainConfig preset_config(const std::string& name) {
   c.seed_views = 4;
   c.sh_degree_auto = true;
   c.field_fit = 0.2;
+  c.field_time = {0, 1};
   c.budget_start = 0.25;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from
@@ -113,6 +114,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
   f.heads = c.field_heads;
   f.aabb_min = lo;
   f.aabb_max = hi;
+  f.time_range = c.field_time;
   return f;
 }
 
@@ -123,7 +125,7 @@ deform::FieldConfig field_config(const TrainConfig& c, const std::array<float, 3
   X(scaling_lr) X(rotation_lr) X(lr_scale) X(densify_from) X(densify_until) X(densify_every) X(opacity_reset_every)          \
   X(grad_threshold) X(percent_dense) X(min_opacity) X(max_screen_radius) X(budget) X(budget_start) X(seed_views) X(test_every)               \
   X(checkpoint_every) X(fine_iterations) X(fine_batch) X(fine_ssim_weight) X(fine_densify_until)      \
-  X(field_resolution) X(field_multires) X(field_channels) X(field_width) X(field_trunk_extra) X(field_heads)       \
+  X(field_resolution) X(field_time) X(field_multires) X(field_channels) X(field_width) X(field_trunk_extra) X(field_heads)       \
   X(deform_lr) X(deform_lr_final) X(grid_lr) X(grid_lr_final) X(plane_tv_weight) X(time_smoothness_weight)       \
   X(l1_time_planes_weight) X(static_motion) X(motion_samples) X(motion_every) X(field_fit) X(time_budget)
 

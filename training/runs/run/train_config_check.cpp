@@ -120,6 +120,8 @@ void validate(const TrainConfig& c, const std::string& source, const std::map<st
   for (uint32_t r : c.field_resolution)
     check.require_all(r >= S4D_DEFORM_MIN_RESOLUTION, "field_resolution", c.field_resolution,
                       "each must be at least " + std::to_string(S4D_DEFORM_MIN_RESOLUTION));
+  check.require_all(std::isfinite(c.field_time[0]) && std::isfinite(c.field_time[1]) && c.field_time[1] > c.field_time[0],
+                    "field_time", c.field_time, "must be two finite times, the second larger");
   check.require_all(!c.field_multires.empty() && c.field_multires.size() <= S4D_DEFORM_MAX_LEVELS, "field_multires",
                     c.field_multires, "needs 1.." + std::to_string(S4D_DEFORM_MAX_LEVELS) + " levels");
   for (uint32_t m : c.field_multires) check.require_all(m >= 1, "field_multires", c.field_multires, "each must be at least 1");
@@ -146,7 +148,7 @@ void validate(const TrainConfig& c, const std::string& source, const std::map<st
   check.non_negative("static_motion", c.static_motion);
   check.at_least("motion_samples", c.motion_samples, 2);  // motion is measured between two times at least
   check.interval("motion_every", c.motion_every);
-  check.require(c.field_fit >= 0 && c.field_fit < 1, "field_fit", c.field_fit, "must be in [0, 1) (a fraction of the fine stage; 0: off)");
+  check.require(c.field_fit >= 0 && c.field_fit < 1, "field_fit", c.field_fit, "must be in [0, 1) (a fraction of the fine stage after its time window opens; 0: off)");
   // Runs.
   check.interval("test_every", c.test_every);
   check.interval("checkpoint_every", c.checkpoint_every);

@@ -87,9 +87,81 @@ FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, con
   return box;
 }
 
+nlohmann::json FieldTime::json() const {
+  return {{"fitted", fitted},   {"old_resolution", old_resolution}, {"resolution", resolution},
+          {"moving", moving},   {"samples", samples},               {"tolerance", tolerance},
+          {"error_by_resolution", error_by_resolution}, {"at_step", at_step}, {"why", why}};
+}
+
+FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::span<const uint8_t> moving,
+                         uint32_t resolution, double tolerance) {
+  const size_t n = moving.size();
+  if (samples < 2 || paths.size() != size_t{samples} * n * 3)
+    throw std::invalid_argument("fit_field_time: " + std::to_string(paths.size()) + " path floats for " + std::to_string(samples) +
+                                " samples of " + std::to_string(n) + " Gaussians, expected 3 per Gaussian per sample");
+  FieldTime fit{.old_resolution = resolution, .resolution = resolution, .samples = samples, .tolerance = tolerance};
+  std::vector<uint32_t> movers;
+  for (uint32_t i = 0; i < n; ++i)
+    if (moving[i]) movers.push_back(i);
+  fit.moving = static_cast<uint32_t>(movers.size());
+  if (fit.moving < kFieldFitMinMoving) {
+    fit.why = std::to_string(fit.moving) + " Gaussians move (fewer than " + std::to_string(kFieldFitMinMoving) +
+              "): too few to tell how fast; the time axis stays";
+    return fit;
+  }
+  // The mean of Gaussian i at fractional sample position u, linear between the samples.
+  auto at = [&](uint32_t i, double u, int k) {
+    const auto s0 = std::min(static_cast<uint32_t>(u), samples - 2);
+    const double w = u - s0;
+    return (1 - w) * paths[(size_t{s0} * n + i) * 3 + k] + w * paths[(size_t{s0 + 1} * n + i) * 3 + k];
+  };
+  uint32_t chosen = resolution;
+  std::vector<float> worst(movers.size());
+  for (uint32_t r = S4D_DEFORM_MIN_RESOLUTION; r < resolution; ++r) {
+    const double per_cell = double(samples - 1) / (r - 1);  // samples between two texels
+    for (size_t m = 0; m < movers.size(); ++m) {
+      const uint32_t i = movers[m];
+      double far = 0;
+      for (uint32_t s = 0; s < samples; ++s) {
+        const double cell = std::min(std::floor(s / per_cell), double(r - 2));
+        const double w = s / per_cell - cell;
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double line = (1 - w) * at(i, cell * per_cell, k) + w * at(i, (cell + 1) * per_cell, k);
+          d2 += (line - paths[(size_t{s} * n + i) * 3 + k]) * (line - paths[(size_t{s} * n + i) * 3 + k]);
+        }
+        far = std::max(far, d2);
+      }
+      worst[m] = static_cast<float>(std::sqrt(far));
+    }
+    const double error = quantile(worst, 1 - kFieldFitQuantile);
+    fit.error_by_resolution[std::to_string(r)] = error;
+    if (error <= tolerance) {
+      chosen = r;
+      break;
+    }
+  }
+  char text[256];
+  if (chosen > kFieldFitMaxVolumeShare * resolution) {
+    std::snprintf(text, sizeof text,
+                  "the paths of the %u moving Gaussians need %u of the %u time texels (more than %.0f %%): the time axis stays",
+                  fit.moving, chosen, resolution, 100 * kFieldFitMaxVolumeShare);
+    fit.why = text;
+    return fit;
+  }
+  fit.fitted = true, fit.resolution = chosen;
+  std::snprintf(text, sizeof text,
+                "%u time texels (were %u) follow the paths of the %u moving Gaussians within %.3g (%.0fth percentile: %.3g)",
+                chosen, resolution, fit.moving, tolerance, 100 * (1 - kFieldFitQuantile),
+                fit.error_by_resolution[std::to_string(chosen)].get<double>());
+  fit.why = text;
+  return fit;
+}
+
 uint32_t field_fit_step(const run::TrainConfig& config) {
   if (config.field_fit <= 0 || config.fine_iterations == 0) return 0;
-  return std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(config.field_fit * config.fine_iterations)));
+  const double share = config.fine_time_ramp + config.field_fit * (1 - config.fine_time_ramp);
+  return std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(share * config.fine_iterations)));
 }
 
 }  // namespace s4d::train

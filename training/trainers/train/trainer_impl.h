@@ -23,6 +23,7 @@
 #include "s4d/optim/adam_tensor.h"
 #include "s4d/train/budget_growth.h"
 #include "s4d/train/divergence.h"
+#include "s4d/train/field_box.h"
 #include "s4d/train/stage_runner.h"
 #include "s4d/train/time_budget.h"
 #include "s4d/train/trainer.h"
@@ -170,6 +171,8 @@ struct Trainer::Impl : TrainerCore {
   void apply_mask(const std::vector<uint32_t>& mask);
   // Each Gaussian's lowest and highest mean (3 floats each) over motion_samples times in [0, 1].
   void path_bounds(std::vector<float>& lo, std::vector<float>& hi);
+  // The time axis for the paths of the Gaussians whose bounds (path_bounds) span move_limit.
+  FieldTime fit_time(const std::vector<float>& lo, const std::vector<float>& hi, double move_limit);
   // Marks the Gaussians whose mean moves less than static_motion x extent between any two of
   // motion_samples times as still (ALGORITHMS.md has no such step: it is this project's "deform
   // only what moves").

@@ -34,6 +34,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
   const run::TrainConfig& start = time_plan.start;
   const double fine_deadline = budget * (1 - kReserveShare);
   uint32_t length = config.iterations, fine_length = config.fine_iterations;
+  bool static_floor = false;
   const uint32_t budget_was = config.budget;
   if (!fine()) {
     if (first_static) {
@@ -46,10 +47,10 @@ void Trainer::Impl::plan_time_if_due(double now) {
                                    {"budget", config.budget}, {"start_budget", start.budget}};
       }
     }
-    const double f = fitted_scale(fine_deadline, now, iteration, per_step, time_plan.fine_ratio, start.iterations,
-                                  start.fine_iterations);
-    length = std::max(iteration, static_cast<uint32_t>(std::lround(f * start.iterations)));
-    if (start.fine_iterations > 0) fine_length = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * start.fine_iterations)));
+    const StageLengths fit = fitted_lengths(fine_deadline, now, iteration, per_step, time_plan.fine_ratio,
+                                            start.iterations, start.fine_iterations);
+    length = fit.static_steps, static_floor = fit.static_floor;
+    if (start.fine_iterations > 0) fine_length = fit.fine_steps;
   } else {
     fine_length = fitted_length(fine_deadline, now, iteration, per_step, start.fine_iterations);
   }
@@ -59,7 +60,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
   time_plan.plans.push_back({{"stage", run::stage_name(stage)}, {"iteration", iteration}, {"seconds", now},
                              {"seconds_per_step", per_step}, {"gaussians", gaussians->size()},
                              {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations},
-                             {"budget", config.budget}});
+                             {"budget", config.budget}, {"static_floor", static_floor}});
   if (config.iterations == was && config.fine_iterations == fine_was && config.budget == budget_was) return;
   save_run_json();  // a resumed run continues with the plan
   if (!first_static && !first_fine) return;  // the later plans are in train.json

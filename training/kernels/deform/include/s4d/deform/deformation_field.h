@@ -88,7 +88,7 @@ class DeformationField {
   void upload_mlp(std::span<const float> values);
 
   void record_zero_grads(engine::Recorder& rec) const;
-  // Deformed parameters at raw time `time` (4DGaussians' camera time, used unnormalised): per
+  // Deformed parameters at time `time` (the camera's; the kernels get grid_time of it): per
   // scratch_rows() moving Gaussians deform_feat and deform_fwd's layer sets, with barriers before
   // and between them (they share the scratch buffer); buffer copies of the still ones.
   void record_forward(engine::Recorder& rec, const CanonicalGaussians& g, float time,

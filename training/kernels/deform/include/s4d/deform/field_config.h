@@ -17,6 +17,10 @@ struct FieldConfig {
   uint32_t heads = S4D_DEFORM_HEADS_DNERF;             // S4D_DEFORM_HEAD_* bits
   std::array<float, 3> aabb_min{-1, -1, -1};           // the initial point cloud's bounds
   std::array<float, 3> aabb_max{1, 1, 1};
+  // The times at the time axis's first and last texel. {-1, 1} is 4DGaussians' mapping (the time
+  // given to the kernels as the grid coordinate itself), which leaves the half for t < 0 of every
+  // time plane unsampled by times in [0, 1]; the presets set {0, 1}.
+  std::array<float, 2> time_range{-1, 1};
 };
 
 // The shape the kernels see. Throws std::invalid_argument naming the offending field when the
@@ -25,5 +29,9 @@ gpu::DeformShape deform_shape(const FieldConfig& config);
 
 // 2 / (aabb_min - aabb_max) per axis, in float as the kernels receive it.
 std::array<float, 3> aabb_scale(const FieldConfig& config);
+
+// The time axis's grid coordinate of time `t` (time_range to [-1, 1]), as the kernels receive it:
+// (2t - (lo + hi)) / (hi - lo), which is t itself, bit for bit, for {-1, 1}.
+float grid_time(const FieldConfig& config, double t);
 
 }  // namespace s4d::deform

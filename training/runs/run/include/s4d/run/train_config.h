@@ -84,6 +84,10 @@ struct TrainConfig {
   // under one view each). 0: uniform over the window.
   double fine_time_front = 0.0;
   std::array<uint32_t, 4> field_resolution{64, 64, 64, 150};  // x, y, z, t; t is not multiplied
+  // The times at the time axis's first and last texel (deform::FieldConfig::time_range). {-1, 1}:
+  // 4DGaussians' mapping, where times in [0, 1] reach half of each time plane (runs from before the
+  // setting existed); the presets set {0, 1}, the times every loader gives.
+  std::array<float, 2> field_time{-1, 1};
   std::vector<uint32_t> field_multires{1, 2};
   uint32_t field_channels = 16, field_width = 128, field_trunk_extra = 0;
   uint32_t field_heads = 31;  // S4D_DEFORM_HEAD_* bits: dx ds dr do dsh (7: dx ds dr)
@@ -95,10 +99,11 @@ struct TrainConfig {
   // name static_motion is run.json's key and --static-motion's.)
   float static_motion = 0.0f;
   uint32_t motion_samples = 8, motion_every = 500;
-  // The field's box fitted to what moves (train/field_box.h): after this fraction of the fine stage,
-  // the planes are resampled from the initial cloud's bounds onto the bounds of the Gaussians that
-  // move, at the same texel size, so fewer texels cover the motion. 0: off (runs from before it
-  // existed); the presets set 0.2.
+  // The field fitted to what moves (train/field_box.h, train/field_time_fit.h): after this fraction
+  // of the fine stage that follows the opening of its time window (fine_time_ramp), the planes are
+  // resampled from the initial cloud's bounds onto the bounds of the Gaussians that move, at the
+  // same texel size, so fewer texels cover the motion, and onto as few time texels as their paths
+  // need. 0: off (runs from before it existed); the presets set 0.2.
   double field_fit = 0;
   // Runs.
   uint32_t test_every = 1000;

@@ -1,11 +1,11 @@
-// The deformation field's box fitted to what moves (TrainConfig::field_fit). A field starts over
+// The deformation field's box, and its time axis, fitted to what moves (TrainConfig::field_fit). A field starts over
 // the initial cloud's bounds, which on most captures are far larger than what moves: a random
 // initial cloud fills a box around the object, a room's walls stand still around the few things
 // that move. Its planes then spend most of their texels where nothing moves. Once the field has
 // trained for a while, the Gaussians' paths over time tell what moves and where; the box shrinks to
 // those paths (padded), each axis keeps its texel size (so it needs fewer texels), and the planes
 // are resampled onto it (deform/field_resample.h): the motion is resolved as finely as before with
-// fewer parameters. Written to train.json dataset.recipe.field_box.
+// fewer parameters. Written to train.json dataset.recipe.field_box (and field_time, below).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -52,8 +52,33 @@ struct FieldBox {
 FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
                        const std::array<float, 3>& old_max, const std::array<uint32_t, 3>& resolution, double move_limit);
 
-// The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage,
-// at least 1.
+// The field's time axis sized to how fast things move. The planes are bilinear in time between the
+// time texels, so R texels follow a path exactly where it is linear between R evenly spaced times.
+// The moving Gaussians' paths are sampled finely over the field's time range; the axis keeps the
+// fewest texels whose piecewise-linear paths stay within the tolerance of the sampled ones (the
+// motion a Gaussian may have and still count as still, move_limit) for all but kFieldFitQuantile of
+// them. It is refitted only when that is at most kFieldFitMaxVolumeShare of the texels it has.
+struct FieldTime {
+  bool fitted = false;
+  uint32_t old_resolution = 0, resolution = 0;  // time texels, before and after
+  uint32_t moving = 0, samples = 0;
+  double tolerance = 0;
+  nlohmann::json error_by_resolution = nlohmann::json::object();  // texels -> the quantile's distance from the path
+  uint32_t at_step = 0;  // fine-stage iteration of the fit
+  std::string why;
+  nlohmann::json json() const;
+};
+
+// `paths` holds `samples` (at least 2) evenly spaced times over the field's time range, first and
+// last included, each all n Gaussians' means (3 floats each); `moving` flags n Gaussians (1: moving).
+// Candidates from S4D_DEFORM_MIN_RESOLUTION to `resolution` - 1 texels. Throws
+// std::invalid_argument for sizes that disagree.
+FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::span<const uint8_t> moving,
+                         uint32_t resolution, double tolerance);
+
+// The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage
+// after its time window has opened (fine_time_ramp), at least 1. Before that the field has seen
+// only the first frames' motion: a box fitted then leaves the later frames' paths outside it.
 uint32_t field_fit_step(const run::TrainConfig& config);
 
 }  // namespace s4d::train
