@@ -195,7 +195,9 @@ int main(int argc, char** argv) {
         return ref::DeformGaussians<double>{to_double(g.means), to_double(g.log_scales), to_double(g.quats),
                                             to_double(g.opacity_logits), to_double(g.sh), {}};
       };
-      const ref::DeformGrads<double> r = ref::deform_backward(twin, dbl(c.host), double(time), dbl(c.v_host));
+      // The twin gets the grid's time, as the kernels do (the preset's time range).
+      const ref::DeformGrads<double> r =
+          ref::deform_backward(twin, dbl(c.host), double(deform::grid_time(fc, time)), dbl(c.v_host));
       check = {{"gaussians", m},
                {"v_means_max_rel", max_rel(ctx.download<float>(c.v_means, 3 * size_t{m}), r.v.means)},
                {"v_planes_max_rel", max_rel(ctx.download<float>(field.v_planes(), field.plane_floats()), r.v_planes)},

@@ -11,7 +11,7 @@ struct DeformTap {
   float dix, diy;       // d texel coordinate / d grid coordinate; 0 where the border clamps
 };
 
-// Grid coordinates: xyz through the (mirrored) AABB, time unnormalised.
+// Grid coordinates: xyz through the (mirrored) AABB; p.time is already the grid's (the host's grid_time).
 vec4 deform_coords(vec3 x) { return vec4((x - p.aabb_max.xyz) * p.aabb_scale.xyz - 1.0, p.time); }
 
 // align_corners = True texel coordinate with border clamp; as PyTorch, no gradient on the border.

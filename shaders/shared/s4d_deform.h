@@ -13,8 +13,10 @@
 //
 // Lookup of a point (x, y, z) at time t (4DGaussians' mapping, kept bit-for-bit so its checkpoints
 // read correctly): u_k = (p_k - aabb_max_k) * (2 / (aabb_min_k - aabb_max_k)) - 1 for k = x, y, z (the
-// AABB maps max to -1 and min to +1: mirrored), and the time coordinate is t itself, unnormalised,
-// so t in [0, 1) uses only the upper half of the time axis. Texel coordinate (align_corners = True)
+// AABB maps max to -1 and min to +1: mirrored), and the time coordinate is DeformParams::time, the
+// host's grid coordinate of the camera's time (deform::grid_time over the field's time range; t
+// itself for 4DGaussians' range [-1, 1], where t in [0, 1) uses only the upper half of the time
+// axis). Texel coordinate (align_corners = True)
 // i = (u + 1) / 2 * (R - 1), clamped to [0, R - 1] (border padding); bilinear weights. Within a
 // level the 6 sampled C-vectors multiply element-wise; levels concatenate: feat[l * C + c].
 //
@@ -168,7 +170,7 @@ struct DeformParams {
   vec4 aabb_scale;  // xyz: 2 / (aabb_min - aabb_max), computed in float on the host; w unused
   uint n;           // end of the Gaussians deformed: the moving prefix (still ones follow; the host copies them)
   uint sh_coeffs;   // K stored per Gaussian and channel; S4D_DEFORM_SH_COEFFS when the sh head is on
-  float time;       // raw time, used unnormalised as the fourth grid coordinate
+  float time;       // the fourth grid coordinate (deform::grid_time of the camera's time)
   uint first;       // first Gaussian of this pass (scratch row 0); the pass covers Gaussians first..n-1
   uint layer;       // deform_fwd / deform_bwd: the set's first layer; the others follow every second layer
   uint layers;      // layers in the set

@@ -151,6 +151,16 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   const nlohmann::json& m = moving["dataset"]["recipe"]["deformation_field"];
   CHECK(m["motion"] == "moving");
   CHECK(m["changed_share"].get<double>() > 0.1);
+  // The field's time axis, fitted with its box at fine step 2 of 3, is what the run's settings hold,
+  // and so what a render builds.
+  const nlohmann::json& axis = moving["dataset"]["recipe"]["field_time"];
+  REQUIRE_MESSAGE(axis.is_object(), moving["dataset"].dump());
+  CHECK(axis["at_step"] == 2);
+  CHECK(axis["old_resolution"] == 16);
+  CHECK(moving["settings"]["field_time"] == nlohmann::json::array({0.0, 1.0}));
+  CHECK(moving["settings"]["field_resolution"][3] == axis["resolution"]);
+  CHECK(read_json(dir / "r_moving" / "run.json")["settings"]["field_resolution"][3] == axis["resolution"]);
+  CHECK(axis["fitted"].get<bool>() == (axis["resolution"].get<uint32_t>() < 16));
   // A degree asked for is kept as it is.
   CHECK(moving["settings"]["sh_degree"] == 1);
   CHECK(moving["settings"]["sh_degree_auto"] == false);

@@ -83,6 +83,10 @@ TEST_CASE("time budget: schedules scale from the starting settings, whatever ear
     s.sh_degree = 0, s.sh_degree_auto = false;
     return run::to_json(s);
   }());
+  // A fine stage far shorter than the floored static stage: the interval stops at a quarter of the
+  // start's (25), not 1,500 / 15 = 100 times shorter.
+  train::fit_schedules(c, start, 225, 15);
+  CHECK(c.densify_every == start.densify_every / 4);
   run::TrainConfig static_only = start;
   static_only.fine_iterations = 0;
   train::fit_schedules(static_only, static_only, 100, 50);

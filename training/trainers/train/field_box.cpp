@@ -93,12 +93,13 @@ nlohmann::json FieldTime::json() const {
           {"error_by_resolution", error_by_resolution}, {"at_step", at_step}, {"why", why}};
 }
 
-FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::span<const uint8_t> moving,
+FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_t dims, std::span<const uint8_t> moving,
                          uint32_t resolution, double tolerance) {
   const size_t n = moving.size();
-  if (samples < 2 || paths.size() != size_t{samples} * n * 3)
+  if (samples < 2 || dims == 0 || paths.size() != size_t{samples} * n * dims)
     throw std::invalid_argument("fit_field_time: " + std::to_string(paths.size()) + " path floats for " + std::to_string(samples) +
-                                " samples of " + std::to_string(n) + " Gaussians, expected 3 per Gaussian per sample");
+                                " samples of " + std::to_string(n) + " Gaussians, expected " + std::to_string(dims) +
+                                " per Gaussian per sample");
   FieldTime fit{.old_resolution = resolution, .resolution = resolution, .samples = samples, .tolerance = tolerance};
   std::vector<uint32_t> movers;
   for (uint32_t i = 0; i < n; ++i)
@@ -109,15 +110,17 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::sp
               "): too few to tell how fast; the time axis stays";
     return fit;
   }
-  // The mean of Gaussian i at fractional sample position u, linear between the samples.
-  auto at = [&](uint32_t i, double u, int k) {
+  // Value k of Gaussian i at fractional sample position u, linear between the samples.
+  auto at = [&](uint32_t i, double u, uint32_t k) {
     const auto s0 = std::min(static_cast<uint32_t>(u), samples - 2);
     const double w = u - s0;
-    return (1 - w) * paths[(size_t{s0} * n + i) * 3 + k] + w * paths[(size_t{s0 + 1} * n + i) * 3 + k];
+    return (1 - w) * paths[(size_t{s0} * n + i) * dims + k] + w * paths[(size_t{s0 + 1} * n + i) * dims + k];
   };
+  // Candidates with at least two samples per texel interval: fewer cannot show what they miss.
+  const uint32_t last = std::min(resolution - 1, (samples - 1) / 2 + 1);
   uint32_t chosen = resolution;
   std::vector<float> worst(movers.size());
-  for (uint32_t r = S4D_DEFORM_MIN_RESOLUTION; r < resolution; ++r) {
+  for (uint32_t r = S4D_DEFORM_MIN_RESOLUTION; r <= last; ++r) {
     const double per_cell = double(samples - 1) / (r - 1);  // samples between two texels
     for (size_t m = 0; m < movers.size(); ++m) {
       const uint32_t i = movers[m];
@@ -126,9 +129,10 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::sp
         const double cell = std::min(std::floor(s / per_cell), double(r - 2));
         const double w = s / per_cell - cell;
         double d2 = 0;
-        for (int k = 0; k < 3; ++k) {
+        for (uint32_t k = 0; k < dims; ++k) {
           const double line = (1 - w) * at(i, cell * per_cell, k) + w * at(i, (cell + 1) * per_cell, k);
-          d2 += (line - paths[(size_t{s} * n + i) * 3 + k]) * (line - paths[(size_t{s} * n + i) * 3 + k]);
+          const double gap = line - paths[(size_t{s} * n + i) * dims + k];
+          d2 += gap * gap;
         }
         far = std::max(far, d2);
       }
@@ -144,8 +148,10 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::sp
   char text[256];
   if (chosen > kFieldFitMaxVolumeShare * resolution) {
     std::snprintf(text, sizeof text,
-                  "the paths of the %u moving Gaussians need %u of the %u time texels (more than %.0f %%): the time axis stays",
-                  fit.moving, chosen, resolution, 100 * kFieldFitMaxVolumeShare);
+                  chosen == resolution
+                      ? "the paths of the %u moving Gaussians need more than %u of the %u time texels: the time axis stays"
+                      : "the paths of the %u moving Gaussians need %u of the %u time texels (more than %.0f %%): the time axis stays",
+                  fit.moving, chosen == resolution ? last : chosen, resolution, 100 * kFieldFitMaxVolumeShare);
     fit.why = text;
     return fit;
   }
@@ -161,7 +167,8 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::sp
 uint32_t field_fit_step(const run::TrainConfig& config) {
   if (config.field_fit <= 0 || config.fine_iterations == 0) return 0;
   const double share = config.fine_time_ramp + config.field_fit * (1 - config.fine_time_ramp);
-  return std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(share * config.fine_iterations)));
+  const auto open = static_cast<uint32_t>(std::ceil(config.fine_time_ramp * config.fine_iterations - 1e-9));
+  return std::max({1u, open, static_cast<uint32_t>(std::lround(share * config.fine_iterations))});
 }
 
 }  // namespace s4d::train

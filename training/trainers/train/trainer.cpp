@@ -261,7 +261,9 @@ struct Trainer::Impl::Steps final : RunnerStage {
     const engine::StageScope timed(m.ctx, "densify");
     m.budget_probe_step(seconds());  // may go back to the probe's densification (budget_growth.h)
     m.densify_if_due(seconds());  // after the test, as graphdeco reports before it densifies or resets opacities
-    m.fit_field_box_if_due(seconds());
+    const double before_fit = seconds();
+    // The fit's paths and resampling are no step's cost: the time budget's next plan leaves them out.
+    if (m.fit_field_box_if_due(before_fit)) m.time_plan.from_seconds += seconds() - before_fit;
     if (m.mask_due()) m.update_mask();
     m.choose_sh_degree_if_due(seconds());
     m.plan_time_if_due(seconds());

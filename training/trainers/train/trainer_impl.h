@@ -201,7 +201,8 @@ struct Trainer::Impl : TrainerCore {
   // ---- The field's box fitted to what moves (trainer_field_box.cpp, field_box.h).
   // Once due: measures the Gaussians' paths, fits the box, resamples the planes and their moments
   // onto it, records the evidence in the recipe, rewrites run.json and checkpoints.
-  void fit_field_box_if_due(double seconds);
+  // True when it fitted (this step); its one-off cost is then no step's.
+  bool fit_field_box_if_due(double seconds);
 
   // ---- The Gaussian budget grown while held-out error falls (trainer_budget_growth.cpp, budget_growth.h).
   // The budget densification keeps to now: the probe's grown branch's, the growth's, or the setting.

@@ -99,7 +99,7 @@ struct TrainConfig {
   // name static_motion is run.json's key and --static-motion's.)
   float static_motion = 0.0f;
   uint32_t motion_samples = 8, motion_every = 500;
-  // The field fitted to what moves (train/field_box.h, train/field_time_fit.h): after this fraction
+  // The field fitted to what moves (train/field_box.h): after this fraction
   // of the fine stage that follows the opening of its time window (fine_time_ramp), the planes are
   // resampled from the initial cloud's bounds onto the bounds of the Gaussians that move, at the
   // same texel size, so fewer texels cover the motion, and onto as few time texels as their paths

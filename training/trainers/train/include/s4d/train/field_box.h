@@ -54,10 +54,11 @@ FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, con
 
 // The field's time axis sized to how fast things move. The planes are bilinear in time between the
 // time texels, so R texels follow a path exactly where it is linear between R evenly spaced times.
-// The moving Gaussians' paths are sampled finely over the field's time range; the axis keeps the
-// fewest texels whose piecewise-linear paths stay within the tolerance of the sampled ones (the
-// motion a Gaussian may have and still count as still, move_limit) for all but kFieldFitQuantile of
-// them. It is refitted only when that is at most kFieldFitMaxVolumeShare of the texels it has.
+// The moving Gaussians' states (Trainer::Impl::fit_time: the mean, the extents and the rotation, in
+// world units) are sampled finely over the field's time range; the axis keeps the fewest texels
+// whose piecewise-linear paths stay within the tolerance of the sampled ones (the motion a Gaussian
+// may have and still count as still, move_limit) for all but kFieldFitQuantile of them. It is
+// refitted only when that is at most kFieldFitMaxVolumeShare of the texels it has.
 struct FieldTime {
   bool fitted = false;
   uint32_t old_resolution = 0, resolution = 0;  // time texels, before and after
@@ -70,14 +71,14 @@ struct FieldTime {
 };
 
 // `paths` holds `samples` (at least 2) evenly spaced times over the field's time range, first and
-// last included, each all n Gaussians' means (3 floats each); `moving` flags n Gaussians (1: moving).
-// Candidates from S4D_DEFORM_MIN_RESOLUTION to `resolution` - 1 texels. Throws
-// std::invalid_argument for sizes that disagree.
-FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, std::span<const uint8_t> moving,
+// last included, each all n Gaussians' states (`dims` floats each); `moving` flags n Gaussians (1:
+// moving). Candidates from S4D_DEFORM_MIN_RESOLUTION to `resolution` - 1 texels with at least two
+// samples per texel interval. Throws std::invalid_argument for sizes that disagree.
+FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_t dims, std::span<const uint8_t> moving,
                          uint32_t resolution, double tolerance);
 
 // The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage
-// after its time window has opened (fine_time_ramp), at least 1. Before that the field has seen
+// after its time window has opened (fine_time_ramp), never before it opens, at least 1. Before that the field has seen
 // only the first frames' motion: a box fitted then leaves the later frames' paths outside it.
 uint32_t field_fit_step(const run::TrainConfig& config);
 

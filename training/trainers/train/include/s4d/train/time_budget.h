@@ -58,8 +58,9 @@ uint32_t fitted_length(double deadline, double now, uint32_t done, double second
 
 // `c` with the static stage `iterations` long and the fine stage `fine` long, every schedule of
 // `start` (the run's starting settings) scaled to them (set_iterations, set_fine_iterations); a
-// shortened run's densification interval shrinks with its shorter stage, so that it densifies and
-// prunes as often as the starting schedule.
+// shortened run's densification interval shrinks with its shorter stage, to no less than
+// kMinStaticShare of the starting interval, so that it densifies and prunes as often as the
+// starting schedule.
 void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t iterations, uint32_t fine);
 
 // The share of the Gaussian budget a time budget keeps, chosen at the first plan: the seconds the
