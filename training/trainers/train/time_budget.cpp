@@ -60,14 +60,6 @@ void fit_schedules(run::TrainConfig& c, const run::TrainConfig& start, uint32_t 
   scaled.field_resolution = c.field_resolution;  // the field's fit to what moves (field_box.h)
   run::set_iterations(scaled, std::max<uint32_t>(1, iterations));
   if (start.fine_iterations > 0) run::set_fine_iterations(scaled, std::max<uint32_t>(1, fine));
-  // A shortened run keeps its number of densifications (and so its pruning of what the initial cloud
-  // got wrong): the interval shrinks with the shorter of the two stages, to at most the static
-  // floor's (kMinStaticShare): a floored static stage beside a far shorter fine stage would
-  // otherwise densify nearly every step.
-  double f = double(scaled.iterations) / start.iterations;
-  if (start.fine_iterations > 0) f = std::min(f, double(scaled.fine_iterations) / start.fine_iterations);
-  f = std::max(f, kMinStaticShare);
-  if (f < 1) scaled.densify_every = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(start.densify_every * f)));
   c = scaled;
 }
 
