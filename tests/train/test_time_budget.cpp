@@ -29,26 +29,35 @@ TEST_CASE("time budget: one factor on both stages makes the steps left end at th
   CHECK(train::fitted_scale(100, 0, 0, 0.0, 3.0, 900, 1500) == train::kMaxStretch);  // no step time measured
 }
 
-TEST_CASE("time budget: the static stage keeps a quarter of its length, and the fine stage gets the time left") {
+TEST_CASE("time budget: each stage keeps a quarter of its length; the fine stage gets the time left after the static floor") {
   // Room for scale 0.5 (the case above): both stages scaled, no floor.
   const train::StageLengths half = train::fitted_lengths(270, 10, 100, 0.1, 3.0, 900, 1500);
   CHECK(half.static_steps == 450);
   CHECK(half.fine_steps == 750);
   CHECK_FALSE(half.static_floor);
-  // 60 s left: scale (60 + 10) / 540 = 0.13 would give 117 static steps, under the floor of 225. The
-  // static stage takes 225 (125 more, 12.5 s) and the fine stage the 47.5 s left at 0.3 s: 158 steps.
-  const train::StageLengths tight = train::fitted_lengths(70, 10, 100, 0.1, 3.0, 900, 1500);
+  CHECK_FALSE(half.fine_floor);
+  // 150 s left: scale (150 + 10) / 540 = 0.296 gives 267 static steps, 444 fine; no floor.
+  const train::StageLengths room = train::fitted_lengths(160, 10, 100, 0.1, 3.0, 900, 1500);
+  CHECK(room.static_steps == 267);
+  CHECK(room.fine_steps == 444);
+  CHECK_FALSE(room.static_floor);
+  // 120 s left: scale 130 / 540 = 0.241 would give 217 static steps, under the floor of 225. The
+  // static stage takes 225 (125 more, 12.5 s), and the 107.5 s left would give the fine stage 358
+  // steps at 0.3 s, under its floor of 375: it takes 375. One scale for both stages puts either
+  // under its floor only with the other.
+  const train::StageLengths tight = train::fitted_lengths(130, 10, 100, 0.1, 3.0, 900, 1500);
   CHECK(tight.static_steps == 225);
-  CHECK(tight.fine_steps == 158);
+  CHECK(tight.fine_steps == 375);
   CHECK(tight.static_floor);
-  // No time left after the floor: one fine step; steps already past the floor stand.
-  const train::StageLengths late = train::fitted_lengths(5, 10, 100, 0.1, 3.0, 900, 1500);
-  CHECK(late.static_steps == 225);
-  CHECK(late.fine_steps == 1);
+  CHECK(tight.fine_floor);
+  // Steps already past the floor stand.
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_steps == 300);
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_floor == false);
   // A static-only recipe keeps no fine stage.
   CHECK(train::fitted_lengths(70, 10, 100, 0.1, 3.0, 900, 0).fine_steps == 0);
+  CHECK(train::fine_floor(1500) == 375);
+  CHECK(train::fine_floor(2) == 1);
+  CHECK(train::fine_floor(0) == 0);
 }
 
 TEST_CASE("time budget: a stage's length fits its deadline, never below the steps done nor above the stretch cap") {

@@ -20,21 +20,27 @@ double fitted_scale(double deadline, double now, uint32_t done, double seconds_p
   return std::clamp((deadline - now + done * seconds_per_step) / unit, 0.0, kMaxStretch);
 }
 
+uint32_t fine_floor(uint32_t fine_steps) {
+  return fine_steps > 0 ? std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(kMinStageShare * fine_steps))) : 0;
+}
+
 StageLengths fitted_lengths(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
                             uint32_t static_steps, uint32_t fine_steps) {
   const double f = fitted_scale(deadline, now, done, seconds_per_step, ratio, static_steps, fine_steps);
   StageLengths out;
   out.static_steps = std::max(done, static_cast<uint32_t>(std::lround(f * static_steps)));
   if (fine_steps > 0) out.fine_steps = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * fine_steps)));
-  const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStaticShare * static_steps)));
-  if (out.static_steps >= floor) return out;
-  out.static_steps = floor, out.static_floor = true;
-  if (fine_steps > 0) {
-    const double left = deadline - now - (floor - done) * seconds_per_step;
-    const double fine_step = seconds_per_step * ratio;
-    const double fit = fine_step > 0 ? std::floor(std::max(0.0, left) / fine_step) : kMaxStretch * fine_steps;
-    out.fine_steps = static_cast<uint32_t>(std::clamp(fit, 1.0, kMaxStretch * fine_steps));
+  const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStageShare * static_steps)));
+  if (out.static_steps < floor) {
+    out.static_steps = floor, out.static_floor = true;
+    if (fine_steps > 0) {
+      const double left = deadline - now - (floor - done) * seconds_per_step;
+      const double fine_step = seconds_per_step * ratio;
+      const double fit = fine_step > 0 ? std::floor(std::max(0.0, left) / fine_step) : kMaxStretch * fine_steps;
+      out.fine_steps = static_cast<uint32_t>(std::clamp(fit, 1.0, kMaxStretch * fine_steps));
+    }
   }
+  if (out.fine_steps < fine_floor(fine_steps)) out.fine_steps = fine_floor(fine_steps), out.fine_floor = true;
   return out;
 }
 

@@ -34,7 +34,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
   const run::TrainConfig& start = time_plan.start;
   const double fine_deadline = budget * (1 - kReserveShare);
   uint32_t length = config.iterations, fine_length = config.fine_iterations;
-  bool static_floor = false;
+  bool static_floor = false, fine_held = false;
   const uint32_t budget_was = config.budget;
   if (!fine()) {
     if (first_static) {
@@ -49,10 +49,11 @@ void Trainer::Impl::plan_time_if_due(double now) {
     }
     const StageLengths fit = fitted_lengths(fine_deadline, now, iteration, per_step, time_plan.fine_ratio,
                                             start.iterations, start.fine_iterations);
-    length = fit.static_steps, static_floor = fit.static_floor;
+    length = fit.static_steps, static_floor = fit.static_floor, fine_held = fit.fine_floor;
     if (start.fine_iterations > 0) fine_length = fit.fine_steps;
   } else {
     fine_length = fitted_length(fine_deadline, now, iteration, per_step, start.fine_iterations);
+    if (fine_length < fine_floor(start.fine_iterations)) fine_length = fine_floor(start.fine_iterations), fine_held = true;
   }
   const uint32_t was = config.iterations, fine_was = config.fine_iterations;
   fit_schedules(config, start, length, fine_length);
@@ -60,7 +61,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
   time_plan.plans.push_back({{"stage", run::stage_name(stage)}, {"iteration", iteration}, {"seconds", now},
                              {"seconds_per_step", per_step}, {"gaussians", gaussians->size()},
                              {"iterations", config.iterations}, {"fine_iterations", config.fine_iterations},
-                             {"budget", config.budget}, {"static_floor", static_floor}});
+                             {"budget", config.budget}, {"static_floor", static_floor}, {"fine_floor", fine_held}});
   if (config.iterations == was && config.fine_iterations == fine_was && config.budget == budget_was) return;
   save_run_json();  // a resumed run continues with the plan
   if (!first_static && !first_fine) return;  // the later plans are in train.json
@@ -70,7 +71,7 @@ void Trainer::Impl::plan_time_if_due(double now) {
                 "with %u Gaussians; %.0f of %.0f s used)",
                 config.iterations, config.fine_iterations, config.budget, per_step, run::stage_name(stage), iteration,
                 gaussians->size(), now, budget);
-  std::cerr << line << "\n";
+  std::cerr << line << (static_floor || fine_held ? "; each stage is at least a quarter of the preset's, which takes longer than the budget here" : "") << "\n";
 }
 
 nlohmann::json Trainer::Impl::time_budget_json(double seconds) const {

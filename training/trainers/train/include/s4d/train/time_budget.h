@@ -33,23 +33,30 @@ double fine_step_ratio(const TimeEstimate& estimate, const run::TrainConfig& con
 double fitted_scale(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
                     uint32_t static_steps, uint32_t fine_steps);
 
-// The static stage keeps at least this share of its starting length, however short the budget: a
-// random initial cloud needs those steps for its stray points to fade before its first prune. On
-// the monocular object (docs/trade.md) a quarter of fast's static stage pruned 5,584 random points
-// to a few hundred; a 79-step stage pruned 16 of them and the run scored 2.9 dB under the front.
-inline constexpr double kMinStaticShare = 0.25;
+// Each stage keeps at least this share of its starting length, however short the budget: a
+// random initial cloud needs those steps for its stray points to fade before a prune, and the 4DGS
+// stage needs them to reach its first densification, which prunes them. On the monocular object
+// (docs/trade.md) a quarter of fast's stages pruned 5,584 random points to a few hundred; a
+// 79-step static stage pruned 16 of them (2.9 dB under the front), and 225 static steps with a
+// 216-step 4DGS stage, whose densification window ended before its first densification, kept
+// 4,829 (1.2 dB under). A budget shorter than that takes runs that long.
+inline constexpr double kMinStageShare = 0.25;
 
 struct StageLengths {
   uint32_t static_steps = 0, fine_steps = 0;
-  bool static_floor = false;  // the static stage was held at its floor (kMinStaticShare)
+  bool static_floor = false, fine_floor = false;  // the stage was held at its floor (kMinStageShare)
 };
 
 // Both stages' lengths whose steps left end at `deadline` (fitted_scale's arguments): each starting
 // length times fitted_scale, the static one at least `done`. Where that static stage would be
-// shorter than kMinStaticShare of `static_steps` (and `done`), it gets that floor and the fine stage
-// the steps that fit in the time left after it (at least 1 where it has any).
+// shorter than kMinStageShare of `static_steps` (and `done`), it gets that floor and the fine stage
+// the steps that fit in the time left after it; the fine stage is at least kMinStageShare of
+// `fine_steps` (where it has any).
 StageLengths fitted_lengths(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
                             uint32_t static_steps, uint32_t fine_steps);
+
+// The fine stage's floor: kMinStageShare of its starting length (0 without one).
+uint32_t fine_floor(uint32_t fine_steps);
 
 // The stage's length when `done` steps took until `now` and each further one takes
 // `seconds_per_step`: as many as fit before `deadline`, at least `done` (the stage ends now), at
