@@ -50,6 +50,14 @@ TEST_CASE("time budget: each stage keeps a quarter of its length; the fine stage
   CHECK(tight.fine_steps == 375);
   CHECK(tight.static_floor);
   CHECK(tight.fine_floor);
+  // Twice the time the recipe takes: the static stage stays at its 900 (80 s), and the fine stage
+  // gets the 1,000 s left at 0.3 s, 3,333 steps (at most 4 x 1,500).
+  const train::StageLengths more = train::fitted_lengths(1090, 10, 100, 0.1, 3.0, 900, 1500);
+  CHECK(more.static_steps == 900);
+  CHECK(more.fine_steps == 3333);
+  CHECK_FALSE(more.static_floor);
+  CHECK(train::fitted_lengths(1e6, 10, 100, 0.1, 3.0, 900, 1500).fine_steps == 6000);
+  CHECK(train::fitted_lengths(1e6, 10, 1000, 0.1, 3.0, 900, 1500).static_steps == 1000);  // past the recipe: ends now
   // Steps already past the floor stand.
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_steps == 300);
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_floor == false);

@@ -31,10 +31,12 @@ StageLengths fitted_lengths(double deadline, double now, uint32_t done, double s
   out.static_steps = std::max(done, static_cast<uint32_t>(std::lround(f * static_steps)));
   if (fine_steps > 0) out.fine_steps = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * fine_steps)));
   const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStageShare * static_steps)));
-  if (out.static_steps < floor) {
-    out.static_steps = floor, out.static_floor = true;
-    if (fine_steps > 0) {
-      const double left = deadline - now - (floor - done) * seconds_per_step;
+  const uint32_t cap = std::max(done, static_steps);
+  if (out.static_steps < floor || out.static_steps > cap) {
+    out.static_floor = out.static_steps < floor;
+    out.static_steps = std::clamp(out.static_steps, floor, cap);
+    if (fine_steps > 0) {  // the fine stage gets the time the static stage leaves
+      const double left = deadline - now - (double(out.static_steps) - done) * seconds_per_step;
       const double fine_step = seconds_per_step * ratio;
       const double fit = fine_step > 0 ? std::floor(std::max(0.0, left) / fine_step) : kMaxStretch * fine_steps;
       out.fine_steps = static_cast<uint32_t>(std::clamp(fit, 1.0, kMaxStretch * fine_steps));

@@ -48,10 +48,14 @@ struct StageLengths {
 };
 
 // Both stages' lengths whose steps left end at `deadline` (fitted_scale's arguments): each starting
-// length times fitted_scale, the static one at least `done`. Where that static stage would be
-// shorter than kMinStageShare of `static_steps` (and `done`), it gets that floor and the fine stage
-// the steps that fit in the time left after it; the fine stage is at least kMinStageShare of
-// `fine_steps` (where it has any).
+// length times fitted_scale, the static one at least `done`. The static stage stays between
+// kMinStageShare of `static_steps` and `static_steps` itself (or `done`); where it is held there,
+// the fine stage gets the steps that fit in the time it leaves. The fine stage is at least
+// kMinStageShare of `fine_steps` (where it has any). More static steps than the recipe's do not
+// pay: the static stage fits the canonical frames, whose loss has flattened by then (fast's
+// recipe), and on the monocular object a budget that stretched it to 1,142 steps left the 4DGS
+// stage 795 and scored 2.0 dB under the same time spent on the recipe's 900 + 1,500
+// (docs/trade.md).
 StageLengths fitted_lengths(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
                             uint32_t static_steps, uint32_t fine_steps);
 
