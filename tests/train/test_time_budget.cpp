@@ -1,6 +1,8 @@
 // The time budget's planning (time_budget.h): the stages' split from the estimate, a stage's length
 // from a deadline and a measured step time, schedules scaled from the run's starting settings, and
 // the state a checkpoint keeps.
+#include <tuple>
+
 #include <doctest/doctest.h>
 
 #include "s4d/run/train_config.h"
@@ -29,33 +31,30 @@ TEST_CASE("time budget: one factor on both stages makes the steps left end at th
   CHECK(train::fitted_scale(100, 0, 0, 0.0, 3.0, 900, 1500) == train::kMaxStretch);  // no step time measured
 }
 
-TEST_CASE("time budget: each stage keeps a quarter of its length; the fine stage gets the time left after the static floor") {
+namespace {
+
+// fast's 900 + 1,500 steps, 100 static steps done at 10 s, 0.1 s a static step and 0.3 s a fine
+// one, for a deadline at `deadline` s: the lengths and which floors held.
+std::tuple<uint32_t, uint32_t, bool, bool> fast_lengths(double deadline) {
+  const train::StageLengths l = train::fitted_lengths(deadline, 10, 100, 0.1, 3.0, 900, 1500);
+  return {l.static_steps, l.fine_steps, l.static_floor, l.fine_floor};
+}
+
+}  // namespace
+
+TEST_CASE("time budget: each stage keeps a quarter of its length, the static stage at most its own; the fine stage gets the time the static stage leaves") {
   // Room for scale 0.5 (the case above): both stages scaled, no floor.
-  const train::StageLengths half = train::fitted_lengths(270, 10, 100, 0.1, 3.0, 900, 1500);
-  CHECK(half.static_steps == 450);
-  CHECK(half.fine_steps == 750);
-  CHECK_FALSE(half.static_floor);
-  CHECK_FALSE(half.fine_floor);
+  CHECK(fast_lengths(270) == std::tuple{450u, 750u, false, false});
   // 150 s left: scale (150 + 10) / 540 = 0.296 gives 267 static steps, 444 fine; no floor.
-  const train::StageLengths room = train::fitted_lengths(160, 10, 100, 0.1, 3.0, 900, 1500);
-  CHECK(room.static_steps == 267);
-  CHECK(room.fine_steps == 444);
-  CHECK_FALSE(room.static_floor);
+  CHECK(fast_lengths(160) == std::tuple{267u, 444u, false, false});
   // 120 s left: scale 130 / 540 = 0.241 would give 217 static steps, under the floor of 225. The
   // static stage takes 225 (125 more, 12.5 s), and the 107.5 s left would give the fine stage 358
   // steps at 0.3 s, under its floor of 375: it takes 375. One scale for both stages puts either
   // under its floor only with the other.
-  const train::StageLengths tight = train::fitted_lengths(130, 10, 100, 0.1, 3.0, 900, 1500);
-  CHECK(tight.static_steps == 225);
-  CHECK(tight.fine_steps == 375);
-  CHECK(tight.static_floor);
-  CHECK(tight.fine_floor);
+  CHECK(fast_lengths(130) == std::tuple{225u, 375u, true, true});
   // Twice the time the recipe takes: the static stage stays at its 900 (80 s), and the fine stage
   // gets the 1,000 s left at 0.3 s, 3,333 steps (at most 4 x 1,500).
-  const train::StageLengths more = train::fitted_lengths(1090, 10, 100, 0.1, 3.0, 900, 1500);
-  CHECK(more.static_steps == 900);
-  CHECK(more.fine_steps == 3333);
-  CHECK_FALSE(more.static_floor);
+  CHECK(fast_lengths(1090) == std::tuple{900u, 3333u, false, false});
   CHECK(train::fitted_lengths(1e6, 10, 100, 0.1, 3.0, 900, 1500).fine_steps == 6000);
   CHECK(train::fitted_lengths(1e6, 10, 1000, 0.1, 3.0, 900, 1500).static_steps == 1000);  // past the recipe: ends now
   // Steps already past the floor stand.
