@@ -157,7 +157,7 @@ TEST_CASE("a capture that does not move gets no deformation field unless --fine-
   REQUIRE_MESSAGE(axis.is_object(), moving["dataset"].dump());
   CHECK(axis["at_step"] == 2);
   CHECK(axis["old_resolution"] == 16);
-  CHECK(moving["settings"]["field_time"] == nlohmann::json::array({0.0, 1.0}));
+  CHECK(moving["settings"]["field_time"] == nlohmann::json::array({-1.0, 1.0}));
   CHECK(moving["settings"]["field_resolution"][3] == axis["resolution"]);
   CHECK(read_json(dir / "r_moving" / "run.json")["settings"]["field_resolution"][3] == axis["resolution"]);
   CHECK(axis["fitted"].get<bool>() == (axis["resolution"].get<uint32_t>() < 16));

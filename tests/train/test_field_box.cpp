@@ -154,30 +154,47 @@ double kinked(double t, double knee) { return t <= knee ? t / knee : (1 - t) / (
 
 }  // namespace
 
+// A time axis over the times views have, and 4DGaussians' [-1, 1] of which they reach the upper half.
+const std::array<float, 2> kData{0, 1}, kWhole{-1, 1};
+
 TEST_CASE("the time axis: the fewest texels whose piecewise-linear paths follow the sampled ones") {
   const uint32_t texels = 16, samples = 61;  // four samples per texel interval, as the trainer takes
   const std::vector<uint8_t> all(200, 1);
   // Linear motion: the fewest texels the kernels allow.
   train::FieldTime linear = train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return 2 * t; }), samples, 3,
-                                                  all, texels, 0.01);
+                                                  all, texels, kData, 0.01);
   CHECK(linear.fitted);
   CHECK(linear.resolution == S4D_DEFORM_MIN_RESOLUTION);
   CHECK(linear.moving == 200);
   CHECK(linear.error_by_resolution["3"].get<double>() < 1e-6);
   // A turn at t = 1/3 needs a texel there: 4 texels (0, 1/3, 2/3, 1); 3 (0, 1/2, 1) miss it by half.
   train::FieldTime third = train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 3); }),
-                                                 samples, 3, all, texels, 0.01);
+                                                 samples, 3, all, texels, kData, 0.01);
   CHECK(third.resolution == 4);
   CHECK(third.error_by_resolution["3"].get<double>() == doctest::Approx(0.5));  // at t = 1/3: 1, against the line's 0.5
   CHECK(third.error_by_resolution["4"].get<double>() < 1e-6);
   // A turn at t = 1/4: 5 texels.
   CHECK(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 0.25); }), samples, 3, all,
-                              texels, 0.01)
+                              texels, kData, 0.01)
             .resolution == 5);
   // A tolerance as large as the miss takes the coarser axis.
   CHECK(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 3); }), samples, 3, all,
-                              texels, 0.6)
+                              texels, kData, 0.6)
             .resolution == 3);
+}
+
+TEST_CASE("the time axis over [-1, 1]: texels at times no view has continue the line of the first that has") {
+  const uint32_t texels = 16, samples = 61;
+  const std::vector<uint8_t> all(200, 1);
+  auto fit = [&](auto path) { return train::fit_field_time(time_paths(samples, 200, path), samples, 3, all, texels, kWhole, 0.01); };
+  // 3 texels at -1, 0, 1: the times [0, 1] lie between the last two, so a line needs no more.
+  CHECK(fit([](double t, uint32_t) { return 2 * t; }).resolution == 3);
+  // 4 texels at -1, -1/3, 1/3, 1: [0, 1/3] continues the line from -1/3, so a turn at 1/3 needs no more.
+  CHECK(fit([](double t, uint32_t) { return kinked(t, 1.0 / 3); }).resolution == 4);
+  // A turn at 1/2 needs a texel there: 5 (-1, -1/2, 0, 1/2, 1).
+  const train::FieldTime half = fit([](double t, uint32_t) { return kinked(t, 0.5); });
+  CHECK(half.resolution == 5);
+  CHECK(half.error_by_resolution["4"].get<double>() > 0.1);
 }
 
 TEST_CASE("the time axis stays where the paths need most of its texels, or too few Gaussians move") {
@@ -185,28 +202,28 @@ TEST_CASE("the time axis stays where the paths need most of its texels, or too f
   const std::vector<uint8_t> all(200, 1);
   // A zigzag turning at every texel: every candidate misses it, and the axis stays.
   auto zigzag = [&](double t, uint32_t) { return std::abs(std::fmod(t * (texels - 1), 2.0) - 1.0); };
-  train::FieldTime fast = train::fit_field_time(time_paths(samples, 200, zigzag), samples, 3, all, texels, 0.01);
+  train::FieldTime fast = train::fit_field_time(time_paths(samples, 200, zigzag), samples, 3, all, texels, kData, 0.01);
   CHECK_FALSE(fast.fitted);
   CHECK(fast.resolution == texels);
   CHECK(fast.error_by_resolution.size() == texels - S4D_DEFORM_MIN_RESOLUTION);
   // A turn at t = 1/12 needs 13 texels: more than 70 % of 16, so the axis stays.
   CHECK_FALSE(train::fit_field_time(time_paths(samples, 200, [](double t, uint32_t) { return kinked(t, 1.0 / 12); }), samples, 3,
-                                    all, texels, 0.01)
+                                    all, texels, kData, 0.01)
                   .fitted);
   // One zigzag in two hundred does not hold the rest back (the 99th percentile).
   auto mixed = [&](double t, uint32_t i) { return i < 1 ? zigzag(t, i) : 2 * t; };
-  CHECK(train::fit_field_time(time_paths(samples, 200, mixed), samples, 3, all, texels, 0.01).resolution ==
+  CHECK(train::fit_field_time(time_paths(samples, 200, mixed), samples, 3, all, texels, kData, 0.01).resolution ==
         S4D_DEFORM_MIN_RESOLUTION);
   // Only the Gaussians flagged moving count: 10 are too few to say how fast.
   std::vector<uint8_t> few(200, 0);
   for (int i = 0; i < 10; ++i) few[i] = 1;
-  train::FieldTime still = train::fit_field_time(time_paths(samples, 200, zigzag), samples, 3, few, texels, 0.01);
+  train::FieldTime still = train::fit_field_time(time_paths(samples, 200, zigzag), samples, 3, few, texels, kData, 0.01);
   CHECK_FALSE(still.fitted);
   CHECK(still.moving == 10);
   CHECK(still.resolution == texels);
-  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(10), samples, 3, all, texels, 0.01), std::invalid_argument);
-  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(6), 1, 3, std::vector<uint8_t>(2, 1), texels, 0.01), std::invalid_argument);
+  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(10), samples, 3, all, texels, kData, 0.01), std::invalid_argument);
+  CHECK_THROWS_AS(train::fit_field_time(std::vector<float>(6), 1, 3, std::vector<uint8_t>(2, 1), texels, kData, 0.01), std::invalid_argument);
   // Few samples bound the candidates: 9 samples over 16 texels show at most 5 (two samples per interval).
   auto alternating = [](double t, uint32_t) { return double(std::lround(t * 8) % 2); };  // 0, 1, 0, ... at the samples
-  CHECK(train::fit_field_time(time_paths(9, 200, alternating), 9, 3, all, texels, 0.01).error_by_resolution.size() == 3);
+  CHECK(train::fit_field_time(time_paths(9, 200, alternating), 9, 3, all, texels, kData, 0.01).error_by_resolution.size() == 3);
 }

@@ -18,7 +18,6 @@ TrainConfig preset_config(const std::string& name) {
   c.seed_views = 4;
   c.sh_degree_auto = true;
   c.field_fit = 0.2;
-  c.field_time = {0, 1};
   c.budget_start = 0.25;
   if (name == "default") {
     // 4DGaussians' recipe (ALGORITHMS.md 3.3): a 3,000-step coarse (static) stage, densified from

@@ -94,7 +94,7 @@ nlohmann::json FieldTime::json() const {
 }
 
 FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_t dims, std::span<const uint8_t> moving,
-                         uint32_t resolution, double tolerance) {
+                         uint32_t resolution, const std::array<float, 2>& range, double tolerance) {
   const size_t n = moving.size();
   if (samples < 2 || dims == 0 || paths.size() != size_t{samples} * n * dims)
     throw std::invalid_argument("fit_field_time: " + std::to_string(paths.size()) + " path floats for " + std::to_string(samples) +
@@ -117,20 +117,28 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_
     return (1 - w) * paths[(size_t{s0} * n + i) * dims + k] + w * paths[(size_t{s0 + 1} * n + i) * dims + k];
   };
   // Candidates with at least two samples per texel interval: fewer cannot show what they miss.
-  const uint32_t last = std::min(resolution - 1, (samples - 1) / 2 + 1);
+  const double span = double(range[1]) - range[0];
+  const uint32_t last = std::min<uint32_t>(resolution - 1, static_cast<uint32_t>((samples - 1) * span / 2) + 1);
   uint32_t chosen = resolution;
   std::vector<float> worst(movers.size());
   for (uint32_t r = S4D_DEFORM_MIN_RESOLUTION; r <= last; ++r) {
-    const double per_cell = double(samples - 1) / (r - 1);  // samples between two texels
+    // Sample s (time s / (samples - 1)) lies between texels j and j + 1; the line between them is
+    // taken at their times clipped to [0, 1]: a texel at a time no view has is free to continue it.
+    std::vector<double> from(samples), to(samples), weight(samples);
+    for (uint32_t s = 0; s < samples; ++s) {
+      const double t = double(s) / (samples - 1);
+      const double j = std::clamp(std::floor((t - range[0]) / span * (r - 1)), 0.0, double(r - 2));
+      const double a = std::max(0.0, range[0] + span * j / (r - 1)), b = std::min(1.0, range[0] + span * (j + 1) / (r - 1));
+      from[s] = a * (samples - 1), to[s] = b * (samples - 1);
+      weight[s] = b > a ? (t - a) / (b - a) : 0.0;
+    }
     for (size_t m = 0; m < movers.size(); ++m) {
       const uint32_t i = movers[m];
       double far = 0;
       for (uint32_t s = 0; s < samples; ++s) {
-        const double cell = std::min(std::floor(s / per_cell), double(r - 2));
-        const double w = s / per_cell - cell;
         double d2 = 0;
         for (uint32_t k = 0; k < dims; ++k) {
-          const double line = (1 - w) * at(i, cell * per_cell, k) + w * at(i, (cell + 1) * per_cell, k);
+          const double line = (1 - weight[s]) * at(i, from[s], k) + weight[s] * at(i, to[s], k);
           const double gap = line - paths[(size_t{s} * n + i) * dims + k];
           d2 += gap * gap;
         }

@@ -69,12 +69,8 @@ FieldTime Trainer::Impl::fit_time(const std::vector<float>& lo, const std::vecto
     none.why = "the field deforms opacity or colour, which a path in space does not show: the time axis stays";
     return none;
   }
-  if (config.field_time != std::array<float, 2>{0, 1}) {
-    none.why = "the time axis spans times no view has (field_time is not [0, 1]): it stays";
-    return none;
-  }
-  // Four samples per texel interval (at most kTimeFitIntervals intervals): the paths between the
-  // texels show what fewer texels miss.
+  // Four samples over [0, 1] per texel interval of the whole axis (at most kTimeFitIntervals
+  // intervals): the paths between the texels show what fewer texels miss.
   const uint32_t samples = 4 * std::min(texels - 1, kTimeFitIntervals) + 1;
   const uint32_t n = gaussians->size();
   std::vector<uint32_t> movers;
@@ -109,7 +105,8 @@ FieldTime Trainer::Impl::fit_time(const std::vector<float>& lo, const std::vecto
     }
   }
   still_count = still;
-  FieldTime fit = fit_field_time(paths, samples, kDims, std::vector<uint8_t>(measured.size(), 1), texels, move_limit);
+  FieldTime fit =
+      fit_field_time(paths, samples, kDims, std::vector<uint8_t>(measured.size(), 1), texels, config.field_time, move_limit);
   fit.moving = static_cast<uint32_t>(movers.size());
   return fit;
 }

@@ -70,12 +70,15 @@ struct FieldTime {
   nlohmann::json json() const;
 };
 
-// `paths` holds `samples` (at least 2) evenly spaced times over the field's time range, first and
-// last included, each all n Gaussians' states (`dims` floats each); `moving` flags n Gaussians (1:
-// moving). Candidates from S4D_DEFORM_MIN_RESOLUTION to `resolution` - 1 texels with at least two
-// samples per texel interval. Throws std::invalid_argument for sizes that disagree.
+// `paths` holds `samples` (at least 2) evenly spaced times over [0, 1] (the times views have), first
+// and last included, each all n Gaussians' states (`dims` floats each); `moving` flags n Gaussians
+// (1: moving). The candidates' texels lie evenly over the field's time `range`; between two of them
+// a path is compared with the line through its states at their times clipped to [0, 1] (a texel at
+// a time no view has can continue any line). Candidates from S4D_DEFORM_MIN_RESOLUTION to
+// `resolution` - 1 texels with at least two samples per texel interval. Throws
+// std::invalid_argument for sizes that disagree.
 FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_t dims, std::span<const uint8_t> moving,
-                         uint32_t resolution, double tolerance);
+                         uint32_t resolution, const std::array<float, 2>& range, double tolerance);
 
 // The fine-stage iteration at which the box is fitted (0: never): config.field_fit of the stage
 // after its time window has opened (fine_time_ramp), never before it opens, at least 1. Before that the field has seen
