@@ -194,7 +194,12 @@ TEST_CASE("the time axis over [-1, 1]: texels at times no view has continue the 
   // A turn at 1/2 needs a texel there: 5 (-1, -1/2, 0, 1/2, 1).
   const train::FieldTime half = fit([](double t, uint32_t) { return kinked(t, 0.5); });
   CHECK(half.resolution == 5);
-  CHECK(half.error_by_resolution["4"].get<double>() > 0.1);
+  CHECK(half.error_by_resolution["4"].get<double>() == doctest::Approx(0.5));  // at t = 1/2: 1, where the line from 1/3 (2/3) to 1 (0) gives 0.5
+  // 9 samples over [0, 1] are two per texel interval up to 9 texels over [-1, 1] (4 intervals in
+  // [0, 1]): 7 candidates, none of which follows a path alternating at every sample.
+  auto alternating = [](double t, uint32_t) { return double(std::lround(t * 8) % 2); };
+  CHECK(train::fit_field_time(time_paths(9, 200, alternating), 9, 3, all, texels, kWhole, 0.01).error_by_resolution.size() == 7);
+  CHECK_THROWS_AS(train::fit_field_time(time_paths(9, 200, alternating), 9, 3, all, texels, {1, 1}, 0.01), std::invalid_argument);
 }
 
 TEST_CASE("the time axis stays where the paths need most of its texels, or too few Gaussians move") {

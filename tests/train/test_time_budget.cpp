@@ -57,6 +57,19 @@ TEST_CASE("time budget: each stage keeps a quarter of its length, the static sta
   CHECK(fast_lengths(1090) == std::tuple{900u, 3333u, false, false});
   CHECK(train::fitted_lengths(1e6, 10, 100, 0.1, 3.0, 900, 1500).fine_steps == 6000);
   CHECK(train::fitted_lengths(1e6, 10, 1000, 0.1, 3.0, 900, 1500).static_steps == 1000);  // past the recipe: ends now
+  // Past the static floor with the time nearly gone: the static stage ends now and the fine stage
+  // keeps its floor.
+  CHECK(fast_lengths(5) == std::tuple{225u, 375u, true, true});
+  CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).fine_steps == 375);
+  // 600 static steps done at 10 s, 0.125 s a static step and 0.25 s a fine one, 156 s left: scale
+  // (156 + 75) / 487.5 = 0.474 would give 426 static steps, fewer than done. The stage ends at 600
+  // and the fine stage gets the 156 s: 624 steps.
+  const train::StageLengths done = train::fitted_lengths(166, 10, 600, 0.125, 2.0, 900, 1500);
+  CHECK(done.static_steps == 600);
+  CHECK(done.fine_steps == 624);
+  CHECK_FALSE(done.static_floor);
+  // A static-only run (a still capture's) may stretch its one stage up to 4 x.
+  CHECK(train::fitted_lengths(1e6, 10, 100, 0.1, 3.0, 2400, 0).static_steps == 9600);
   // Steps already past the floor stand.
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_steps == 300);
   CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).static_floor == false);

@@ -118,6 +118,7 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_
   };
   // Candidates with at least two samples per texel interval: fewer cannot show what they miss.
   const double span = double(range[1]) - range[0];
+  if (!(span > 0)) throw std::invalid_argument("fit_field_time: the time range must be two times, the second larger");
   const uint32_t last = std::min<uint32_t>(resolution - 1, static_cast<uint32_t>((samples - 1) * span / 2) + 1);
   uint32_t chosen = resolution;
   std::vector<float> worst(movers.size());
@@ -128,7 +129,8 @@ FieldTime fit_field_time(std::span<const float> paths, uint32_t samples, uint32_
     for (uint32_t s = 0; s < samples; ++s) {
       const double t = double(s) / (samples - 1);
       const double j = std::clamp(std::floor((t - range[0]) / span * (r - 1)), 0.0, double(r - 2));
-      const double a = std::max(0.0, range[0] + span * j / (r - 1)), b = std::min(1.0, range[0] + span * (j + 1) / (r - 1));
+      const double a = std::clamp(range[0] + span * j / (r - 1), 0.0, 1.0);
+      const double b = std::clamp(range[0] + span * (j + 1) / (r - 1), 0.0, 1.0);
       from[s] = a * (samples - 1), to[s] = b * (samples - 1);
       weight[s] = b > a ? (t - a) / (b - a) : 0.0;
     }

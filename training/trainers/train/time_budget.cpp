@@ -28,13 +28,15 @@ StageLengths fitted_lengths(double deadline, double now, uint32_t done, double s
                             uint32_t static_steps, uint32_t fine_steps) {
   const double f = fitted_scale(deadline, now, done, seconds_per_step, ratio, static_steps, fine_steps);
   StageLengths out;
-  out.static_steps = std::max(done, static_cast<uint32_t>(std::lround(f * static_steps)));
+  const auto scaled = static_cast<uint32_t>(std::lround(f * static_steps));
+  out.static_steps = std::max(done, scaled);
   if (fine_steps > 0) out.fine_steps = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * fine_steps)));
   const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStageShare * static_steps)));
-  const uint32_t cap = std::max(done, static_steps);
-  if (out.static_steps < floor || out.static_steps > cap) {
-    out.static_floor = out.static_steps < floor;
-    out.static_steps = std::clamp(out.static_steps, floor, cap);
+  // A static-only run (a still capture) may stretch its one stage; a 4DGS run's static stage may not.
+  const uint32_t cap = fine_steps > 0 ? std::max(done, static_steps) : std::max<uint32_t>(done, static_cast<uint32_t>(kMaxStretch * static_steps));
+  if (scaled < floor || scaled > cap) {
+    out.static_floor = scaled < floor && floor > done;
+    out.static_steps = std::clamp(scaled, floor, cap);
     if (fine_steps > 0) {  // the fine stage gets the time the static stage leaves
       const double left = deadline - now - (double(out.static_steps) - done) * seconds_per_step;
       const double fine_step = seconds_per_step * ratio;
