@@ -57,10 +57,12 @@ TEST_CASE("time budget: each stage keeps a quarter of its length, the static sta
   CHECK(fast_lengths(1090) == std::tuple{900u, 3333u, false, false});
   CHECK(train::fitted_lengths(1e6, 10, 100, 0.1, 3.0, 900, 1500).fine_steps == 6000);
   CHECK(train::fitted_lengths(1e6, 10, 1000, 0.1, 3.0, 900, 1500).static_steps == 1000);  // past the recipe: ends now
-  // Past the static floor with the time nearly gone: the static stage ends now and the fine stage
-  // keeps its floor.
-  CHECK(fast_lengths(5) == std::tuple{225u, 375u, true, true});
-  CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).fine_steps == 375);
+  // The time gone: the floors would cost more than 1.5 x the time left, so the static stage ends
+  // now and the fine stage gets one step.
+  CHECK(fast_lengths(5) == std::tuple{100u, 1u, false, false});
+  CHECK(train::fitted_lengths(5, 10, 300, 0.1, 3.0, 900, 1500).fine_steps == 1);
+  // 80 s left: the floors cost 125 s, over 1.5 x 80, so the scaled lengths stand (0.167 x).
+  CHECK(fast_lengths(90) == std::tuple{150u, 250u, false, false});
   // 600 static steps done at 10 s, 0.125 s a static step and 0.25 s a fine one, 156 s left: scale
   // (156 + 75) / 487.5 = 0.474 would give 426 static steps, fewer than done. The stage ends at 600
   // and the fine stage gets the 156 s: 624 steps.

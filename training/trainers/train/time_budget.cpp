@@ -27,25 +27,33 @@ uint32_t fine_floor(uint32_t fine_steps) {
 StageLengths fitted_lengths(double deadline, double now, uint32_t done, double seconds_per_step, double ratio,
                             uint32_t static_steps, uint32_t fine_steps) {
   const double f = fitted_scale(deadline, now, done, seconds_per_step, ratio, static_steps, fine_steps);
-  StageLengths out;
   const auto scaled = static_cast<uint32_t>(std::lround(f * static_steps));
-  out.static_steps = std::max(done, scaled);
-  if (fine_steps > 0) out.fine_steps = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * fine_steps)));
-  const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStageShare * static_steps)));
   // A static-only run (a still capture) may stretch its one stage; a 4DGS run's static stage may not.
   const uint32_t cap = fine_steps > 0 ? std::max(done, static_steps) : std::max<uint32_t>(done, static_cast<uint32_t>(kMaxStretch * static_steps));
-  if (scaled < floor || scaled > cap) {
-    out.static_floor = scaled < floor && floor > done;
-    out.static_steps = std::clamp(scaled, floor, cap);
-    if (fine_steps > 0) {  // the fine stage gets the time the static stage leaves
+  // The lengths with the static stage held between `lo` and the cap; where it is held, the fine
+  // stage gets the steps that fit in the time it leaves.
+  auto lengths = [&](uint32_t lo) {
+    StageLengths out;
+    out.static_steps = std::clamp(scaled, lo, cap);
+    if (fine_steps == 0) return out;
+    out.fine_steps = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(f * fine_steps)));
+    if (out.static_steps != scaled) {
       const double left = deadline - now - (double(out.static_steps) - done) * seconds_per_step;
       const double fine_step = seconds_per_step * ratio;
       const double fit = fine_step > 0 ? std::floor(std::max(0.0, left) / fine_step) : kMaxStretch * fine_steps;
       out.fine_steps = static_cast<uint32_t>(std::clamp(fit, 1.0, kMaxStretch * fine_steps));
     }
-  }
-  if (out.fine_steps < fine_floor(fine_steps)) out.fine_steps = fine_floor(fine_steps), out.fine_floor = true;
-  return out;
+    return out;
+  };
+  const StageLengths plain = lengths(done);
+  const uint32_t floor = std::max(done, static_cast<uint32_t>(std::lround(kMinStageShare * static_steps)));
+  StageLengths held = lengths(floor);
+  held.static_floor = scaled < floor && floor > done;
+  if (held.fine_steps < fine_floor(fine_steps)) held.fine_steps = fine_floor(fine_steps), held.fine_floor = true;
+  if (!held.static_floor && !held.fine_floor) return held;
+  // The floors hold while they cost at most kMaxFloorStretch times the time left.
+  const double cost = (double(held.static_steps) - done) * seconds_per_step + held.fine_steps * seconds_per_step * ratio;
+  return cost <= kMaxFloorStretch * std::max(0.0, deadline - now) ? held : plain;
 }
 
 uint32_t fitted_length(double deadline, double now, uint32_t done, double seconds_per_step, uint32_t start_length) {

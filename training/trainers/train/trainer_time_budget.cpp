@@ -53,7 +53,9 @@ void Trainer::Impl::plan_time_if_due(double now) {
     if (start.fine_iterations > 0) fine_length = fit.fine_steps;
   } else {
     fine_length = fitted_length(fine_deadline, now, iteration, per_step, start.fine_iterations);
-    if (fine_length < fine_floor(start.fine_iterations)) fine_length = fine_floor(start.fine_iterations), fine_held = true;
+    const uint32_t floor = fine_floor(start.fine_iterations);
+    if (fine_length < floor && (double(floor) - iteration) * per_step <= kMaxFloorStretch * std::max(0.0, fine_deadline - now))
+      fine_length = floor, fine_held = true;
   }
   const uint32_t was = config.iterations, fine_was = config.fine_iterations;
   fit_schedules(config, start, length, fine_length);

@@ -39,8 +39,12 @@ double fitted_scale(double deadline, double now, uint32_t done, double seconds_p
 // (docs/trade.md) a quarter of fast's stages pruned 5,584 random points to a few hundred; a
 // 79-step static stage pruned 16 of them (2.9 dB under the front), and 225 static steps with a
 // 216-step 4DGS stage, whose densification window ended before its first densification, kept
-// 4,829 (1.2 dB under). A budget shorter than that takes runs that long.
+// 4,829 (1.2 dB under). The floors hold while they cost at most kMaxFloorStretch times the time
+// left (at the measured step times, which overrate the steps while a random cloud is unpruned: the
+// monocular object's 94 s run, whose first plans priced the quarter-length recipe at about 1.5
+// times the time left, took 96 s); a budget shorter than that is met by shorter stages.
 inline constexpr double kMinStageShare = 0.25;
+inline constexpr double kMaxFloorStretch = 1.5;
 
 struct StageLengths {
   uint32_t static_steps = 0, fine_steps = 0;
@@ -51,7 +55,8 @@ struct StageLengths {
 // length times fitted_scale, the static one at least `done`. The static stage stays between
 // kMinStageShare of `static_steps` and `static_steps` itself (or `done`); where it is held there,
 // the fine stage gets the steps that fit in the time it leaves. The fine stage is at least
-// kMinStageShare of `fine_steps` (where it has any). More static steps than the recipe's do not
+// kMinStageShare of `fine_steps` (where it has any). The floors hold only while they cost at most
+// kMaxFloorStretch times the time left. More static steps than the recipe's do not
 // pay: the static stage fits the canonical frames, whose loss has flattened by then (fast's
 // recipe), and on the monocular object a budget that stretched it to 1,142 steps left the 4DGS
 // stage 795 and scored 2.0 dB under the same time spent on the recipe's 900 + 1,500
