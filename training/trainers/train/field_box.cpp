@@ -29,6 +29,12 @@ float quantile(std::vector<float>& v, double q) {
 
 }  // namespace
 
+bool path_moves(std::span<const float> lo, std::span<const float> hi, size_t i, double move_limit) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += double(hi[i * 3 + k] - lo[i * 3 + k]) * (hi[i * 3 + k] - lo[i * 3 + k]);
+  return std::sqrt(d2) >= move_limit;
+}
+
 FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, const std::array<float, 3>& old_min,
                        const std::array<float, 3>& old_max, const std::array<uint32_t, 3>& resolution, double move_limit) {
   if (lo.size() != hi.size() || lo.size() % 3 != 0)
@@ -40,9 +46,7 @@ FieldBox fit_field_box(std::span<const float> lo, std::span<const float> hi, con
   box.move_limit = move_limit;
   std::array<std::vector<float>, 3> low, high;
   for (size_t i = 0; i < box.gaussians; ++i) {
-    double d2 = 0;
-    for (int k = 0; k < 3; ++k) d2 += double(hi[i * 3 + k] - lo[i * 3 + k]) * (hi[i * 3 + k] - lo[i * 3 + k]);
-    if (!(std::sqrt(d2) >= move_limit)) continue;
+    if (!path_moves(lo, hi, i, move_limit)) continue;
     for (int k = 0; k < 3; ++k) low[k].push_back(lo[i * 3 + k]), high[k].push_back(hi[i * 3 + k]);
   }
   box.moving = static_cast<uint32_t>(low[0].size());

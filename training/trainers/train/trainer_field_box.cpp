@@ -74,11 +74,8 @@ FieldTime Trainer::Impl::fit_time(const std::vector<float>& lo, const std::vecto
   const uint32_t samples = 4 * std::min(texels - 1, kTimeFitIntervals) + 1;
   const uint32_t n = gaussians->size();
   std::vector<uint32_t> movers;
-  for (uint32_t i = 0; i < n; ++i) {
-    double d2 = 0;
-    for (int k = 0; k < 3; ++k) d2 += double(hi[i * 3 + k] - lo[i * 3 + k]) * (hi[i * 3 + k] - lo[i * 3 + k]);
-    if (std::sqrt(d2) >= move_limit) movers.push_back(i);
-  }
+  for (uint32_t i = 0; i < n; ++i)
+    if (path_moves(lo, hi, i, move_limit)) movers.push_back(i);
   // An even subset of at most kTimeFitGaussians: the quantile needs no more, and host memory stays small.
   const size_t stride = (movers.size() + kTimeFitGaussians - 1) / kTimeFitGaussians;
   std::vector<uint32_t> measured;

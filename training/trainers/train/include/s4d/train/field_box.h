@@ -43,6 +43,10 @@ struct FieldBox {
   nlohmann::json json() const;
 };
 
+// Whether Gaussian i's path, its means' range [lo, hi] (3 floats each), spans `move_limit`: what
+// both the box and the time axis count as moving.
+bool path_moves(std::span<const float> lo, std::span<const float> hi, size_t i, double move_limit);
+
 // The box for Gaussians whose means range over [lo, hi] (3 floats each, over time samples) within
 // the field's box [old_min, old_max] of `resolution` level-0 texels per axis; a Gaussian moves when
 // its range's diagonal reaches `move_limit`. The new box: the moving paths' quantiles, padded,
