@@ -40,7 +40,9 @@ struct PackTap {
 };
 
 S4D_VIEWER_FN PackTap pack_tap(uint x, uint src, uint dst) {
-  PackTap t = PackTap(0u, 0u);
+  PackTap t;  // member by member: GLSL has no braces here and clang 14 no parenthesized aggregates
+  t.i0 = 0u;
+  t.num = 0u;
   int n = int((2u * x + 1u) * src) - int(dst);
   if (n <= 0) return t;  // left of pixel 0's centre: pixel 0 alone
   t.i0 = uint(n) / (2u * dst);

@@ -69,7 +69,8 @@ TEST_CASE("the plane sweep finds a textured square's depth from two other views,
   const std::array<float, 3> lo{-3, -3, 1}, hi{3, 3, 9};
   train::SeedSettings s;
   s.depth_samples = 128;  // 8 / 128 = 0.0625 between samples along z
-  for (const auto& [x, y] : {std::pair{32.5, 32.5}, {20.5, 40.5}, {45.5, 25.5}}) {
+  for (const std::pair<double, double>& xy : {std::pair{32.5, 32.5}, {20.5, 40.5}, {45.5, 25.5}}) {
+    const double x = xy.first, y = xy.second;  // not a structured binding: doctest's macros capture it
     CAPTURE(x);
     CAPTURE(y);
     const auto d = train::consistent_depth({&a, src}, x, y, others, lo, hi, s);

@@ -37,7 +37,8 @@ std::vector<double> random_vec(size_t n, std::mt19937& rng, double lo = -1, doub
 
 TEST_CASE("conv3x3 (reflection) and conv1x1 input, weight and bias gradients match finite differences") {
   std::mt19937 rng(1);
-  for (const auto& [cin, cout, h, w] : {std::array<uint32_t, 4>{3, 4, 5, 6}, {2, 3, 2, 2}, {2, 2, 3, 2}, {1, 2, 3, 3}}) {
+  for (const std::array<uint32_t, 4>& shape : {std::array<uint32_t, 4>{3, 4, 5, 6}, {2, 3, 2, 2}, {2, 2, 3, 2}, {1, 2, 3, 3}}) {
+    const uint32_t cin = shape[0], cout = shape[1], h = shape[2], w = shape[3];  // lambdas below capture these
     Chw<double> x = random_chw(cin, h, w, rng);
     std::vector<double> weight = random_vec(size_t{cout} * cin * 9, rng), bias = random_vec(cout, rng);
     const Chw<double> r = random_chw(cout, h, w, rng);

@@ -228,7 +228,7 @@ TEST_CASE("shared structs have identical layouts in C++ and in every shader that
       }
     }
   }
-  for (const auto& [name, count] : uses) CHECK_MESSAGE(count > 0, "no shader uses shared struct " << name);
+  for (const auto& use : uses) CHECK_MESSAGE(use.second > 0, "no shader uses shared struct " << use.first);
 }
 
 TEST_CASE("every push-constant block fits the 128-byte guarantee") {

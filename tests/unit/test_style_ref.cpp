@@ -218,7 +218,8 @@ TEST_CASE("t* maximises the Gaussian's density along the pixel ray") {
                                        S[5] * S[6] - S[3] * S[8], S[0] * S[8] - S[2] * S[6], S[2] * S[3] - S[0] * S[5],
                                        S[3] * S[7] - S[4] * S[6], S[1] * S[6] - S[0] * S[7], S[0] * S[4] - S[1] * S[3]};
     const double det = S[0] * cof[0] + S[1] * cof[3] + S[2] * cof[6];
-    for (const auto& [rx, ry] : {std::array<double, 2>{0.1, -0.2}, std::array<double, 2>{-0.3, 0.05}}) {
+    for (const std::array<double, 2>& ray : {std::array<double, 2>{0.1, -0.2}, std::array<double, 2>{-0.3, 0.05}}) {
+      const double rx = ray[0], ry = ray[1];  // the lambda below captures these
       auto mahalanobis = [&](double t) {
         const std::array<double, 3> d = {t * rx - p.t[0], t * ry - p.t[1], t - p.t[2]};
         double m = 0;
