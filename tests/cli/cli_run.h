@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -27,12 +28,19 @@ inline int run_style4d(const std::string& command, const std::string& args, cons
 inline int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 
 // While alive, style4d runs started by this process use one lavapipe thread, so float atomics add
-// in one order and runs are bit for bit reproducible (for the resume tests).
+// in one order and runs are bit for bit reproducible (for the resume tests). Nests: the value before
+// it comes back, so an inner one's end leaves an outer one in force.
 struct SingleThreadedLavapipe {
-  SingleThreadedLavapipe() { setenv("LP_NUM_THREADS", "1", 1); }
-  ~SingleThreadedLavapipe() { unsetenv("LP_NUM_THREADS"); }
+  SingleThreadedLavapipe() {
+    if (const char* v = std::getenv("LP_NUM_THREADS")) before_ = v;
+    setenv("LP_NUM_THREADS", "1", 1);
+  }
+  ~SingleThreadedLavapipe() { before_ ? setenv("LP_NUM_THREADS", before_->c_str(), 1) : unsetenv("LP_NUM_THREADS"); }
   SingleThreadedLavapipe(const SingleThreadedLavapipe&) = delete;
   SingleThreadedLavapipe& operator=(const SingleThreadedLavapipe&) = delete;
+
+ private:
+  std::optional<std::string> before_;
 };
 
 // Starts style4d ARGS... in the background with stdout and stderr in `log`; returns its pid (for
