@@ -54,7 +54,9 @@ set(S4D_SHADER_VARIANTS
   "densify_reset_opacity|densify/densify_reset_opacity.comp"
   "blend_ceiling|bench/blend_ceiling.comp|S4D_STYLE=0|S4D_RFWD_PIXELS=1"
   "deform_feat|deform/deform_feat.comp"
-  "deform_fwd|deform/deform_fwd.comp"
+  "deform_fwd|deform/deform_fwd.comp|S4D_SH_HALF=0"
+  # The canonical SH as packed halves (the render side's half storage), for fields with the sh head.
+  "deform_fwd_half|deform/deform_fwd.comp|S4D_SH_HALF=1"
   "deform_cot|deform/deform_cot.comp"
   "deform_bwd|deform/deform_bwd.comp"
   "deform_feat_bwd|deform/deform_feat_bwd.comp|S4D_FLOAT_ATOMICS=1"

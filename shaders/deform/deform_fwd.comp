@@ -6,10 +6,16 @@
 // ReLU(out) in their activation columns; a head's output layer adds out to the canonical raw
 // parameter and writes the deformed one (only heads that are on). Every invocation of a workgroup
 // reads the same weights, so their addresses are uniform; the loop runs in_dim iterations.
+// S4D_SH_HALF=1 (deform_fwd_half) reads the canonical SH as packed halves (half_storage.glsl), the
+// render side's half storage; the deformed SH it writes stay float.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "s4d_deform.h"
 #include "flat_group.glsl"
+#include "half_storage.glsl"
+#ifndef S4D_SH_HALF
+#define S4D_SH_HALF 0
+#endif
 
 layout(local_size_x = S4D_DEFORM_WG) in;
 layout(push_constant) uniform Push { DeformParams p; };
@@ -19,7 +25,13 @@ layout(std430, binding = S4D_B_DFWD_MEANS) readonly buffer Means { float means[]
 layout(std430, binding = S4D_B_DFWD_LOG_SCALES) readonly buffer LogScales { float log_scales[]; }; // [N, 3]
 layout(std430, binding = S4D_B_DFWD_QUATS) readonly buffer Quats { float quats[]; };              // [N, 4]
 layout(std430, binding = S4D_B_DFWD_OPACITY_LOGITS) readonly buffer Opacity { float opacity[]; }; // [N]
-layout(std430, binding = S4D_B_DFWD_SH) readonly buffer Sh { float sh[]; };                       // [N, K, 3]
+#if S4D_SH_HALF
+layout(std430, binding = S4D_B_DFWD_SH) readonly buffer Sh { uint sh_words[]; };  // [ceil(N*K*3 / 2)] f16 pairs
+float sh_at(uint j) { return half_element(sh_words[j >> 1], j); }
+#else
+layout(std430, binding = S4D_B_DFWD_SH) readonly buffer Sh { float sh[]; };  // [N, K, 3]
+float sh_at(uint j) { return sh[j]; }
+#endif
 layout(std430, binding = S4D_B_DFWD_OUT_MEANS) writeonly buffer OutMeans { float out_means[]; };
 layout(std430, binding = S4D_B_DFWD_OUT_LOG_SCALES) writeonly buffer OutLogScales { float out_log_scales[]; };
 layout(std430, binding = S4D_B_DFWD_OUT_QUATS) writeonly buffer OutQuats { float out_quats[]; };
@@ -34,7 +46,7 @@ void write_head(uint h, uint i, uint k, float d) {
   else if (h == 1u) out_log_scales[3u * i + k] = log_scales[3u * i + k] + d;
   else if (h == 2u) out_quats[4u * i + k] = quats[4u * i + k] + d;
   else if (h == 3u) out_opacity[i] = opacity[i] + d;
-  else out_sh[i * 3u * p.sh_coeffs + k] = sh[i * 3u * p.sh_coeffs + k] + d;
+  else out_sh[i * 3u * p.sh_coeffs + k] = sh_at(i * 3u * p.sh_coeffs + k) + d;
 }
 
 void main() {

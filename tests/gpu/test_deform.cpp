@@ -20,6 +20,7 @@
 #include "s4d/deform/motion_split.h"
 #include "expect_allclose.h"
 #include "s4d/engine/buffer_from.h"
+#include "s4d/io/half_float.h"
 #include "s4d/ref/deform_ref.h"
 #include "s4d/ref/hexplane_reg_ref.h"
 #include "s4d/ref/random_deform.h"
@@ -389,6 +390,39 @@ TEST_CASE("a deformed scene asked the same time again returns the same Gaussians
   CHECK(back == first);  // the field's forward is deterministic: the same values bit for bit
 }
 
+TEST_CASE("a deformed scene with its canonical SH as halves is, bit for bit, the float scene of the rounded SH") {
+  const deform::FieldConfig c = test_config();  // every head, the sh head included
+  Field f = make_field(c, 39);
+  const Scene s = make_scene(c, 40, 0);
+  io::GaussianCloud cloud;
+  cloud.means = s.host.means, cloud.log_scales = s.host.log_scales, cloud.quats = s.host.quats;
+  cloud.opacity_logits = s.host.opacity_logits, cloud.sh = s.host.sh, cloud.sh_degree = 3;
+  io::GaussianCloud rounded = cloud;
+  for (float& v : rounded.sh) v = io::half_to_float(io::float_to_half(v));
+  REQUIRE(rounded.sh != cloud.sh);
+  const std::vector<float> planes = f.gpu.download_planes(), mlp = f.gpu.download_mlp();
+  engine::Context& ctx = test::context();
+  scene::DeformedScene half(ctx, cloud, c, planes, mlp, {}, 3, splat::Storage::f16),
+      single(ctx, rounded, c, planes, mlp, {}, 3);
+  // deform_fwd_half reads each half's exact value, so it computes what deform_fwd does on them.
+  const splat::GaussianParams p = half.at(kTime, {}), q = single.at(kTime, {});
+  CHECK(p.sh_storage == splat::Storage::f32);  // the deformed SH the rasterizer reads are float
+  const std::vector<float> sh = ctx.download<float>(*p[splat::Attr::sh], 48 * kN);
+  CHECK(sh == ctx.download<float>(*q[splat::Attr::sh], 48 * kN));
+  CHECK(ctx.download<float>(*p[splat::Attr::means], 3 * kN) == ctx.download<float>(*q[splat::Attr::means], 3 * kN));
+  CHECK(std::abs(sh[0] - rounded.sh[0]) > 1e-4);  // the field does move SH
+  CHECK(half.sh_style_bytes() + 48 * kN * 2 == single.sh_style_bytes());  // the canonical SH in half the bytes
+
+  // Still Gaussians anywhere (an old checkpoint's mask) get their canonical SH copied, so those stay float.
+  std::vector<uint32_t> mask(kN, 0);
+  for (uint32_t i = 0; i < kN; i += 3) mask[i] = 1;
+  scene::DeformedScene old_half(ctx, cloud, c, planes, mlp, mask, 3, splat::Storage::f16),
+      old_single(ctx, cloud, c, planes, mlp, mask, 3);
+  CHECK(old_half.sh_style_bytes() == old_single.sh_style_bytes());
+  CHECK(ctx.download<float>(*old_half.at(kTime, {})[splat::Attr::sh], 48 * kN) ==
+        ctx.download<float>(*old_single.at(kTime, {})[splat::Attr::sh], 48 * kN));
+}
+
 TEST_CASE("deform_reg matches the twin: regulariser value and accumulated plane gradient") {
   const deform::FieldConfig c = test_config();
   Field f = make_field(c, 41);
@@ -427,6 +461,12 @@ TEST_CASE("deformation field errors name the field and the buffer") {
   CHECK_THROWS_WITH_AS(f.gpu.record_forward(rec, s.canonical(), kTime, out),
                        "test field: buffer 'deformed quats' (small) holds 16 bytes, needs 4800", std::invalid_argument);
   CHECK_THROWS_AS(f.gpu.upload_mlp(std::vector<float>(3)), std::invalid_argument);
+  g = s.canonical();
+  g.sh_storage = splat::Storage::f16;  // halves are read by the forward only
+  Cotangents v = make_cotangents(53);
+  CHECK_THROWS_WITH_AS(f.gpu.record_backward(rec, g, kTime, v.view()),
+                       "test field: the backward needs float SH; halves are a trained model's render-side storage",
+                       std::invalid_argument);
 }
 
 TEST_CASE("4DGaussians' width-128, five-head MLP runs on every device and matches the twin, forward and backward") {

@@ -47,6 +47,12 @@ using splat::Attr;
 // Floats per Gaussian of head h's parameter.
 size_t head_floats(uint32_t h, uint32_t sh_coeffs) { return splat::attr_floats(splat::kCloudAttrs[h], sh_coeffs); }
 
+// Bytes of the canonical parameter head h reads (the SH may be packed halves).
+size_t head_input_bytes(uint32_t h, const CanonicalGaussians& g) {
+  const splat::Storage s = splat::kCloudAttrs[h] == Attr::sh ? g.sh_storage : splat::Storage::f32;
+  return splat::attr_bytes(splat::kCloudAttrs[h], g.sh_coeffs, g.count, s);
+}
+
 const char* head_name(uint32_t h) { return splat::attr_name(splat::kCloudAttrs[h]); }
 
 }  // namespace
@@ -58,7 +64,7 @@ void DeformationField::check_gaussians(const CanonicalGaussians& g) const {
   require(g[Attr::means], "means", n * 12, name_);
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))
-      require(g[splat::kCloudAttrs[h]], head_name(h), n * head_floats(h, g.sh_coeffs) * 4, name_);
+      require(g[splat::kCloudAttrs[h]], head_name(h), head_input_bytes(h, g), name_);
   if (g.still_count > g.count)
     throw std::invalid_argument(name_ + ": " + std::to_string(g.still_count) + " still Gaussians of " +
                                 std::to_string(g.count));
@@ -89,7 +95,8 @@ void DeformationField::record_mlp_forward(engine::Recorder& rec, gpu::DeformPara
                                           const splat::GaussianBuffers<engine::Buffer>* outputs) const {
   auto in = [&](const engine::Buffer* b) -> const engine::Buffer& { return b ? *b : *g[Attr::means]; };
   auto out = [&](Attr a) -> const engine::Buffer& { return in(outputs ? (*outputs)[a] : nullptr); };
-  const engine::Pipeline& fwd = shader_pipeline(*ctx_, shaders::Id::deform_fwd);
+  const bool sh_half = g.sh_storage == splat::Storage::f16;
+  const engine::Pipeline& fwd = shader_pipeline(*ctx_, sh_half ? shaders::Id::deform_fwd_half : shaders::Id::deform_fwd);
   const uint32_t tiles = ceil_div(p.n - p.first, S4D_DEFORM_TILE), te = shape_.trunk_extra;
   auto set = [&](uint32_t layer, uint32_t layers) {
     p.layer = layer;
@@ -141,6 +148,8 @@ void DeformationField::record_forward(engine::Recorder& rec, const CanonicalGaus
 void DeformationField::record_backward(engine::Recorder& rec, const CanonicalGaussians& g, float time,
                                        const splat::GaussianGrads& v) const {
   check_gaussians(g);
+  if (g.sh_storage != splat::Storage::f32)
+    throw std::invalid_argument(name_ + ": the backward needs float SH; halves are a trained model's render-side storage");
   require(v[Attr::means], "v_means", size_t{g.count} * 12, name_);
   for (uint32_t h = 1; h < S4D_DEFORM_HEADS; ++h)
     if (gpu::deform_head_on(shape_, h))

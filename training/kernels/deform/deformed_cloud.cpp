@@ -16,7 +16,7 @@ bool on(uint32_t heads, uint32_t h) { return (heads & (1u << h)) != 0; }
 }  // namespace
 
 CanonicalGaussians canonical_of(const splat::GaussianParams& canonical, uint32_t still_count) {
-  return {canonical.buffers, canonical.count, still_count, canonical.sh_coeffs};
+  return {canonical.buffers, canonical.count, still_count, canonical.sh_coeffs, canonical.sh_storage};
 }
 
 DeformedCloud::DeformedCloud(engine::Context& ctx, uint32_t heads, uint32_t count, uint32_t sh_coeffs)
@@ -43,12 +43,11 @@ splat::GaussianParams DeformedCloud::record(engine::Recorder& rec, const Deforma
     throw std::invalid_argument("deformed cloud: sized for " + std::to_string(count_) + " Gaussians with " +
                                 std::to_string(sh_coeffs_) + " SH coefficients, given " + std::to_string(canonical.count) +
                                 " with " + std::to_string(canonical.sh_coeffs));
-  if ((heads_ & S4D_DEFORM_HEAD_SH) != 0 && canonical.sh_storage != splat::Storage::f32)
-    throw std::invalid_argument("deformed cloud: the field deforms SH, so the canonical SH must be float, not halves");
   field.record_forward(rec, canonical_of(canonical, still_count), time, outputs());
   splat::GaussianParams p = canonical;
   for (uint32_t h = 0; h < S4D_DEFORM_HEADS; ++h)
     if (on(heads_, h)) p[kCloudAttrs[h]] = &buffers_[kCloudAttrs[h]];
+  if ((heads_ & S4D_DEFORM_HEAD_SH) != 0) p.sh_storage = splat::Storage::f32;  // the deformed SH are float, whatever the canonical's
   return p;
 }
 

@@ -10,14 +10,25 @@ namespace {
 
 constexpr uint32_t kNoSeed = 0;  // the field's initial values are replaced by the uploads
 
+// A mask written before the trainer put still Gaussians last: they stay where the checkpoint has them.
+bool still_anywhere(std::span<const uint32_t> still_mask) {
+  return !still_mask.empty() && !deform::split_by_motion(still_mask).identity();
+}
+
+// The canonical SH's storage. Halves, when asked, except where still Gaussians anywhere get their
+// canonical SH copied into the deformed (float) SH byte for byte.
+splat::Storage canonical_sh_storage(const deform::FieldConfig& field, std::span<const uint32_t> still_mask,
+                                    splat::Storage asked) {
+  return (field.heads & S4D_DEFORM_HEAD_SH) != 0 && still_anywhere(still_mask) ? splat::Storage::f32 : asked;
+}
+
 }  // namespace
 
 DeformedScene::DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
                              std::span<const float> planes, std::span<const float> mlp,
                              std::span<const uint32_t> still_mask, int sh_degree, splat::Storage sh_storage)
     : ctx_(&ctx),
-      canonical_(ctx, canonical, "canonical gaussians",
-                 (field.heads & S4D_DEFORM_HEAD_SH) != 0 ? splat::Storage::f32 : sh_storage),
+      canonical_(ctx, canonical, "canonical gaussians", canonical_sh_storage(field, still_mask, sh_storage)),
       field_(ctx, field, kNoSeed, "deformation field"),
       sh_degree_(sh_degree), deformed_(ctx, field.heads, canonical_.size(), canonical_.params().sh_coeffs) {
   field_.upload_planes(planes);

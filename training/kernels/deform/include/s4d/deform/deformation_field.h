@@ -38,6 +38,8 @@ struct CanonicalGaussians {
   uint32_t count = 0;
   uint32_t still_count = 0;  // <= count
   uint32_t sh_coeffs = 0;  // K; must be S4D_DEFORM_SH_COEFFS when the sh head is on
+  // The SH as packed halves (a trained model's render-side storage) are read by the forward only.
+  splat::Storage sh_storage = splat::Storage::f32;
 
   const engine::Buffer*& operator[](splat::Attr a) { return buffers[a]; }
   const engine::Buffer* operator[](splat::Attr a) const { return buffers[a]; }

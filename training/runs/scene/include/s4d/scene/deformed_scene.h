@@ -22,9 +22,10 @@ class DeformedScene final : public SceneSource {
   // Uploads `canonical` and the field's parameters (`planes`, `mlp`: the checkpoint arrays
   // field.planes and field.mlp) and the still mask (field.static_mask) when training made one (empty: none);
   // renders at SH degree `sh_degree` (clamped to what the cloud stores). `sh_storage` f16 holds the
-  // canonical SH as packed halves when the field leaves SH alone (heads without SH); a field that
-  // deforms SH reads float canonical SH, so they stay float then. Throws std::invalid_argument
-  // naming the field setting or array that does not fit.
+  // canonical SH as packed halves; a field that deforms SH reads them (deform_fwd_half) and writes
+  // float deformed SH. Only a mask with still Gaussians anywhere (before the trainer put them last)
+  // keeps a field's float canonical SH, which it copies into the deformed ones. Throws
+  // std::invalid_argument naming the field setting or array that does not fit.
   DeformedScene(engine::Context& ctx, const io::GaussianCloud& canonical, const deform::FieldConfig& field,
                 std::span<const float> planes, std::span<const float> mlp, std::span<const uint32_t> still_mask,
                 int sh_degree, splat::Storage sh_storage = splat::Storage::f32);
