@@ -55,9 +55,12 @@ TEST_CASE("train --time-budget plans both stages from measured steps and keeps t
   CHECK(b["given_seconds"] == 15.0);
   CHECK(b["took_seconds"] == t["seconds"]);
   CHECK(t["settings"]["time_budget"] == 15.0);
-  // The first plan after the probe's 30 steps from step 20; the fine stage's after its tenth step.
+  // The first plan after the probe's 30 steps from step 20; the fine stage's after its tenth step. A
+  // loaded machine may have spent the budget by the first plan, which then ends the static stage at
+  // once and leaves the fine stage under ten steps (measured in a CI-like run: 13 of 15 s used at
+  // step 50, 2 fine steps), so there is no second plan.
   const nlohmann::json& plans = b["plans"];
-  REQUIRE(plans.size() >= 2);
+  REQUIRE(plans.size() >= 1);
   CHECK(plans[0]["stage"] == "static");
   CHECK(plans[0]["iteration"] == 50);
   bool fine_planned = false;
